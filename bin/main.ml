@@ -1,0 +1,105 @@
+(* jadescript-ref: the command line.
+
+   Every subcommand reports errors as one line FILE:LINE:COL: error: message on
+   stderr and exits with 1; it never prints a backtrace. An error in one file
+   does not stop the others from being processed. *)
+
+open Syntax
+open Cmdliner
+
+(* Run [f], turning every exception into a located diagnostic: a Diag.Failed is
+   the user's error; anything else is a crash of ours, still one line. *)
+let guard ~file f =
+  let at = let p = { Source.file; line = 1; column = 1 } in { Source.left = p; right = p } in
+  match f () with
+  | v -> Ok v
+  | exception Diag.Failed d -> Error d
+  | exception Stack_overflow ->
+    Error (Diag.make Diag.Syntax at "the input is nested too deeply to process")
+  | exception Out_of_memory -> Error (Diag.make Diag.Crash at "out of memory")
+  | exception e -> Error (Diag.make Diag.Crash at (Printexc.to_string e))
+
+let report d = prerr_endline (Diag.to_string d)
+
+(* Apply [f] to every file; exit status 1 if any failed. *)
+let each_file files f =
+  let failed = ref false in
+  List.iter (fun file ->
+      match guard ~file (fun () -> f file) with
+      | Ok () -> ()
+      | Error d -> report d; failed := true) files;
+  if !failed then 1 else 0
+
+let files_arg =
+  Arg.(non_empty & pos_all string [] & info [] ~docv:"FILE" ~doc:"Jadescript source files.")
+
+(* ---------------------------------------------------------------- parse *)
+
+let parse_cmd =
+  let ast = Arg.(value & flag & info ["ast"] ~doc:"Print the abstract syntax tree of each file.") in
+  let run ast files =
+    each_file files (fun file ->
+        let r = Parse.file file in
+        if ast then print_string (Ast_util.dump r.program)) in
+  Cmd.v (Cmd.info "parse" ~doc:"Parse Jadescript files and report syntax errors."
+           ~man:[`S Manpage.s_description;
+                 `P "Exits with 0 when every file parses. Each syntax error is reported \
+                     as $(i,FILE:LINE:COL: error: message); one error per file, and \
+                     every file is tried."])
+    Term.(const run $ ast $ files_arg)
+
+(* ------------------------------------------------------------------ fmt *)
+
+let first_difference a b =
+  let la = String.split_on_char '\n' a and lb = String.split_on_char '\n' b in
+  let rec go n = function
+    | x :: xs, y :: ys -> if x = y then go (n + 1) (xs, ys) else n
+    | _ -> n in
+  go 1 (la, lb)
+
+let fmt_cmd =
+  let check = Arg.(value & flag & info ["check"]
+                     ~doc:"Print nothing; exit with 1 if some file is not in canonical layout.") in
+  let in_place = Arg.(value & flag & info ["i"; "in-place"] ~doc:"Rewrite the files in place.") in
+  let run check in_place files =
+    each_file files (fun file ->
+        let r = Parse.file file in
+        let out = Print.program ~comments:r.comments r.program in
+        let original = Parse.read_all file |> Result.get_ok in
+        if check then begin
+          if out <> original then
+            Diag.errorf Diag.Syntax
+              (let p = { Source.file; line = first_difference original out; column = 1 } in
+               { Source.left = p; right = p })
+              "not in canonical layout (run jadescript-ref fmt -i %s)" file
+        end else if in_place then begin
+          if out <> original then begin
+            let oc = open_out_bin file in
+            output_string oc out; close_out oc
+          end
+        end else print_string out) in
+  Cmd.v (Cmd.info "fmt" ~doc:"Print Jadescript files in canonical layout."
+           ~man:[`S Manpage.s_description;
+                 `P "Prints each file in the canonical layout of docs/syntax.md: tabs, \
+                     one item per line, canonical keyword spellings, minimal \
+                     parentheses. Comments are kept. Formatting is idempotent and \
+                     does not change the syntax tree."])
+    Term.(const run $ check $ in_place $ files_arg)
+
+(* ----------------------------------------------------------------- main *)
+
+let main =
+  let doc = "formal reference implementation of Jadescript percept handling" in
+  let man = [
+    `S Manpage.s_description;
+    `P "jadescript-ref parses, formats, checks and runs Jadescript programs with \
+        percepts (Iotti, Petrosino, Monica, Bergenti, AREA 2020) on a small-step \
+        semantics that is model-checked against a TLA+ specification.";
+    `S "EXIT STATUS";
+    `P "0 on success; 1 when an input has an error (reported as \
+        $(i,FILE:LINE:COL: error: message) on standard error); 124 on a command-line \
+        error.";
+  ] in
+  Cmd.group (Cmd.info "jadescript-ref" ~version:"0.1.0" ~doc ~man) [parse_cmd; fmt_cmd]
+
+let () = exit (Cmd.eval' main)

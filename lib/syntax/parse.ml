@@ -1,0 +1,97 @@
+module I = Parser.MenhirInterpreter
+
+type result = { program : Ast.program; comments : Lexer.comment list }
+
+(* Every terminal, with a dummy payload, to ask the automaton which it accepts. *)
+let terminals = Parser.[
+  IDENT "x"; INT 0; REAL "0.0"; TEXT ""; TRUE; FALSE; MODULE; ONTOLOGY; ONTOLOGIES;
+  EXTENDS; CONCEPT; PREDICATE; PROPOSITION; ACTION; AGENT; USES; BEHAVIOUR;
+  CYCLIC; ONE; SHOT; ONESHOT; FOR; PROPERTY; FUNCTION; PROCEDURE; ON; CREATE;
+  DESTROY; PERCEPT; MESSAGE; WHEN; DO; AS; WITH; RETURN; BREAK; CONTINUE; IF;
+  ELSE; WHILE; IN; NOTHING; INVOKE; ACTIVATE; DEACTIVATE; THIS; SEND; TO; LOG;
+  CONTENT; MATCHES; AND; OR; NOT; OF; LPAREN; RPAREN; LBRACKET; RBRACKET; LBRACE;
+  RBRACE; COMMA; COLON; DOT; UNDERSCORE; EQ; NEQ; LT; GT; LE; GE; PLUS; MINUS;
+  STAR; SLASH; PERCENT; NEWLINE; INDENT; DEDENT; EOF ]
+
+let expected_name = function
+  | Parser.IDENT _ -> "a name"
+  | Parser.INT _ | Parser.REAL _ -> "a number"
+  | tok -> Lexer.describe tok
+
+let expected checkpoint pos =
+  List.filter (fun tok -> I.acceptable checkpoint tok pos) terminals
+  |> List.map expected_name
+  |> List.sort_uniq compare
+
+let join = function
+  | [] -> ""
+  | [x] -> x
+  | xs ->
+    let rev = List.rev xs in
+    String.concat ", " (List.rev (List.tl rev)) ^ " or " ^ List.hd rev
+
+let replace_all ~sub ~by s =
+  let n = String.length sub in
+  let b = Buffer.create (String.length s) in
+  let rec go i =
+    if i > String.length s - n then Buffer.add_string b (String.sub s i (String.length s - i))
+    else if String.sub s i n = sub then (Buffer.add_string b by; go (i + n))
+    else (Buffer.add_char b s.[i]; go (i + 1)) in
+  go 0;
+  Buffer.contents b
+
+let read_all path =
+  match open_in_bin path with
+  | exception Sys_error msg -> Error msg
+  | ic ->
+    Fun.protect ~finally:(fun () -> close_in_noerr ic) (fun () ->
+        match really_input_string ic (in_channel_length ic) with
+        | text -> Ok text
+        | exception (Sys_error msg | Failure msg) -> Error msg
+        | exception End_of_file -> Error "the file changed while it was read")
+
+let message checkpoint env (tok, s, _) =
+  let found = Lexer.describe tok in
+  match Parser_messages.message (I.current_state_number env) with
+  | m ->
+    let m = String.trim m in
+    (* "$found" in a hand-written message names the offending token. *)
+    replace_all ~sub:"$found" ~by:found m
+  | exception Not_found ->
+    let exp = expected checkpoint s in
+    if exp = [] || List.length exp > 8 then Printf.sprintf "unexpected %s here" found
+    else Printf.sprintf "unexpected %s; expected %s" found (join exp)
+
+let run entry ~file text =
+  let lexbuf = Lexing.from_string text in
+  Lexing.set_filename lexbuf file;
+  let lexer = Lexer.create () in
+  let layout = Layout.create lexer lexbuf in
+  let rec loop last_input checkpoint =
+    match checkpoint with
+    | I.InputNeeded _ ->
+      let token = Layout.next layout in
+      loop (Some (checkpoint, token)) (I.offer checkpoint token)
+    | I.Shifting _ | I.AboutToReduce _ -> loop last_input (I.resume checkpoint)
+    | I.HandlingError env ->
+      (match last_input with
+       | Some (cp, ((_, s, e) as token)) ->
+         Diag.error Diag.Syntax (Source.region_of_lexing s e) (message cp env token)
+       | None -> Diag.error Diag.Syntax Source.no_region "syntax error")
+    | I.Accepted v -> v
+    | I.Rejected -> Diag.error Diag.Syntax Source.no_region "syntax error" in
+  let v = loop None (entry lexbuf.Lexing.lex_curr_p) in
+  (v, List.rev lexer.Lexer.comments)
+
+let string ~file text =
+  let (program, comments) = run Parser.Incremental.program ~file text in
+  { program; comments }
+
+let expr ~file text = fst (run Parser.Incremental.expr_only ~file text)
+
+let file path =
+  let start = { Source.file = path; line = 1; column = 1 } in
+  let at = { Source.left = start; right = start } in
+  match read_all path with
+  | Ok text -> string ~file:path text
+  | Error msg -> Diag.errorf Diag.Syntax at "cannot read this file: %s" msg

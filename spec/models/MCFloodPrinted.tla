@@ -1,0 +1,34 @@
+---------------------------- MODULE MCFloodPrinted ----------------------------------
+(***************************************************************************)
+(* Flood, printed.                                                         *)
+(***************************************************************************)
+\* expect TypeOK holds
+\* expect BehaviourProgress violated lasso
+\* expect MessageProgress violated lasso
+\* expect NoLivelock holds
+EXTENDS AgentLoop
+
+MCVariant == "printed"
+MCTiePolicy == "Stable"
+MCBudget == 1
+MCPercepts == {"obstacle", "position"}
+MCDefaultPriority == [obstacle |-> 8, position |-> 2]
+MCOverrides == {}
+MCObjects == {}
+MCMessages == {"inform"}
+MCMaxNotify == 2
+MCMaxPut == 0
+MCMaxSend == 1
+MCFlood == TRUE
+MCO2ACapacity == 1
+MCBehaviours == {"Main"}
+MCKind == [Main |-> "cyclic"]
+MCHasAction == [Main |-> FALSE]
+MCActionEffects == [Main |-> <<>>]
+MCPerceptHandlers == [Main |-> <<[accepts |-> {"obstacle"}, effects |-> <<>>],
+                        [accepts |-> {"position"}, effects |-> <<>>]>>]
+MCMessageHandlers == [Main |-> <<[accepts |-> {"inform"}, effects |-> <<>>]>>]
+MCInitialBehaviours == <<"Main">>
+MCMaxActive == 1
+MCInversionBound == 2
+=============================================================================

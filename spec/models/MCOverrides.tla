@@ -1,0 +1,35 @@
+---------------------------- MODULE MCOverrides -------------------------------------
+(***************************************************************************)
+(* Priority overrides notifyEvent(p, k) (R2a).                             *)
+(***************************************************************************)
+\* expect TypeOK holds
+\* expect PriorityOrder holds
+\* expect FifoAmongEquals holds
+\* expect NoDuplication holds
+\* expect NoLoss holds
+EXTENDS AgentLoop
+
+MCVariant == "reference"
+MCTiePolicy == "Stable"
+MCBudget == 1
+MCPercepts == {"obstacle", "position"}
+MCDefaultPriority == [obstacle |-> 8, position |-> 2]
+MCOverrides == {0, 9}
+MCObjects == {}
+MCMessages == {}
+MCMaxNotify == 2
+MCMaxPut == 0
+MCMaxSend == 0
+MCFlood == FALSE
+MCO2ACapacity == 2
+MCBehaviours == {"Main"}
+MCKind == [Main |-> "cyclic"]
+MCHasAction == [Main |-> FALSE]
+MCActionEffects == [Main |-> <<>>]
+MCPerceptHandlers == [Main |-> <<[accepts |-> {"obstacle"}, effects |-> <<>>],
+                        [accepts |-> {"position"}, effects |-> <<>>]>>]
+MCMessageHandlers == [Main |-> <<>>]
+MCInitialBehaviours == <<"Main">>
+MCMaxActive == 1
+MCInversionBound == 2
+=============================================================================
