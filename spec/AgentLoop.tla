@@ -320,13 +320,14 @@ O2AHasRoom == O2AUsed < O2ACapacity
 \* Can one more percept be notified?
 CanNotify == (Flood \/ nextSeq < MaxNotify) /\ O2AHasRoom
 
-\* Append the percept p with priority k to O2A (R2b).  Under Flood, seqs are
-\* not tracked: every seq is 0 and nextSeq, done, waits never change.
-\* A notification wakes an idle agent (R3e).
-NotifyEntry(p, k, actName) ==
+\* The effect of notifying percept p with priority k (R2b): append it to
+\* O2A with the next seq.  Under Flood, seqs are not tracked: every seq is 0
+\* and nextSeq, done, waits never change.  A notification wakes an idle agent
+\* (R3e).  (A helper, not an action: Notify and NotifyWith below are the
+\* actions, so that TLC names the DOT edges after them.)
+NotifyEffect(p, k, actName) ==
     LET s == IF Flood THEN 0 ELSE nextSeq + 1
-    IN /\ CanNotify
-       /\ o2a' = Append(o2a, [kind |-> "percept", p |-> p, prio |-> k, seq |-> s])
+    IN /\ o2a' = Append(o2a, [kind |-> "percept", p |-> p, prio |-> k, seq |-> s])
        /\ nextSeq' = s
        /\ waits' = IF Flood THEN waits ELSE waits \cup {<<s, 0>>}
        /\ phase' = IF phase = "idle" THEN "transfer" ELSE phase
@@ -334,10 +335,14 @@ NotifyEntry(p, k, actName) ==
        /\ UNCHANGED <<pq, msgq, msgSeq, puts, behVars, cur, dispatched, done>>
 
 \* notifyEvent(p): the percept's default priority (R1a, R2b).
-Notify(p) == NotifyEntry(p, DefaultPriority[p], "Notify")
+Notify(p) ==
+    /\ CanNotify
+    /\ NotifyEffect(p, DefaultPriority[p], "Notify")
 
 \* notifyEvent(p, k): the priority overridden by k (R2a).
-NotifyWith(p, k) == NotifyEntry(p, k, "NotifyWith")
+NotifyWith(p, k) ==
+    /\ CanNotify
+    /\ NotifyEffect(p, k, "NotifyWith")
 
 \* putO2AObject(o): a non-percept object (R2c).  Does not wake an idle agent.
 Put(o) ==
@@ -764,7 +769,9 @@ WorkStep ==
     \/ last.act = "Transfer" /\ last.moved > 0
     \/ last.act \in {"TransferOne", "Dequeue", "BehaviourStep"}
 
-\* Pending work always leads to a work step: the agent never spins.
-NoLivelock == PendingWork ~> WorkStep
+\* Pending work always leads to a work step (or disappears, e.g. the only
+\* ready instance is deactivated by a percept handler): the agent never
+\* spins while there is something to do.
+NoLivelock == PendingWork ~> (WorkStep \/ ~PendingWork)
 
 =============================================================================

@@ -141,3 +141,5 @@ let rec fill t =
 let next t =
   if Queue.is_empty t.pending then fill t;
   Queue.pop t.pending
+
+let open_bracket t = match t.brackets with b :: _ -> Some b | [] -> None

@@ -29,3 +29,7 @@ val next : t -> Parser.token * Lexing.position * Lexing.position
 val max_depth : int
 (** Brackets and blocks nested deeper than this are rejected (an error, not a
     stack overflow). *)
+
+val open_bracket : t -> (Parser.token * Lexing.position * Lexing.position) option
+(** The innermost bracket still open, if any (to explain a syntax error that an
+    unclosed bracket caused on a later line). *)

@@ -76,7 +76,15 @@ let run entry ~file text =
     | I.HandlingError env ->
       (match last_input with
        | Some (cp, ((_, s, e) as token)) ->
-         Diag.error Diag.Syntax (Source.region_of_lexing s e) (message cp env token)
+         (match Layout.open_bracket layout with
+          | Some (b, bs, be) when bs.Lexing.pos_lnum < s.Lexing.pos_lnum ->
+            (* The error is on a later line than an open bracket: the likely
+               mistake is the bracket, so point at it. *)
+            Diag.errorf Diag.Syntax (Source.region_of_lexing bs be)
+              "this %s is not closed: line %d still continues it, and there %s"
+              (Lexer.describe b) s.Lexing.pos_lnum (message cp env token)
+          | _ ->
+            Diag.error Diag.Syntax (Source.region_of_lexing s e) (message cp env token))
        | None -> Diag.error Diag.Syntax Source.no_region "syntax error")
     | I.Accepted v -> v
     | I.Rejected -> Diag.error Diag.Syntax Source.no_region "syntax error" in

@@ -124,9 +124,9 @@ let blank p =
 
 (* Before an output line from source lines [first..last]: keep one blank line
    where the source had at least one. *)
-let track p first last =
+let track ?(keep_blank = true) p first last =
   if first > 0 then begin
-    if p.last_line > 0 && first > p.last_line + 1 then blank p;
+    if keep_blank && p.last_line > 0 && first > p.last_line + 1 then blank p;
     p.last_line <- last
   end
 
@@ -151,8 +151,8 @@ let comments_closing p depth ~header_col ~bound =
   go ()
 
 (* A line of code, with the comments that stood on the lines of [at]. *)
-let line p depth (at : Source.region) s =
-  track p at.left.line at.right.line;
+let line ?keep_blank p depth (at : Source.region) s =
+  track ?keep_blank p at.left.line at.right.line;
   indent p depth;
   Buffer.add_string p.buf s;
   let rec trailing () = match p.pending with
@@ -221,8 +221,9 @@ and stmt p depth ~bound (s : stmt) =
     let n = List.length branches in
     List.iteri (fun i (c, b) ->
         let kw = if i = 0 then "if " else "else if " in
+        (* An "else if" line is located by its condition; no blank line before it. *)
         (if i = 0 then line p depth s.at (kw ^ expr c ^ " do")
-         else line p depth Source.no_region (kw ^ expr c ^ " do"));
+         else line ~keep_blank:false p depth c.at (kw ^ expr c ^ " do"));
         let next =
           if i + 1 < n then block_start (snd (List.nth branches (i + 1)))
           else match els with Some e -> block_start e | None -> bound in
@@ -231,6 +232,8 @@ and stmt p depth ~bound (s : stmt) =
      | None -> ()
      | Some b ->
        line p depth Source.no_region "else do";
+       (* "else do" has no region: count it as the line before its block. *)
+       if block_start b <> max_int then p.last_line <- block_start b - 1;
        block p (depth + 1) ~header:s.at ~bound b)
 
 (* ----------------------------------------------------------- features *)

@@ -1,0 +1,44 @@
+let seed =
+  match Sys.getenv_opt "QCHECK_SEED" with
+  | Some s -> (match int_of_string_opt s with Some n -> n | None -> 42)
+  | None -> 42
+
+let long = Sys.getenv_opt "JSREF_LONG" = Some "1"
+
+let qcheck ?(count = 200) ?(long_factor = 10) name arb prop =
+  let count = if long then count * long_factor else count in
+  let test = QCheck.Test.make ~count ~name arb prop in
+  Alcotest.test_case name `Quick (fun () ->
+      try QCheck.Test.check_exn ~rand:(Random.State.make [| seed |]) test
+      with e ->
+        Alcotest.failf "%s (QCHECK_SEED=%d)" (Printexc.to_string e) seed)
+
+let rec find_root dir =
+  if Sys.file_exists (Filename.concat dir "dune-project")
+  && Sys.file_exists (Filename.concat dir "examples") then dir
+  else
+    let parent = Filename.dirname dir in
+    if parent = dir then failwith "repository root not found" else find_root parent
+
+let root =
+  (* Under dune the tests run in _build/default/test: climb out of _build. *)
+  let cwd = Sys.getcwd () in
+  let rec strip_build d =
+    if Filename.basename d = "_build" then Filename.dirname d
+    else let p = Filename.dirname d in if p = d then cwd else strip_build p in
+  find_root (strip_build cwd)
+
+let read_file path =
+  let ic = open_in_bin path in
+  Fun.protect ~finally:(fun () -> close_in ic)
+    (fun () -> really_input_string ic (in_channel_length ic))
+
+let run_command cmd =
+  let out = Filename.temp_file "jsref" ".out" and err = Filename.temp_file "jsref" ".err" in
+  let status = Sys.command (Printf.sprintf "%s >%s 2>%s </dev/null" cmd
+                              (Filename.quote out) (Filename.quote err)) in
+  let o = read_file out and e = read_file err in
+  Sys.remove out; Sys.remove err;
+  (status, o, e)
+
+let exe = Filename.concat root "_build/default/bin/main.exe"

@@ -1,0 +1,22 @@
+(** Helpers shared by the test suites. *)
+
+val qcheck : ?count:int -> ?long_factor:int -> string -> 'a QCheck.arbitrary ->
+  ('a -> bool) -> unit Alcotest.test_case
+(** [qcheck name arb prop]: a QCheck property as an alcotest case (there is no
+    qcheck-alcotest package here). The seed is [QCHECK_SEED] when set, else 42,
+    and is printed on failure; [JSREF_LONG=1] multiplies the count by
+    [long_factor] (default 10), as [make conformance] does. *)
+
+val seed : int
+
+val root : string
+(** The repository root, found from the test's working directory. *)
+
+val read_file : string -> string
+
+val run_command : string -> int * string * string
+(** [run_command cmd] runs [cmd] with [/bin/sh -c] and returns its exit status,
+    standard output and standard error. *)
+
+val exe : string
+(** The jadescript-ref executable built by dune. *)
