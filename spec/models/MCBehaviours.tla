@@ -1,6 +1,12 @@
----------------------------- MODULE MCBehaviours ------------------------------------
+---------------------------- MODULE MCBehaviours ----------------------------
 (***************************************************************************)
-(* Behaviours.                                                             *)
+(* Behaviour life cycle inside percept handlers (reference variant).  Main *)
+(* (cyclic, no action) activates a one-shot Once on obstacle and           *)
+(* deactivates itself on position; Once (one-shot, with an action block)   *)
+(* also handles obstacle by deactivating itself.  Exercises R4b (snapshot  *)
+(* of registered handlers; a deactivated instance's handler is skipped),   *)
+(* R5c (one-shot ends after its step), R5d (blocking and waking by a       *)
+(* message), R5g/R5h and the id reuse rule.  Everything holds.             *)
 (***************************************************************************)
 \* expect TypeOK holds
 \* expect ReadyBlockedConsistent holds

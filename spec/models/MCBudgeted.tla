@@ -1,6 +1,10 @@
----------------------------- MODULE MCBudgeted --------------------------------------
+----------------------------- MODULE MCBudgeted -----------------------------
 (***************************************************************************)
-(* Budgeted.                                                               *)
+(* Budgeted variant, Budget = 1, three notifications, O2A capacity 3.      *)
+(* Every property holds, including DispatchesWithinBudget (by construction)*)
+(* and BoundedInversion with bound 1 = Budget: a percept notified during an*)
+(* iteration waits for at most Budget lower-priority dispatches before the *)
+(* next Transfer brings it into the priority queue, where it wins.         *)
 (***************************************************************************)
 \* expect TypeOK holds
 \* expect ReadyBlockedConsistent holds

@@ -1,6 +1,14 @@
----------------------------- MODULE MCFloodBudgeted ---------------------------------
+-------------------------- MODULE MCFloodBudgeted ---------------------------
 (***************************************************************************)
-(* Flood, budgeted.                                                        *)
+(* Endless percepts, budgeted variant (Budget = 1).                        *)
+(* Flood abstraction: the host may notify percepts forever (seqs are not   *)
+(* tracked, every seq is 0, and identical entries merge in the priority    *)
+(* queue, so the graph is finite).  Only TypeOK and the liveness of        *)
+(* behaviours and messages (and NoLivelock) are meaningful.  One cyclic    *)
+(* behaviour Main handles both percept types and the message; O2A capacity *)
+(* 1, so a notification is possible whenever the O2A queue is empty.       *)
+(* At most Budget dispatches per iteration, then a behaviour step: no      *)
+(* starvation.                                                             *)
 (***************************************************************************)
 \* expect TypeOK holds
 \* expect BehaviourProgress holds

@@ -1,6 +1,13 @@
----------------------------- MODULE MCInversion -------------------------------------
+---------------------------- MODULE MCInversion -----------------------------
 (***************************************************************************)
-(* Reference inversion.                                                    *)
+(* Reference variant with the constants of MCBudgeted (Budget = 1,         *)
+(* InversionBound = 1, three notifications, O2A capacity 3).  The atomic   *)
+(* Transfer moves the whole O2A batch into the priority queue and the      *)
+(* iteration drains it: two dispatches in one iteration                    *)
+(* (DispatchesWithinBudget violated: position, position, Transfer, Dequeue,*)
+(* Dequeue), and an obstacle notified after the Transfer waits behind both *)
+(* (BoundedInversion violated).  The dispatches per iteration, and the     *)
+(* inversion, grow with the O2A capacity: bounded only by it.              *)
 (***************************************************************************)
 \* expect TypeOK holds
 \* expect PriorityOrder holds

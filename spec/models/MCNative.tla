@@ -1,10 +1,16 @@
----------------------------- MODULE MCNative ----------------------------------------
+------------------------------ MODULE MCNative ------------------------------
 (***************************************************************************)
-(* Native.                                                                 *)
+(* Native variant: percepts go through the JADE message queue in arrival   *)
+(* order.  Main declares its position handler BEFORE its obstacle handler, *)
+(* and no handler accepts noise.  PriorityOrder is violated (a position is *)
+(* consumed while an obstacle waits in the message queue: the handler      *)
+(* order, not the priority, decides), noise percepts stay in the message   *)
+(* queue forever (NoLoss violated, lasso), and BoundedInversion with bound *)
+(* 0 is violated.  Behaviours and messages make progress.                  *)
 (***************************************************************************)
 \* expect TypeOK holds
 \* expect ReadyBlockedConsistent holds
-\* expect PriorityOrder holds
+\* expect PriorityOrder violated invariant
 \* expect FifoAmongEquals holds
 \* expect NoDuplication holds
 \* expect O2AOrderPreserved holds
@@ -32,8 +38,8 @@ MCBehaviours == {"Main"}
 MCKind == [Main |-> "cyclic"]
 MCHasAction == [Main |-> FALSE]
 MCActionEffects == [Main |-> <<>>]
-MCPerceptHandlers == [Main |-> <<[accepts |-> {"obstacle"}, effects |-> <<>>],
-                        [accepts |-> {"position"}, effects |-> <<>>]>>]
+MCPerceptHandlers == [Main |-> <<[accepts |-> {"position"}, effects |-> <<>>],
+                        [accepts |-> {"obstacle"}, effects |-> <<>>]>>]
 MCMessageHandlers == [Main |-> <<[accepts |-> {"inform"}, effects |-> <<>>]>>]
 MCInitialBehaviours == <<"Main">>
 MCMaxActive == 1

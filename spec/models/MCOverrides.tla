@@ -1,6 +1,9 @@
----------------------------- MODULE MCOverrides -------------------------------------
+---------------------------- MODULE MCOverrides -----------------------------
 (***************************************************************************)
-(* Priority overrides notifyEvent(p, k) (R2a).                             *)
+(* Priority overrides (R2a): the host may call notifyEvent(p, k) with      *)
+(* k in {0, 9}, so a position can overtake an obstacle and an obstacle can *)
+(* sink below a position.  Dispatch follows the effective priority: the    *)
+(* order properties hold.                                                  *)
 (***************************************************************************)
 \* expect TypeOK holds
 \* expect PriorityOrder holds

@@ -1,6 +1,9 @@
----------------------------- MODULE MCPrinted ---------------------------------------
+----------------------------- MODULE MCPrinted ------------------------------
 (***************************************************************************)
-(* Algorithm 1 as printed, no objects, bounded percepts.                   *)
+(* Algorithm 1 as printed, without non-percept objects and with a          *)
+(* bounded number of percepts.  Everything holds, including DeadlockFree:  *)
+(* the printed loop never idles, it busy-waits (NextIteration, TransferEnd)*)
+(* once the host has stopped.                                              *)
 (***************************************************************************)
 \* expect TypeOK holds
 \* expect ReadyBlockedConsistent holds

@@ -1,6 +1,13 @@
----------------------------- MODULE MCPrintedObject ---------------------------------
+-------------------------- MODULE MCPrintedObject ---------------------------
 (***************************************************************************)
-(* Algorithm 1 as printed, with a non-percept object.                      *)
+(* Algorithm 1 as printed, with one non-percept object put into O2A        *)
+(* (R2c).  Once the object reaches the head of the O2A queue, the transfer *)
+(* loop peeks at it forever (TransferSpin): percepts behind it are never   *)
+(* transferred (NoLoss violated), no behaviour runs and no message is      *)
+(* handled (BehaviourProgress, MessageProgress violated) and the agent does*)
+(* no work although work is pending (NoLivelock violated).  All are lassos *)
+(* ending in TransferSpin stuttering.  Safety properties still hold, and   *)
+(* there is no deadlock (the spin is a step).                              *)
 (***************************************************************************)
 \* expect TypeOK holds
 \* expect NoDuplication holds

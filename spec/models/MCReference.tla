@@ -1,8 +1,15 @@
----------------------------- MODULE MCReference -------------------------------------
+---------------------------- MODULE MCReference -----------------------------
 (***************************************************************************)
-(* Reference loop (R3), small: two percepts of different priority,         *)
-(* one object, one message, one cyclic behaviour handling both percepts    *)
-(* and the message.  Every property holds.                                 *)
+(* Reference loop (R3), small.  Two percept types of the case study        *)
+(* (obstacle 8, position 2), one non-percept O2A object, one message, one  *)
+(* cyclic behaviour Main (no action block) with a percept handler for each *)
+(* percept type and a message handler.  Every property holds: percepts are *)
+(* dispatched by priority, ties by seq, none is lost or duplicated, the    *)
+(* object does not block the transfer (R3a), behaviours and messages make  *)
+(* progress, and one iteration never dispatches more than Budget = 2 = the *)
+(* O2A capacity.  BoundedInversion with bound 1: a percept notified during *)
+(* a dispatch waits for at most the one lower-priority percept already in  *)
+(* the priority queue (MaxNotify = 2).                                     *)
 (***************************************************************************)
 \* expect TypeOK holds
 \* expect ReadyBlockedConsistent holds

@@ -1,6 +1,8 @@
----------------------------- MODULE MCTiesStable ------------------------------------
+---------------------------- MODULE MCTiesStable ----------------------------
 (***************************************************************************)
-(* Ties, stable policy (R3b): two percept types with the same priority.    *)
+(* Ties under the stable policy (R3b).  Two percept types with the same    *)
+(* priority, three notifications: the priority queue always hands out the  *)
+(* smallest seq among the highest priority, so FifoAmongEquals holds.      *)
 (***************************************************************************)
 \* expect TypeOK holds
 \* expect PriorityOrder holds

@@ -1,6 +1,10 @@
----------------------------- MODULE MCTiesUnstable ----------------------------------
+--------------------------- MODULE MCTiesUnstable ---------------------------
 (***************************************************************************)
-(* Ties, unstable policy (java.util.PriorityQueue).                        *)
+(* Ties under the unstable policy (java.util.PriorityQueue: any entry of   *)
+(* the highest priority may come out).  Same model as MCTiesStable.        *)
+(* FifoAmongEquals is violated: notify a (seq 1), notify b (seq 2),        *)
+(* Transfer, Dequeue takes seq 2 while seq 1 (same priority) still waits.  *)
+(* Priority order itself still holds, and nothing is lost.                 *)
 (***************************************************************************)
 \* expect TypeOK holds
 \* expect PriorityOrder holds
