@@ -18,10 +18,28 @@ let expected_name = function
   | Parser.INT _ | Parser.REAL _ -> "a number"
   | tok -> Lexer.describe tok
 
+(* The tokens that can start an expression: when all are acceptable, the
+   message says "an expression" instead of listing them. *)
+let expression_starts = Parser.[
+  IDENT "x"; INT 0; TEXT ""; TRUE; FALSE; THIS; AGENT; CONTENT; MESSAGE; LPAREN;
+  LBRACKET; LBRACE; NOT; MINUS ]
+
+(* Likewise the tokens that continue an expression. *)
+let operators = Parser.[
+  OR; AND; EQ; NEQ; LT; GT; LE; GE; PLUS; MINUS; STAR; SLASH; PERCENT; MATCHES;
+  LBRACKET ]
+
 let expected checkpoint pos =
-  List.filter (fun tok -> I.acceptable checkpoint tok pos) terminals
-  |> List.map expected_name
-  |> List.sort_uniq compare
+  let ok tok = I.acceptable checkpoint tok pos in
+  let acceptable = ref (List.filter ok terminals) and summary = ref [] in
+  let summarise group ?(also = []) label =
+    if List.for_all ok group then begin
+      summary := label :: !summary;
+      acceptable := List.filter (fun t -> not (List.mem t group || List.mem t also)) !acceptable
+    end in
+  summarise expression_starts ~also:[Parser.REAL "0.0"] "an expression";
+  summarise [Parser.OR; Parser.AND; Parser.PLUS; Parser.STAR] ~also:operators "an operator";
+  List.rev !summary @ (List.map expected_name !acceptable |> List.sort_uniq compare)
 
 let join = function
   | [] -> ""
@@ -59,8 +77,8 @@ let message checkpoint env (tok, s, _) =
     replace_all ~sub:"$found" ~by:found m
   | exception Not_found ->
     let exp = expected checkpoint s in
-    if exp = [] || List.length exp > 8 then Printf.sprintf "unexpected %s here" found
-    else Printf.sprintf "unexpected %s; expected %s" found (join exp)
+    if exp = [] || List.length exp > 7 then Printf.sprintf "%s is not expected here" found
+    else Printf.sprintf "expected %s, found %s" (join exp) found
 
 let run entry ~file text =
   let lexbuf = Lexing.from_string text in
@@ -81,7 +99,7 @@ let run entry ~file text =
             (* The error is on a later line than an open bracket: the likely
                mistake is the bracket, so point at it. *)
             Diag.errorf Diag.Syntax (Source.region_of_lexing bs be)
-              "this %s is not closed: line %d still continues it, and there %s"
+              "this %s is not closed, so line %d is read as part of it (there: %s)"
               (Lexer.describe b) s.Lexing.pos_lnum (message cp env token)
           | _ ->
             Diag.error Diag.Syntax (Source.region_of_lexing s e) (message cp env token))
