@@ -1,8 +1,8 @@
 ----------------------------- MODULE MCPQStable -----------------------------
 (***************************************************************************)
-(* The percept priority queue alone (PQSpec): two percept names, two      *)
-(* priorities, up to four entries, producer and consumer interleaved.     *)
-(* Stable policy (R3b): both order invariants hold.                       *)
+(* The percept priority queue alone (PQSpec): two percept names, two       *)
+(* priorities, up to four entries, producer and consumer interleaved.      *)
+(* Stable policy (R3b): both order invariants hold.                        *)
 (***************************************************************************)
 \* expect TypeOK holds
 \* expect DequeueTakesHighest holds

@@ -1,0 +1,30 @@
+(** Breadth-first enumeration of the reachable configurations of a model
+    ([jadescript-ref explore MODEL]), with the host's actions bounded as the
+    model says and every agent rule of {!Semantics.Machine}.
+
+    States are identified by a compact canonical key (the O2A and message
+    queues in order, the priority queue as a sorted set, every other variable),
+    so two configurations are the same state exactly when they project onto the
+    same TLA+ state. *)
+
+type graph = {
+  model : Model.t;
+  states : Model.M.t array;          (** by state number, in discovery order *)
+  initial : int list;
+  edges : (int * string * int) array; (** (from, TLA+ action name, to) *)
+  deadlocks : int list;              (** states with no successor *)
+  seconds : float;
+}
+
+val successors : Model.t -> Model.M.t -> (Model.M.lbl * Model.M.t) list
+(** Host rules (within the model's bounds) then agent rules. *)
+
+val key : Model.M.t -> string
+(** The canonical key of a configuration. *)
+
+val explore : ?max_states:int -> Model.t -> graph
+(** @raise Failure when more than [max_states] (default 5,000,000) states are found. *)
+
+val shortest_path : graph -> int -> (string * int) list
+(** The labelled path from an initial state to the state, as (action, state)
+    steps; the first element is ("Init", initial state). *)

@@ -1,0 +1,35 @@
+(** Persistent first-in first-out queues (a front list and a reversed back
+    list): the O2A queue and the message queue of an agent. Every operation is
+    amortised O(1) except those that say otherwise. *)
+
+type 'a t
+
+val empty : 'a t
+val is_empty : 'a t -> bool
+val length : 'a t -> int
+(** O(1). *)
+
+val push : 'a -> 'a t -> 'a t
+(** Add at the back. *)
+
+val peek : 'a t -> 'a option
+(** The front element. *)
+
+val pop : 'a t -> ('a * 'a t) option
+
+val to_list : 'a t -> 'a list
+(** Front first. O(n). *)
+
+val of_list : 'a list -> 'a t
+
+val partition : ('a -> bool) -> 'a t -> 'a list * 'a t
+(** [partition f q] is the elements satisfying [f], front first, and the queue
+    of the others in their order. O(n). *)
+
+val remove_first : ('a -> bool) -> 'a t -> ('a * 'a t) option
+(** The first element satisfying the predicate, and the queue without it.
+    O(position). *)
+
+val exists : ('a -> bool) -> 'a t -> bool
+val fold : ('acc -> 'a -> 'acc) -> 'acc -> 'a t -> 'acc
+(** Front to back. *)

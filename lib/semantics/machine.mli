@@ -1,0 +1,196 @@
+(** The small-step semantics of one Jadescript agent's loop: the executable twin
+    of [spec/AgentLoop.tla].
+
+    A configuration ({!config}) holds exactly the variables of the spec (the O2A
+    queue, the priority queue, the message queue, the active behaviours in
+    activation order, JADE's ready and blocked lists and round-robin position,
+    the loop phase, the dispatch in progress, the counters, the ghosts and the
+    last action) plus [world], the agent's own state, which the spec abstracts
+    away. Each transition is a rule named as the TLA+ action it implements and as
+    the rule of docs/semantics.md; {!step} lists the enabled agent rules, the
+    host functions ({!notify}, {!put}, {!send}) are the host rules.
+
+    The machine is parameterised by what handlers and behaviour steps do
+    ({!BODIES}): the explorer plugs in the abstract bodies of a TLA+ model
+    (acceptance tables and activate/deactivate effects), the interpreter plugs
+    in real Jadescript code. *)
+
+(** {1 Parameters} *)
+
+type variant =
+  | Printed    (** Algorithm 1 exactly as printed *)
+  | Reference  (** the rulings, R3 *)
+  | Budgeted   (** at most [budget] dispatches per iteration *)
+  | Native     (** percepts through the message queue, FIFO (Jadescript 1.0) *)
+
+type tie_policy =
+  | Stable     (** R3b: equal priorities leave in seq order *)
+  | Unstable   (** any entry of the highest priority (java.util.PriorityQueue) *)
+
+type params = {
+  variant : variant;
+  tie : tie_policy;
+  budget : int;               (** [Budget], used by [Budgeted] *)
+  max_active : int option;    (** a model bound: an activation when this many
+                                  instances are active is ignored; [None] in the
+                                  interpreter *)
+  o2a_capacity : int option;  (** R2d; [None]: unbounded *)
+  flood : bool;               (** the flood abstraction of the spec: seqs are
+                                  all 0, identical queue entries merge *)
+  ghosts : bool;              (** maintain [done_] and [waits] (the spec's ghost
+                                  variables); off in production runs *)
+}
+
+val variant_of_string : string -> variant option
+val string_of_variant : variant -> string
+(** ["printed"], ["reference"], ["budgeted"], ["native"]. *)
+
+(** {1 Configurations} *)
+
+type phase = Transfer_phase | Dispatch_phase | Handle_phase | Idle_phase
+(** ["transfer"], ["dispatch"], ["handle"], ["idle"] in the spec. *)
+
+type 'p entry = 'p Pqueue.entry = { p : 'p; prio : int; seq : int }
+(** A notified percept: the percept, its effective priority (R2a), its seq (R2b). *)
+
+type ('p, 'o) o2a_item =
+  | O_percept of 'p entry
+  | O_object of 'o            (** a non-percept object (R2c) *)
+
+type ('p, 'm) msg_item =
+  | M_message of { m : 'm; mseq : int }
+  | M_percept of 'p entry     (** only in the [Native] variant *)
+
+type 'b instance = { id : int; beh : 'b }
+(** An active behaviour instance: its id (the smallest free one when created)
+    and what the bodies know of it. *)
+
+type 'p dispatch = {
+  e : 'p entry;               (** the percept being dispatched *)
+  todo : (int * int) list;    (** registered handlers not yet tried: (instance
+                                  id, handler index from 1), R4a/R4b *)
+  applied : bool;             (** some handler ran *)
+}
+
+type ('p, 'm, 'o) label =
+  | Init
+  | Notify of 'p entry                   (** host: notifyEvent(p) *)
+  | Notify_with of 'p entry              (** host: notifyEvent(p, k) *)
+  | Put of 'o                            (** host: a non-percept object *)
+  | Send of 'm * int                     (** host: a message and its seq *)
+  | Transfer of int                      (** R3a: the number of percepts moved *)
+  | Transfer_one of 'p entry             (** printed: one percept moved *)
+  | Transfer_spin of 'o                  (** printed: peeking at an object *)
+  | Transfer_end                         (** printed: O2A empty *)
+  | Dequeue of 'p entry                  (** R3b *)
+  | Handle of { id : int; h : int; p : 'p; seq : int }   (** a handler ran *)
+  | Skip of { id : int; h : int }        (** a handler did not apply (R4b) *)
+  | End_dispatch of { seq : int; discarded : bool }
+  | Behaviour_step of { id : int; msg : ('p, 'm) msg_item option }   (** R5 *)
+  | Next_iteration
+  | Idle                                 (** R3e *)
+
+val action_name : ('p, 'm, 'o) label -> string
+(** The TLA+ action name: ["Notify"], ["Transfer"], ["BehaviourStep"], ... *)
+
+module Int_set : Set.S with type elt = int
+
+type ('p, 'm, 'o, 'b, 'w) config = {
+  o2a : ('p, 'o) o2a_item Fqueue.t;
+  pq : 'p Pqueue.t;
+  msgq : ('p, 'm) msg_item Fqueue.t;
+  next_seq : int;             (** seq of the last percept notified *)
+  msg_seq : int;              (** seq of the last message *)
+  puts : int;                 (** objects put so far *)
+  active : 'b instance list;  (** activation order *)
+  ready : int list;           (** JADE's ready list (ids) *)
+  blocked : int list;         (** blocked ids, in blocking order *)
+  pos : int;                  (** 1-based index in [ready] of the next to run *)
+  phase : phase;
+  cur : 'p dispatch option;   (** [Some] exactly in phase [Handle] *)
+  dispatched : int;           (** dequeues since the last transfer *)
+  done_ : Int_set.t;          (** ghost: seqs that left the system *)
+  waits : (int * int * int) list;
+      (** ghost: (seq, priority, inversions) of every waiting percept, by seq *)
+  last : ('p, 'm, 'o) label;
+  world : 'w;                 (** the agent's own state (unit in the explorer) *)
+}
+
+type 'b effect =
+  | Activate of 'b            (** R5g: a new instance, appended to active/ready *)
+  | Deactivate                (** R5h: [deactivate this] *)
+
+(** {1 What bodies do} *)
+
+module type BODIES = sig
+  type percept
+  type message
+  type obj
+  type beh
+  type world
+
+  val cyclic : beh -> bool
+  val has_action : beh -> bool
+  val percept_handlers : beh -> int
+  (** How many [on percept] handlers the instance's behaviour declares. *)
+
+  val message_handlers : beh -> int
+
+  val percept_applicable : world -> id:int -> beh -> int -> percept -> world * bool
+  (** Is handler [h] (from 1) of the instance applicable to the percept now
+      (pattern and [when], R3b)? An error makes it not applicable; the world
+      may record it. *)
+
+  val run_percept_handler : world -> id:int -> beh -> int -> percept -> world * beh effect list
+
+  val run_action : world -> id:int -> beh -> world * beh effect list
+  (** The action block ([do]) of a behaviour that has one. *)
+
+  val message_accepted : world -> id:int -> beh -> int -> message -> bool
+  (** Does message handler [h] accept this message (performative, pattern,
+      [when])? *)
+
+  val run_message_handler : world -> id:int -> beh -> int -> message -> world * beh effect list
+end
+
+module Make (B : BODIES) : sig
+  type t = (B.percept, B.message, B.obj, B.beh, B.world) config
+  type lbl = (B.percept, B.message, B.obj) label
+
+  val init : params -> world:B.world -> B.beh list -> t
+  (** The agent after its [on create] activated these behaviours (R5g):
+      instances 1..n, all ready, phase [Transfer]. *)
+
+  (** {2 Host rules} *)
+
+  val o2a_has_room : params -> t -> bool
+  (** R2d. *)
+
+  val notify : params -> t -> B.percept -> int -> t
+  (** [Notify]: append the percept with its default priority (R2b). The caller
+      checks {!o2a_has_room} (a refusal changes nothing). *)
+
+  val notify_with : params -> t -> B.percept -> int -> t
+  (** [NotifyWith]: the priority overridden (R2a). *)
+
+  val put : params -> t -> B.obj -> t
+  (** [Put] (R2c). *)
+
+  val send : params -> t -> B.message -> t
+  (** [Send]: a message reaches the agent (R5e); blocked behaviours wake (R5d). *)
+
+  (** {2 Agent rules} *)
+
+  val step : params -> t -> (lbl * t) list
+  (** Every agent rule enabled in this configuration, with its result. At most
+      one, except that [Dequeue] under the [Unstable] policy (and under the flood
+      abstraction) may take any of several entries. Empty when the agent is idle.
+      Each match arm of the implementation is one rule. *)
+
+  val is_idle : t -> bool
+
+  (** {2 Conditions the spec names} *)
+
+  val idle_condition : t -> bool
+  (** R3e: nothing ready, no percept in O2A, the priority queue empty. *)
+end
