@@ -12,20 +12,20 @@
 (*              sleeps (it busy-waits).                                    *)
 (*  "reference" the semantics fixed by the rulings (R3): one atomic        *)
 (*              Transfer of every O2A percept, then drain the priority     *)
-(*              queue, then one behaviour step; idle when nothing to do.  *)
+(*              queue, then one behaviour step; idle when nothing to do.   *)
 (*  "budgeted"  as reference, but at most Budget percepts are dispatched   *)
-(*              per loop iteration; the rest wait in the priority queue   *)
+(*              per loop iteration; the rest wait in the priority queue    *)
 (*              while one behaviour step runs.                             *)
-(*  "native"    no priority queue: percepts are delivered into the JADE   *)
+(*  "native"    no priority queue: percepts are delivered into the JADE    *)
 (*              message queue, in arrival order, and handled by the        *)
 (*              behaviours like messages (percept handlers first).         *)
 (*                                                                         *)
-(* The state graph of this spec is the conformance oracle for the OCaml   *)
-(* semantics: every step is one named action, `last` records the action   *)
-(* and its parameters, and all values are canonical (sets, sequences,     *)
-(* records) so that two implementations can be compared node by node.    *)
+(* The state graph of this spec is the conformance oracle for the OCaml    *)
+(* semantics: every step is one named action, `last` records the action    *)
+(* and its parameters, and all values are canonical (sets, sequences,      *)
+(* records) so that two implementations can be compared node by node.      *)
 (*                                                                         *)
-(* Decisions beyond the paper and the rulings are marked "DECISION".      *)
+(* Decisions beyond the paper and the rulings are marked "DECISION".       *)
 (***************************************************************************)
 EXTENDS Naturals, Sequences, FiniteSets, PerceptPriority
 
@@ -119,7 +119,7 @@ behVars == <<active, ready, blocked, pos>>
 
 -----------------------------------------------------------------------------
 (***************************************************************************)
-(* Helpers                                                                  *)
+(* Helpers                                                                 *)
 (***************************************************************************)
 
 \* The largest number of instance ids that can be in use at once: the
@@ -285,8 +285,8 @@ BumpWaits(e) ==
 
 -----------------------------------------------------------------------------
 (***************************************************************************)
-(* Initial state: the agent's on create has activated InitialBehaviours   *)
-(* (R5g), instances 1..n, all ready; the first iteration starts with a    *)
+(* Initial state: the agent's on create has activated InitialBehaviours    *)
+(* (R5g), instances 1..n, all ready; the first iteration starts with a     *)
 (* transfer.                                                               *)
 (***************************************************************************)
 Init ==
@@ -377,7 +377,7 @@ HostStep ==
 
 -----------------------------------------------------------------------------
 (***************************************************************************)
-(* Agent actions: transfer.                                                 *)
+(* Agent actions: transfer.                                                *)
 (***************************************************************************)
 
 \* reference / budgeted (R3a): every O2A percept moves to pq in one atomic
@@ -509,7 +509,7 @@ EndDispatch ==
                    waits>>
 
 (***************************************************************************)
-(* Agent actions: behaviour step and end of iteration.                      *)
+(* Agent actions: behaviour step and end of iteration.                     *)
 (***************************************************************************)
 
 \* Nothing (more) to dispatch in this iteration.
@@ -547,14 +547,14 @@ FirstEntry(h) ==
 
 (***************************************************************************)
 (* One step of the instance at ready[pos], as JADE schedules it (R5f):     *)
-(* pos advances first; the action block runs (if any); then the first     *)
+(* pos advances first; the action block runs (if any); then the first      *)
 (* handler with a matching entry takes the first such entry and runs       *)
-(* (R5b: at most one entry per step).  With no action block and nothing   *)
+(* (R5b: at most one entry per step).  With no action block and nothing    *)
 (* consumed the instance blocks (R5d) unless it was deactivated during the *)
 (* step.  A one-shot instance is deactivated after its step (R5c);         *)
-(* DECISION: this wins over blocking (JADE removes a finished one-shot).  *)
+(* DECISION: this wins over blocking (JADE removes a finished one-shot).   *)
 (* Activations append to active and ready (R5g); `deactivate this` takes   *)
-(* effect at once and the rest of the step still runs (R5h).              *)
+(* effect at once and the rest of the step still runs (R5h).               *)
 (***************************************************************************)
 BehaviourStep ==
     /\ phase = "dispatch"

@@ -145,7 +145,7 @@ let of_constants ~name ~dir cs =
     let params = { Semantics.Machine.variant; tie; budget = Tla.to_int (g "Budget");
                    max_active = Some (Tla.to_int (g "MaxActive"));
                    o2a_capacity = Some (Tla.to_int (g "O2ACapacity"));
-                   flood; ghosts = true } in
+                   flood; ghosts = true; mutant = None } in
     { name; dir; constants = cs; params; percepts;
       default_priority = Array.map (fun p -> Tla.to_int (Tla.field p (g "DefaultPriority"))) percepts;
       overrides = List.sort_uniq compare (List.map Tla.to_int (Tla.to_list (g "Overrides")));

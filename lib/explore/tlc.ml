@@ -67,7 +67,10 @@ let distinct_states output =
          | Some n -> Some n | None -> acc)
       | exception Not_found -> acc) None lines
 
-let run_model ?(extra_cfg = []) ?(options = []) ?(keep_properties = false) (m : Model.t) k =
+(* Copy the spec modules and the model into a fresh folder, let [prepare]
+   add files, write [Run.cfg], run TLC on module [main] there with the options
+   [options dir], call [k dir], remove the folder. *)
+let run_in_dir (m : Model.t) ~main ~cfg_lines ~options ~prepare k =
   let jar = jar () in
   let dir = temp_dir () in
   Fun.protect ~finally:(fun () -> remove_tree dir) (fun () ->
@@ -76,18 +79,12 @@ let run_model ?(extra_cfg = []) ?(options = []) ?(keep_properties = false) (m : 
           if Filename.check_suffix f ".tla" then copy (Filename.concat sd f) (Filename.concat dir f))
         (Sys.readdir sd);
       copy (Filename.concat m.dir (m.name ^ ".tla")) (Filename.concat dir (m.name ^ ".tla"));
-      let cfg = read_file (Filename.concat m.dir (m.name ^ ".cfg")) in
-      let keep line =
-        let t = String.trim line in
-        let starts p = String.length t >= String.length p && String.sub t 0 (String.length p) = p in
-        starts "CONSTANT" || starts "SPECIFICATION" || starts "INIT" || starts "NEXT"
-        || (keep_properties && (starts "INVARIANT" || starts "PROPERTY")) in
-      let lines = List.filter keep (String.split_on_char '\n' cfg) @ extra_cfg in
-      write_file (Filename.concat dir "Run.cfg") (String.concat "\n" lines ^ "\n");
+      prepare dir;
+      write_file (Filename.concat dir "Run.cfg") (String.concat "\n" cfg_lines ^ "\n");
       let out = Filename.concat dir "tlc.out" in
       let cmd = Printf.sprintf "cd %s && java -XX:+UseParallelGC -cp %s tlc2.TLC -nowarning -metadir %s %s -config Run.cfg %s > %s 2>&1"
           (Filename.quote dir) (Filename.quote jar) (Filename.quote (Filename.concat dir "meta"))
-          (String.concat " " (List.map Filename.quote options)) m.name (Filename.quote out) in
+          (String.concat " " (List.map Filename.quote (options dir))) main (Filename.quote out) in
       let t0 = Unix.gettimeofday () in
       let code = Sys.command cmd in
       let seconds = Unix.gettimeofday () -. t0 in
@@ -96,6 +93,43 @@ let run_model ?(extra_cfg = []) ?(options = []) ?(keep_properties = false) (m : 
       let r = { exit_code = code; output; distinct_states = distinct_states output; seconds } in
       k dir;
       r)
+
+let constant_lines (m : Model.t) =
+  let cfg = read_file (Filename.concat m.dir (m.name ^ ".cfg")) in
+  List.filter (fun line ->
+      let t = String.trim line in
+      String.length t >= 8 && String.sub t 0 8 = "CONSTANT") (String.split_on_char '\n' cfg)
+
+let run_model ?(extra_cfg = []) ?(options = []) ?(keep_properties = false) (m : Model.t) k =
+  let cfg = read_file (Filename.concat m.dir (m.name ^ ".cfg")) in
+  let keep line =
+    let t = String.trim line in
+    let starts p = String.length t >= String.length p && String.sub t 0 (String.length p) = p in
+    starts "CONSTANT" || starts "SPECIFICATION" || starts "INIT" || starts "NEXT"
+    || (keep_properties && (starts "INVARIANT" || starts "PROPERTY")) in
+  let lines = List.filter keep (String.split_on_char '\n' cfg) @ extra_cfg in
+  run_in_dir m ~main:m.name ~cfg_lines:lines ~options:(fun _ -> options) ~prepare:(fun _ -> ()) k
+
+let run_module (m : Model.t) ~module_name ~text ~cfg_lines ~options =
+  run_in_dir m ~main:module_name ~cfg_lines:(constant_lines m @ cfg_lines) ~options:(fun _ -> options)
+    ~prepare:(fun dir -> write_file (Filename.concat dir (module_name ^ ".tla")) text)
+    (fun _ -> ())
+
+let run_simulation (m : Model.t) ~traces ~depth ~seed =
+  let texts = ref [] in
+  let r = run_in_dir m ~main:m.name
+      ~cfg_lines:(constant_lines m @ [ "SPECIFICATION Spec" ])
+      ~options:(fun dir ->
+          [ "-simulate"; Printf.sprintf "file=%s,num=%d" (Filename.concat dir "sim") traces;
+            "-deadlock"; "-workers"; "1"; "-seed"; string_of_int seed; "-depth"; string_of_int depth ])
+      ~prepare:(fun _ -> ())
+      (fun dir ->
+         texts := Sys.readdir dir |> Array.to_list |> List.sort compare
+                  |> List.filter (fun f -> String.length f > 4 && String.sub f 0 4 = "sim_")
+                  |> List.map (fun f -> read_file (Filename.concat dir f))) in
+  if r.exit_code <> 0 then
+    fail "TLC simulation of %s failed (exit %d)" m.name r.exit_code;
+  !texts
 
 let state_graph m =
   let graph = ref None in

@@ -24,6 +24,18 @@ val run_model :
     INVARIANT/PROPERTY lines only if [keep_properties]), runs TLC there with
     [options] and calls [k dir] with that folder before it is removed. *)
 
+val run_module :
+  Model.t -> module_name:string -> text:string -> cfg_lines:string list ->
+  options:string list -> run
+(** Runs TLC on a generated module (extending the model) with the model's
+    constant bindings plus [cfg_lines]. *)
+
+val run_simulation : Model.t -> traces:int -> depth:int -> seed:int -> string list
+(** [-simulate file=...,num=traces -depth depth -seed seed]: the text of each
+    behaviour file TLC writes. @raise Error when TLC fails. *)
+
+val read_file : string -> string
+
 val state_graph : Model.t -> Dot.graph * run
 (** TLC's whole state graph of the model ([-dump dot,actionlabels], deadlock
     checking off). *)

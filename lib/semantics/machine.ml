@@ -4,6 +4,23 @@
 type variant = Printed | Reference | Budgeted | Native
 type tie_policy = Stable | Unstable
 
+type mutant =
+  | Ties_to_largest_seq
+  | First_handler_only
+  | Transfer_moves_one
+  | Step_before_dispatch
+  | Oneshot_not_removed
+  | O2a_not_drained
+
+let mutants = [
+  "ties-largest-seq", Ties_to_largest_seq;
+  "first-handler-only", First_handler_only;
+  "transfer-moves-one", Transfer_moves_one;
+  "step-before-dispatch", Step_before_dispatch;
+  "oneshot-not-removed", Oneshot_not_removed;
+  "o2a-not-drained", O2a_not_drained;
+]
+
 type params = {
   variant : variant;
   tie : tie_policy;
@@ -12,6 +29,7 @@ type params = {
   o2a_capacity : int option;
   flood : bool;
   ghosts : bool;
+  mutant : mutant option;
 }
 
 let variant_of_string = function
@@ -238,6 +256,14 @@ module Make (B : BODIES) = struct
   (* Transfer (R3a; native: into the message queue). *)
   let transfer p (c : t) : lbl * t =
     let (moving, rest) = Fqueue.partition is_o2a_percept c.o2a in
+    let (moving, rest) = match p.mutant with
+      | Some Transfer_moves_one ->
+        (* mutant: only the first percept moves; the rest of O2A stays in order *)
+        (match Fqueue.remove_first is_o2a_percept c.o2a with
+         | Some (first, rest) -> ([first], rest)
+         | None -> ([], c.o2a))
+      | Some O2a_not_drained -> (moving, c.o2a)   (* mutant: O2A keeps them *)
+      | _ -> (moving, rest) in
     let entries = List.map (function O_percept e -> e | O_object _ -> assert false) moving in
     let n = List.length entries in
     let c' =
@@ -279,6 +305,13 @@ module Make (B : BODIES) = struct
   (* Dequeue (R3b, R4a, R4b). *)
   let dequeue p (c : t) : (lbl * t) list =
     let cands = Pqueue.candidates ~stable:(p.tie = Stable) c.pq in
+    let cands = match p.mutant with
+      | Some Ties_to_largest_seq ->
+        (* mutant: among the highest priority, the LAST notified *)
+        let top = Pqueue.candidates ~stable:false c.pq in
+        let m = List.fold_left (fun m e -> max m e.seq) min_int top in
+        List.filter (fun e -> e.seq = m) top
+      | _ -> cands in
     List.map (fun e ->
         let l = Dequeue e in
         (l, { c with pq = Pqueue.remove e c.pq;
@@ -297,6 +330,7 @@ module Make (B : BODIES) = struct
     let (world, effs) = B.run_percept_handler world ~id (beh_of c id) h d.e.p in
     let s = apply_effects p (bs_of c) id effs reserved in
     let l = Handle { id; h; p = d.e.p; seq = d.e.seq } in
+    let rest = if p.mutant = Some First_handler_only then [] else rest in  (* mutant *)
     (l, with_bs { c with world; cur = Some { d with todo = rest; applied = true }; last = l } s)
 
   (* Skip: the next handler does not apply. *)
@@ -359,7 +393,7 @@ module Make (B : BODIES) = struct
           | _ -> assert false in
         (w, apply_effects p s1 id effs [id], msgq, Some x) in
     let s3 =
-      if not (B.cyclic b) then deactivate s2 id
+      if not (B.cyclic b) && p.mutant <> Some Oneshot_not_removed then deactivate s2 id
       else if not (B.has_action b) && taken = None && is_active_in s2 id then block s2 id
       else s2 in
     let (done_, waits) = match taken with
@@ -388,6 +422,12 @@ module Make (B : BODIES) = struct
        | Some (O_percept e, rest) -> [transfer_one p c e rest]
        | Some (O_object o, _) -> [transfer_spin c o])
     | Transfer_phase, _ -> [transfer p c]
+    | Dispatch_phase, _ when p.mutant = Some Step_before_dispatch && c.ready <> []
+                             && not (Pqueue.is_empty c.pq)
+                             && (match c.last with Transfer _ | Transfer_end -> true | _ -> false) ->
+      (* mutant: right after the transfer, a behaviour step runs before the dispatch *)
+      let (l, c') = behaviour_step p c in
+      [ (l, { c' with phase = Dispatch_phase }) ]
     | Dispatch_phase, _ when p.variant <> Native && not (dispatch_over p c) -> dequeue p c
     | Dispatch_phase, _ when c.ready <> [] -> [behaviour_step p c]
     | Dispatch_phase, _ when p.variant <> Printed && idle_condition c -> [idle c]

@@ -27,6 +27,20 @@ type tie_policy =
   | Stable     (** R3b: equal priorities leave in seq order *)
   | Unstable   (** any entry of the highest priority (java.util.PriorityQueue) *)
 
+(** Deliberate semantic mutants of the rules, to show that the comparison
+    with TLC has teeth (docs/semantics.md, "Mutants"). Never used outside the
+    conformance checks. *)
+type mutant =
+  | Ties_to_largest_seq     (** Dequeue breaks ties towards the LAST notified *)
+  | First_handler_only      (** a dispatch stops after the first handler ran *)
+  | Transfer_moves_one      (** Transfer moves only the first O2A percept *)
+  | Step_before_dispatch    (** a behaviour step runs before the dispatch *)
+  | Oneshot_not_removed     (** a one-shot behaviour stays active *)
+  | O2a_not_drained         (** Transfer copies percepts but leaves them in O2A *)
+
+val mutants : (string * mutant) list
+(** Every mutant, with its name ([ties-largest-seq], ...). *)
+
 type params = {
   variant : variant;
   tie : tie_policy;
@@ -39,6 +53,7 @@ type params = {
                                   all 0, identical queue entries merge *)
   ghosts : bool;              (** maintain [done_] and [waits] (the spec's ghost
                                   variables); off in production runs *)
+  mutant : mutant option;     (** [None] except in the conformance checks *)
 }
 
 val variant_of_string : string -> variant option

@@ -28,9 +28,10 @@ let warning st at fmt =
 
 let ts = T.to_string
 let pos at = Printf.sprintf "%d:%d" at.left.line at.left.column
-let where at =
-  if at.left.file = "" then pos at
-  else Printf.sprintf "%s:%d:%d" (Filename.basename at.left.file) at.left.line at.left.column
+(* A position as seen from [here]: LINE:COL in the same file, else FILE:LINE:COL. *)
+let where ~here at =
+  if at.left.file = here.left.file then pos at
+  else Printf.sprintf "%s:%d:%d" at.left.file at.left.line at.left.column
 
 let fresh st ?hint at =
   let t = T.fresh ?hint at in
@@ -158,14 +159,14 @@ let collect st (files : Parse.result list) =
     if builtin_or_reserved n.it then begin
       error st n.at "%s is a builtin type name and cannot name %s" n.it what; false
     end else match Hashtbl.find_opt tbl n.it with
-      | Some at -> error st n.at "%s is already declared at %s" n.it (where at); false
+      | Some at -> error st n.at "%s is already declared at %s" n.it (where ~here:n.at at); false
       | None -> Hashtbl.replace tbl n.it n.at; true in
   let param_list ps = List.map (fun p -> (p.pname.it, T.Error)) ps in
   let features owner (fs : feature list) =
     let seen = Hashtbl.create 8 in
     let feature_name (n : name) =
       match Hashtbl.find_opt seen n.it with
-      | Some at -> error st n.at "%s is already declared in %s at %s" n.it owner (where at); false
+      | Some at -> error st n.at "%s is already declared in %s at %s" n.it owner (where ~here:n.at at); false
       | None -> Hashtbl.replace seen n.it n.at; true in
     let props = ref [] and funs = ref [] and procs = ref [] and create = ref None
     and destroy = ref None and action = ref None and handlers = ref [] in
@@ -178,15 +179,15 @@ let collect st (files : Parse.result list) =
         | Function { name; params; ret = _; body } ->
           if feature_name name then
             funs := { Tenv.r_name = name.it; r_owner = owner; r_params = param_list params;
-                      r_ret = Some T.Error; r_body = body; r_at = f.at } :: !funs
+                      r_ret = Some T.Error; r_body = body; r_at = f.at; r_decl = f } :: !funs
         | Procedure { name; params; body } ->
           if feature_name name then
             procs := { Tenv.r_name = name.it; r_owner = owner; r_params = param_list params;
-                       r_ret = None; r_body = body; r_at = f.at } :: !procs
+                       r_ret = None; r_body = body; r_at = f.at; r_decl = f } :: !procs
         | OnCreate { params; body } ->
           if !create = None then
             create := Some { Tenv.r_name = ""; r_owner = owner; r_params = param_list params;
-                             r_ret = None; r_body = body; r_at = f.at }
+                             r_ret = None; r_body = body; r_at = f.at; r_decl = f }
         | OnDestroy b -> if !destroy = None then destroy := Some b
         | ActionSection b -> if !action = None then action := Some b
         | OnPercept { guard; body } ->
@@ -438,14 +439,14 @@ let resolve_signatures st =
     List.iter (fun (f : feature) ->
         match f.it with
         | Function { name; params; ret; _ } ->
-          (match List.find_opt (fun (r : Tenv.routine) -> r.r_name = name.it && r.r_at = f.at) routines with
+          (match List.find_opt (fun (r : Tenv.routine) -> r.r_name = name.it && r.r_decl == f) routines with
            | Some r -> sig_of visible params r (Some ret) | None -> ())
         | Procedure { name; params; _ } ->
-          (match List.find_opt (fun (r : Tenv.routine) -> r.r_name = name.it && r.r_at = f.at) routines with
+          (match List.find_opt (fun (r : Tenv.routine) -> r.r_name = name.it && r.r_decl == f) routines with
            | Some r -> sig_of visible params r None | None -> ())
         | OnCreate { params; _ } ->
           (match create with
-           | Some (r : Tenv.routine) when r.r_at = f.at -> sig_of visible params r None
+           | Some (r : Tenv.routine) when r.r_decl == f -> sig_of visible params r None
            | _ -> ())
         | Property { name; ty = Some t; _ } ->
           (match List.find_opt (fun (p : Tenv.property) -> p.p_decl == f) props with
@@ -901,7 +902,7 @@ and pattern st ctx t acc (p : pattern) =
        end else begin
          (match List.assoc_opt x ctx.locals with
           | Some l -> error st p.at "pattern variable %s would shadow the local %s declared at %s: \
-                                     rename it" x x (where l.l_at)
+                                     rename it" x x (where ~here:p.at l.l_at)
           | None -> ());
          (x, { l_type = t; l_at = p.at }) :: acc
        end)
@@ -961,7 +962,7 @@ let rec stmt st ctx (s : stmt) : ctx =
   | Local (x, t, e) ->
     let t' = ty st ctx.visible t in
     (match List.assoc_opt x.it ctx.locals with
-     | Some l -> error st x.at "local %s is already declared at %s" x.it (where l.l_at)
+     | Some l -> error st x.at "local %s is already declared at %s" x.it (where ~here:x.at l.l_at)
      | None -> ());
     check st ctx ~what:(Printf.sprintf "the value of %s" x.it) e t';
     add_local ctx x.it t' x.at
@@ -1026,7 +1027,7 @@ let rec stmt st ctx (s : stmt) : ctx =
       | t -> error st e.at "'for' iterates over a list or a map, found %s" (ts t); T.Error in
     (match List.assoc_opt x.it ctx.locals with
      | Some l -> error st x.at "loop variable %s would shadow the local %s declared at %s: rename it"
-                   x.it x.it (where l.l_at)
+                   x.it x.it (where ~here:x.at l.l_at)
      | None -> ());
     block st { (add_local ctx x.it elt x.at) with loop = true } b;
     ctx
@@ -1153,7 +1154,7 @@ let routine st ctx (r : Tenv.routine) (ps : param list) ret =
 (* Rule Feature: properties, functions, procedures, lifecycle handlers. *)
 let feature st base (routines : Tenv.routine list) create (props : Tenv.property list)
     (f : feature) =
-  let find_r at = List.find_opt (fun (r : Tenv.routine) -> r.r_at = at) routines in
+  let find_r f = List.find_opt (fun (r : Tenv.routine) -> r.r_decl == f) routines in
   match f.it with
   | Property { name; ty = Some _; init = Some e } ->
     (match List.find_opt (fun (p : Tenv.property) -> p.p_decl == f) props with
@@ -1165,7 +1166,7 @@ let feature st base (routines : Tenv.routine list) create (props : Tenv.property
      | Some p -> ignore (prop_type st p)
      | None -> ())
   | Function { name; params; body; _ } ->
-    (match find_r f.at with
+    (match find_r f with
      | Some r ->
        let ret = Option.value r.r_ret ~default:T.Error in
        routine st base r params (RFunction (name.it, ret));
@@ -1174,10 +1175,10 @@ let feature st base (routines : Tenv.routine list) create (props : Tenv.property
                            (expected a 'return' of %s at the end)" name.it (ts ret)
      | None -> ())
   | Procedure { params; _ } ->
-    (match find_r f.at with Some r -> routine st base r params RNone | None -> ())
+    (match find_r f with Some r -> routine st base r params RNone | None -> ())
   | OnCreate { params; _ } ->
     (match create with
-     | Some (r : Tenv.routine) when r.r_at = f.at -> routine st base r params RNone
+     | Some (r : Tenv.routine) when r.r_decl == f -> routine st base r params RNone
      | _ -> ())
   | OnDestroy b | ActionSection b -> block st { base with ret = RNone } b
   | OnPercept { guard; body } ->

@@ -39,6 +39,7 @@ type routine = {
   mutable r_ret : Types.t option;
   r_body : Ast.block;
   r_at : Syntax.Source.region;
+  r_decl : Ast.feature;
 }
 
 type handler_kind =

@@ -57,6 +57,7 @@ type routine = {
   mutable r_ret : Types.t option;   (** [Some t] for a function *)
   r_body : Ast.block;
   r_at : Syntax.Source.region;
+  r_decl : Ast.feature;             (** the declaration *)
 }
 
 type handler_kind =

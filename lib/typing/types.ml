@@ -70,10 +70,12 @@ let rec occurs v t =
 
 let rec unify a b =
   match repr a, repr b with
-  | Error, _ | _, Error -> true
   | Var v, Var w when v == w -> true
   | Var v, t | t, Var v ->
+    (* binding to Error too: an empty literal used after an error is not
+       reported again as unresolved *)
     if occurs v t then false else (v.link <- Some t; true)
+  | Error, _ | _, Error -> true
   | List a, List b -> unify a b
   | Map (k, v), Map (k', v') -> unify k k' && unify v v'
   | Message a, Message b -> unify a b
@@ -82,8 +84,8 @@ let rec unify a b =
 (* Rule Assignable of docs/typing.md. *)
 let assignable h actual expected =
   match repr actual, repr expected with
-  | Error, _ | _, Error -> true
   | (Var _, _ | _, Var _) -> unify actual expected
+  | Error, _ | _, Error -> true
   | Integer, (Integer | Float | Double) -> true
   | Schema a, Schema b ->
     a = b || List.mem b (h.schema_supers a)
