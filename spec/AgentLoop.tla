@@ -127,6 +127,8 @@ behVars == <<active, ready, blocked, pos>>
 \* were deactivated meanwhile, plus the instance running.  Ids never exceed
 \* IdBound (see NewId).
 IdBound == 2 * MaxActive + 1
+
+\* The instance ids that can occur.
 Ids == 1..IdBound
 
 \* Priority entries (the elements of pq).
@@ -272,12 +274,15 @@ TodoIds(todo) == {t.id : t \in Range(todo)}
 (* seq s, every other waiting percept with a priority above k counts one   *)
 (* more inversion, and s stops waiting.                                    *)
 (***************************************************************************)
+\* The percepts still waiting (O2A, pq, native message queue) as pq entries.
 WaitingEntries == {ToPQ(x) : x \in {y \in Range(o2a) : IsPercept(y)}}
                   \cup pq
                   \cup {ToPQ(x) : x \in {y \in Range(msgq) : IsPercept(y)}}
 
+\* The priority of the waiting percept with seq s.
 PrioOfSeq(s) == (CHOOSE x \in WaitingEntries : x.seq = s).prio
 
+\* The waits ghost after the dispatch of entry e.
 BumpWaits(e) ==
     IF Flood THEN waits
     ELSE {IF PrioOfSeq(w[1]) > e.prio THEN <<w[1], w[2] + 1>> ELSE w :
@@ -698,10 +703,13 @@ FifoAmongEquals ==
         \A f \in SourceEntries :
             f.prio = DispatchedEntry.prio => ~(f.seq < DispatchedEntry.seq)
 
-\* The seqs in each place a percept can be.
+\* The seqs of the percepts in the O2A queue,
 SeqsO2A == {x.seq : x \in {y \in Range(o2a) : IsPercept(y)}}
+\* ... in the priority queue,
 SeqsPQ == {e.seq : e \in pq}
+\* ... in the dispatch in progress,
 SeqsCur == IF phase = "handle" THEN {cur.e.seq} ELSE {}
+\* ... and in the native message queue.
 SeqsMsgq == {x.seq : x \in {y \in Range(msgq) : IsPercept(y)}}
 
 \* Every notified percept is in exactly one place (not meaningful under Flood).

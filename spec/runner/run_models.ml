@@ -166,7 +166,10 @@ let cfg_for m prop expected =
 
 (* TLC resolves -config against the working directory, so each run gets a
    private directory holding a copy of the model module and its cfg; the
-   modules it EXTENDS are found through -DTLA-Library. *)
+   modules it EXTENDS are found through -DTLA-Library.  The directory is also
+   the JVM's java.io.tmpdir: TLC unpacks the standard modules (Naturals, ...)
+   there, and concurrent runs sharing /tmp race on those files (seen as
+   random "exit 150" parse failures). *)
 let command j =
   let cfg, deadlock = cfg_for j.model j.prop j.expected in
   write_file (Filename.concat j.tmp "check.cfg") cfg;
@@ -174,7 +177,7 @@ let command j =
   let tla = j.model.name ^ ".tla" in
   write_file (Filename.concat j.tmp tla) (read_file (Filename.concat models_dir tla));
   Printf.sprintf
-    "cd %s && java -XX:+UseParallelGC -DTLA-Library=%s -cp %s tlc2.TLC -nowarning -workers %s %s-metadir meta -config check.cfg %s > out.txt 2>&1"
+    "cd %s && java -XX:+UseParallelGC -Djava.io.tmpdir=. -DTLA-Library=%s -cp %s tlc2.TLC -nowarning -workers %s %s-metadir meta -config check.cfg %s > out.txt 2>&1"
     (quote j.tmp) (quote !spec_dir) (quote !jar) !workers
     (if deadlock then "-deadlock " else "")
     j.model.name

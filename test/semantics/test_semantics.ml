@@ -1,0 +1,304 @@
+(* Tests of lib/semantics (the machine) and lib/explore (its agreement with
+   spec/AgentLoop.tla, checked by TLC). *)
+
+open Semantics
+open Explore
+open Test_support
+open Support
+module Mc = Machine
+
+let long = Sys.getenv_opt "JSREF_LONG" = Some "1"
+
+(* ------------------------------------------------- priority queue *)
+
+(* The reference: a list kept sorted by (priority descending, seq ascending). *)
+let pq_ops = QCheck.(list_of_size Gen.(int_bound 80) (pair (int_bound 3) bool))
+
+let pqueue_pops_in_order ops =
+  let seq = ref 0 in
+  let model = ref [] and q = ref Pqueue.empty in
+  List.for_all (fun (prio, is_pop) ->
+      if is_pop then
+        match Pqueue.pop !q, List.sort (fun (a : int Pqueue.entry) b ->
+            compare (- a.prio, a.seq) (- b.prio, b.seq)) !model with
+        | None, [] -> true
+        | Some (e, q'), best :: rest -> q := q'; model := rest; e = best
+        | _ -> false
+      else begin
+        incr seq;
+        let e = { Pqueue.p = prio * 10; prio; seq = !seq } in
+        q := Pqueue.insert e !q; model := e :: !model;
+        Pqueue.size !q = List.length !model
+      end) ops
+
+let pqueue_candidates ops =
+  let q = List.fold_left (fun q (i, (prio, _)) -> Pqueue.insert { Pqueue.p = i; prio; seq = i } q)
+      Pqueue.empty (List.mapi (fun i x -> (i, x)) ops) in
+  match Pqueue.to_sorted_list q with
+  | [] -> Pqueue.candidates ~stable:true q = []
+  | top :: _ as all ->
+    Pqueue.candidates ~stable:true q = [top]
+    && List.sort compare (Pqueue.candidates ~stable:false q)
+       = List.sort compare (List.filter (fun (e : int Pqueue.entry) -> e.prio = top.prio) all)
+    && List.for_all (fun e -> not (Pqueue.mem e (Pqueue.remove e q))
+                              && Pqueue.size (Pqueue.remove e q) = Pqueue.size q - 1) all
+
+let fqueue_is_a_queue l =
+  let q = List.fold_left (fun q x -> Fqueue.push x q) Fqueue.empty l in
+  let rec drain q acc = match Fqueue.pop q with None -> List.rev acc | Some (x, q) -> drain q (x :: acc) in
+  drain q [] = l && Fqueue.to_list q = l
+  && (match Fqueue.remove_first (fun x -> x mod 3 = 0) q with
+      | None -> not (List.exists (fun x -> x mod 3 = 0) l)
+      | Some (x, q') ->
+        let rec without = function [] -> [] | y :: r -> if y = x then r else y :: without r in
+        x mod 3 = 0 && Fqueue.to_list q' = without l)
+
+(* ---------------------------------------------- scenario models *)
+
+let str s = Tla.Str s
+let int i = Tla.Int i
+let handler accepts effects =
+  Tla.record [ "accepts", Tla.set (List.map str accepts); "effects", Tla.Seq effects ]
+let activate b = Tla.record [ "op", str "activate"; "b", str b ]
+let deactivate = Tla.record [ "op", str "deactivate" ]
+
+let model ?(variant = "reference") ?(tie = "Stable") ?(percepts = [ "a", 1 ]) ?(objects = [])
+    ?(messages = []) ?(behaviours = [ "B", "cyclic", false, [], [], [] ]) ?(initial = [ "B" ])
+    ?(max_notify = 2) ?(capacity = 3) () =
+  let per f = Tla.record (List.map (fun ((b, _, _, _, _, _) as x) -> (b, f x)) behaviours) in
+  Model.of_constants ~name:"Scenario" ~dir:"." [
+    "Variant", str variant; "TiePolicy", str tie; "Budget", int 1;
+    "Percepts", Tla.set (List.map (fun (p, _) -> str p) percepts);
+    "DefaultPriority", Tla.record (List.map (fun (p, k) -> (p, int k)) percepts);
+    "Overrides", Tla.set []; "Objects", Tla.set (List.map str objects);
+    "Messages", Tla.set (List.map str messages);
+    "MaxNotify", int max_notify; "MaxPut", int (List.length objects);
+    "MaxSend", int (List.length messages); "Flood", Tla.Bool false;
+    "O2ACapacity", int capacity;
+    "Behaviours", Tla.set (List.map (fun (b, _, _, _, _, _) -> str b) behaviours);
+    "Kind", per (fun (_, k, _, _, _, _) -> str k);
+    "HasAction", per (fun (_, _, a, _, _, _) -> Tla.Bool a);
+    "ActionEffects", per (fun (_, _, _, e, _, _) -> Tla.Seq e);
+    "PerceptHandlers", per (fun (_, _, _, _, ph, _) -> Tla.Seq ph);
+    "MessageHandlers", per (fun (_, _, _, _, _, mh) -> Tla.Seq mh);
+    "InitialBehaviours", Tla.Seq (List.map str initial);
+    "MaxActive", int 3; "InversionBound", int 9 ]
+
+(* Run the agent until it idles or [n] steps, after the host actions [host];
+   return the labels of the agent steps. *)
+let run_agent (m : Model.t) host n =
+  let c = Model.M.init m.params ~world:() (List.map (fun i -> m.behaviours.(i)) m.initial) in
+  let c = List.fold_left (fun c f -> f m c) c host in
+  let rec go c n acc =
+    if n = 0 then (List.rev acc, c)
+    else match Model.M.step m.params c with
+      | [] -> (List.rev acc, c)
+      | (l, c') :: _ -> go c' (n - 1) (l :: acc) in
+  go c n []
+
+let notify name (m : Model.t) c =
+  let i = let rec f k = if m.percepts.(k) = name then k else f (k + 1) in f 0 in
+  Model.M.notify m.params c i m.default_priority.(i)
+let put (m : Model.t) c = Model.M.put m.params c 0
+let send (m : Model.t) c = Model.M.send m.params c 0
+
+let names labels = List.map Mc.action_name labels
+
+let ties_in_seq_order () =
+  (* R3b: equal priorities are dispatched first notified, first handled. *)
+  let m = model ~percepts:[ "a", 5; "b", 5 ] ~behaviours:[ "B", "cyclic", true, [], [], [] ] () in
+  let (ls, _) = run_agent m [ notify "b"; notify "a"; notify "b" ] 40 in
+  let seqs = List.filter_map (function Mc.Dequeue e -> Some e.seq | _ -> None) ls in
+  Alcotest.(check (list int)) "dequeued in seq order" [ 1; 2; 3 ] seqs
+
+let priority_first () =
+  (* R3b: highest priority first, whatever the arrival order. *)
+  let m = model ~percepts:[ "low", 1; "high", 9 ] ~max_notify:3 () in
+  let (ls, _) = run_agent m [ notify "low"; notify "high"; notify "low" ] 40 in
+  let order = List.filter_map (function Mc.Dequeue e -> Some e.prio | _ -> None) ls in
+  Alcotest.(check (list int)) "priorities in dequeue order" [ 9; 1; 1 ] order
+
+let every_applicable_handler_runs () =
+  (* R3b/R4a: each applicable handler runs, in activation then declaration order. *)
+  let m = model ~behaviours:[ "B1", "cyclic", true, [], [ handler [ "a" ] []; handler [] []; handler [ "a" ] [] ], [];
+                              "B2", "cyclic", true, [], [ handler [ "a" ] [] ], [] ]
+      ~initial:[ "B2"; "B1" ] () in
+  let (ls, _) = run_agent m [ notify "a" ] 12 in
+  let handled = List.filter_map (function
+      | Mc.Handle { id; h; _ } -> Some (Printf.sprintf "%d.%d" id h)
+      | Mc.Skip { id; h } -> Some (Printf.sprintf "skip %d.%d" id h) | _ -> None) ls in
+  (* B2 was activated first (id 1), then B1 (id 2). *)
+  Alcotest.(check (list string)) "handlers tried" [ "1.1"; "2.1"; "skip 2.2"; "2.3" ] handled
+
+let deactivated_handler_skipped () =
+  (* R4b: a handler whose behaviour an earlier handler deactivated does not run. *)
+  let m = model ~behaviours:[ "B", "cyclic", true, [], [ handler [ "a" ] [ deactivate ]; handler [ "a" ] [] ], [] ] () in
+  let (ls, c) = run_agent m [ notify "a" ] 10 in
+  let tried = List.filter_map (function
+      | Mc.Handle { h; _ } -> Some ("run " ^ string_of_int h)
+      | Mc.Skip { h; _ } -> Some ("skip " ^ string_of_int h) | _ -> None) ls in
+  Alcotest.(check (list string)) "second handler skipped" [ "run 1"; "skip 2" ] tried;
+  Alcotest.(check int) "no active behaviour left" 0 (List.length c.active)
+
+let discard_recorded () =
+  (* R3b: a percept no handler applied to is discarded, and that is recorded. *)
+  let m = model () in
+  let (ls, _) = run_agent m [ notify "a" ] 10 in
+  Alcotest.(check bool) "EndDispatch with discarded = true" true
+    (List.exists (function Mc.End_dispatch { discarded = true; seq = 1 } -> true | _ -> false) ls)
+
+let oneshot_removed () =
+  (* R5c: a one-shot behaviour is deactivated after its first step. *)
+  let m = model ~behaviours:[ "O", "oneshot", true, [], [], [] ] ~initial:[ "O" ] () in
+  let (ls, c) = run_agent m [] 10 in
+  Alcotest.(check int) "one behaviour step" 1
+    (List.length (List.filter (function Mc.Behaviour_step _ -> true | _ -> false) ls));
+  Alcotest.(check int) "not active afterwards" 0 (List.length c.active);
+  Alcotest.(check bool) "the agent idles" true (Model.M.is_idle c)
+
+let blocked_until_message () =
+  (* R5d: no action block and no message: blocked until a message arrives. *)
+  let m = model ~messages:[ "m" ] ~behaviours:[ "B", "cyclic", false, [], [], [ handler [ "m" ] [] ] ] () in
+  let (_, c) = run_agent m [] 10 in
+  Alcotest.(check (list int)) "blocked" [ 1 ] c.blocked;
+  Alcotest.(check bool) "idle" true (Model.M.is_idle c);
+  let c = Model.M.send m.params c 0 in
+  Alcotest.(check (list int)) "woken into ready" [ 1 ] c.ready;
+  let (ls, c) = (fun c -> let rec go c acc n = if n = 0 then (List.rev acc, c) else
+                            match Model.M.step m.params c with [] -> (List.rev acc, c)
+                                                             | (l, c') :: _ -> go c' (l :: acc) (n - 1) in go c [] 10) c in
+  Alcotest.(check bool) "the message is consumed by a step" true
+    (List.exists (function Mc.Behaviour_step { msg = Some (Mc.M_message _); _ } -> true | _ -> false) ls);
+  Alcotest.(check int) "message queue empty" 0 (Fqueue.length c.msgq)
+
+let objects_stay_reference_spin_printed () =
+  (* R3a: objects stay in O2A, percepts behind them still move; the printed
+     loop peeks at the object forever. *)
+  let m = model ~objects:[ "o" ] () in
+  let (_, c) = run_agent m [ put; notify "a" ] 10 in
+  Alcotest.(check int) "reference: the percept was handled" 1 (Mc.Int_set.cardinal c.done_);
+  Alcotest.(check int) "reference: the object is still in O2A" 1 (Fqueue.length c.o2a);
+  let mp = model ~variant:"printed" ~objects:[ "o" ] () in
+  let (ls, c) = run_agent mp [ put; notify "a" ] 50 in
+  Alcotest.(check bool) "printed: spins" true
+    (List.for_all (function Mc.Transfer_spin _ -> true | _ -> false) ls);
+  Alcotest.(check int) "printed: the percept never leaves O2A" 2 (Fqueue.length c.o2a)
+
+let scheduler_round_robin () =
+  (* R5f: runnable behaviours run in turn; activation appends to the ready list. *)
+  let m = model ~behaviours:[ "A", "cyclic", true, [], [], []; "B", "cyclic", true, [], [], [] ]
+      ~initial:[ "A"; "B" ] () in
+  let (ls, _) = run_agent m [] 30 in
+  let ids = List.filter_map (function Mc.Behaviour_step { id; _ } -> Some id | _ -> None) ls in
+  Alcotest.(check (list int)) "alternating" [ 1; 2; 1; 2; 1; 2; 1; 2; 1; 2 ]
+    (List.filteri (fun i _ -> i < 10) ids)
+
+(* -------------------------------------------- agreement with TLC *)
+
+let model_paths = lazy (Conformance.models ())
+
+let agreement_cases () =
+  List.map (fun path ->
+      let name = Filename.remove_extension (Filename.basename path) in
+      Alcotest.test_case ("same state graph as TLC: " ^ name) `Slow (fun () ->
+          let m = Model.load path in
+          let r = Conformance.check m in
+          if not (Compare.agree r) then Alcotest.fail (Compare.render r);
+          Alcotest.(check bool) "non-trivial graph" true (r.explorer_states > 10)))
+    (Lazy.force model_paths)
+
+let mutants_caught () =
+  let ms = List.map Model.load (Lazy.force model_paths) in
+  List.iter (fun (row : Conformance.mutant_row) ->
+      match row.caught_by with
+      | Some _ -> ()
+      | None -> Alcotest.failf "mutant %s agrees with TLC on every model" row.mutant)
+    (Conformance.mutant_table ms)
+
+let random_models_agree () =
+  let n = if long then 40 else 4 in
+  let rand = Random.State.make [| seed |] in
+  let dir = Filename.concat (Filename.get_temp_dir_name ()) (Printf.sprintf "jsref-rand-%d" (Unix.getpid ())) in
+  (try Unix.mkdir dir 0o700 with Unix.Unix_error (Unix.EEXIST, _, _) -> ());
+  let checked = ref 0 in
+  while !checked < n do
+    let cs = Random_model.constants rand in
+    let name = Printf.sprintf "MCRandom%d" !checked in
+    let path = Random_model.write ~dir ~name cs in
+    let m = Model.load path in
+    let g = Explorer.explore ~max_states:50_000 m in
+    let (dot, _) = Tlc.state_graph m in
+    let r = Compare.graphs g dot in
+    if not (Compare.agree r) then
+      Alcotest.failf "random model %s (QCHECK_SEED=%d) differs:\n%s\n%s" name seed
+        (Tlc.read_file path) (Compare.render r);
+    incr checked
+  done
+
+let simulation_replayed () =
+  List.iter (fun name ->
+      let m = Model.load (List.find (fun p -> Filename.basename p = name ^ ".tla") (Lazy.force model_paths)) in
+      match Conformance.replay_simulation m ~traces:(if long then 200 else 10) ~depth:40 ~seed with
+      | Ok n -> Alcotest.(check bool) "replayed some" true (n > 0)
+      | Error e -> Alcotest.fail e) [ "MCReference"; "MCNative"; "MCTiesUnstable" ]
+
+let runs_validated () =
+  List.iter (fun name ->
+      let m = Model.load (List.find (fun p -> Filename.basename p = name ^ ".tla") (Lazy.force model_paths)) in
+      let runs = Conformance.random_runs m ~runs:(if long then 200 else 10) ~depth:40 ~seed in
+      match Conformance.validate_runs m runs with
+      | Ok n -> Alcotest.(check int) "all accepted" (List.length runs) n
+      | Error e -> Alcotest.fail e) [ "MCReference"; "MCBudgeted"; "MCPrintedObject" ]
+
+let wrong_run_rejected () =
+  (* The validation has teeth too: a run that reaches a state only the mutant
+     reaches is not a behaviour of the spec. *)
+  let path = List.find (fun p -> Filename.basename p = "MCTiesStable.tla") (Lazy.force model_paths) in
+  let m = Model.load path in
+  let mutant = { m with params = { m.params with mutant = Some Mc.Ties_to_largest_seq } } in
+  let g = Explorer.explore mutant in
+  let r = Compare.graphs g (Conformance.tlc_graph m) in
+  let target = List.find_map (function
+      | Compare.State (Compare.Explorer_only, v) -> Some v
+      | Compare.Transition (Compare.Explorer_only, _, _, v) -> Some v
+      | _ -> None) r.differences in
+  match target with
+  | None -> Alcotest.fail "the mutant reaches no state of its own on MCTiesStable"
+  | Some v ->
+    let key = Tla.to_string v in
+    let i = ref (-1) in
+    Array.iteri (fun k c -> if !i < 0 && Tla.to_string (Project.state mutant c) = key then i := k) g.states;
+    let run = List.map (fun (_, k) -> Project.state mutant g.states.(k)) (Explorer.shortest_path g !i) in
+    Alcotest.(check bool) "a path of several steps" true (List.length run > 2);
+    (match Conformance.validate_runs m [ run ] with
+     | Ok _ -> Alcotest.fail "TLC accepted a run of the mutant"
+     | Error _ -> ());
+    (* and the same path without its last step is accepted *)
+    let prefix = List.filteri (fun j _ -> j < List.length run - 1) run in
+    (match Conformance.validate_runs m [ prefix ] with
+     | Ok _ -> ()
+     | Error e -> Alcotest.failf "TLC rejected the common prefix: %s" e)
+
+let () =
+  Alcotest.run "semantics" [
+    ("queues", [
+        qcheck ~count:500 "priority queue pops by priority then seq" pq_ops pqueue_pops_in_order;
+        qcheck ~count:300 "candidates and remove" pq_ops pqueue_candidates;
+        qcheck ~count:300 "fqueue is a FIFO" QCheck.(list_of_size Gen.(int_bound 80) small_int) fqueue_is_a_queue ]);
+    ("rulings", [
+        Alcotest.test_case "R3b ties in seq order" `Quick ties_in_seq_order;
+        Alcotest.test_case "R3b highest priority first" `Quick priority_first;
+        Alcotest.test_case "R3b/R4a every applicable handler" `Quick every_applicable_handler_runs;
+        Alcotest.test_case "R4b deactivated handler skipped" `Quick deactivated_handler_skipped;
+        Alcotest.test_case "R3b discard recorded" `Quick discard_recorded;
+        Alcotest.test_case "R5c one-shot removed" `Quick oneshot_removed;
+        Alcotest.test_case "R5d blocked until a message" `Quick blocked_until_message;
+        Alcotest.test_case "R3a objects stay; printed spins" `Quick objects_stay_reference_spin_printed;
+        Alcotest.test_case "R5f round robin" `Quick scheduler_round_robin ]);
+    ("tlc", agreement_cases () @ [
+        Alcotest.test_case "every mutant is caught" `Slow mutants_caught;
+        Alcotest.test_case "random models agree" `Slow random_models_agree;
+        Alcotest.test_case "TLC behaviours replayed" `Slow simulation_replayed;
+        Alcotest.test_case "OCaml runs validated by TLC" `Slow runs_validated;
+        Alcotest.test_case "a mutant's run is rejected" `Slow wrong_run_rejected ]);
+  ]
