@@ -22,7 +22,11 @@ test: setup
 bench: build
 	@dune exec --no-print-directory bench/bench.exe -- all
 
+# The longer agreement checks: every model (full ones too) against TLC, the
+# mutant table, 200 TLC behaviours replayed and 200 OCaml runs validated per
+# model, then every suite with 10x the property-test counts.
 conformance: build
+	@dune exec --no-print-directory -- jadescript-ref explore --all --full --mutants --simulate 200 --validate 200
 	@JSREF_LONG=1 bash scripts/test
 
 clean:

@@ -70,7 +70,7 @@ let distinct_states output =
 (* Copy the spec modules and the model into a fresh folder, let [prepare]
    add files, write [Run.cfg], run TLC on module [main] there with the options
    [options dir], call [k dir], remove the folder. *)
-let run_in_dir (m : Model.t) ~main ~cfg_lines ~options ~prepare k =
+let run_in_dir ?(prefix = "") (m : Model.t) ~main ~cfg_lines ~options ~prepare k =
   let jar = jar () in
   let dir = temp_dir () in
   Fun.protect ~finally:(fun () -> remove_tree dir) (fun () ->
@@ -82,8 +82,8 @@ let run_in_dir (m : Model.t) ~main ~cfg_lines ~options ~prepare k =
       prepare dir;
       write_file (Filename.concat dir "Run.cfg") (String.concat "\n" cfg_lines ^ "\n");
       let out = Filename.concat dir "tlc.out" in
-      let cmd = Printf.sprintf "cd %s && java -XX:+UseParallelGC -cp %s tlc2.TLC -nowarning -metadir %s %s -config Run.cfg %s > %s 2>&1"
-          (Filename.quote dir) (Filename.quote jar) (Filename.quote (Filename.concat dir "meta"))
+      let cmd = Printf.sprintf "cd %s && %s java -XX:+UseParallelGC -cp %s tlc2.TLC -nowarning -metadir %s %s -config Run.cfg %s > %s 2>&1"
+          (Filename.quote dir) prefix (Filename.quote jar) (Filename.quote (Filename.concat dir "meta"))
           (String.concat " " (List.map Filename.quote (options dir))) main (Filename.quote out) in
       let t0 = Unix.gettimeofday () in
       let code = Sys.command cmd in
@@ -100,7 +100,7 @@ let constant_lines (m : Model.t) =
       let t = String.trim line in
       String.length t >= 8 && String.sub t 0 8 = "CONSTANT") (String.split_on_char '\n' cfg)
 
-let run_model ?(extra_cfg = []) ?(options = []) ?(keep_properties = false) (m : Model.t) k =
+let run_model ?prefix ?(extra_cfg = []) ?(options = []) ?(keep_properties = false) (m : Model.t) k =
   let cfg = read_file (Filename.concat m.dir (m.name ^ ".cfg")) in
   let keep line =
     let t = String.trim line in
@@ -108,7 +108,7 @@ let run_model ?(extra_cfg = []) ?(options = []) ?(keep_properties = false) (m : 
     starts "CONSTANT" || starts "SPECIFICATION" || starts "INIT" || starts "NEXT"
     || (keep_properties && (starts "INVARIANT" || starts "PROPERTY")) in
   let lines = List.filter keep (String.split_on_char '\n' cfg) @ extra_cfg in
-  run_in_dir m ~main:m.name ~cfg_lines:lines ~options:(fun _ -> options) ~prepare:(fun _ -> ()) k
+  run_in_dir ?prefix m ~main:m.name ~cfg_lines:lines ~options:(fun _ -> options) ~prepare:(fun _ -> ()) k
 
 let run_module (m : Model.t) ~module_name ~text ~cfg_lines ~options =
   run_in_dir m ~main:module_name ~cfg_lines:(constant_lines m @ cfg_lines) ~options:(fun _ -> options)

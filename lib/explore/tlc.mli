@@ -17,12 +17,13 @@ type run = {
 }
 
 val run_model :
-  ?extra_cfg:string list -> ?options:string list -> ?keep_properties:bool ->
+  ?prefix:string -> ?extra_cfg:string list -> ?options:string list -> ?keep_properties:bool ->
   Model.t -> (string -> unit) -> run
 (** [run_model m k] copies the spec modules and the model into a fresh folder,
     writes a cfg with the model's constant bindings (plus [extra_cfg] lines; its
     INVARIANT/PROPERTY lines only if [keep_properties]), runs TLC there with
-    [options] and calls [k dir] with that folder before it is removed. *)
+    [options] (the command preceded by [prefix], e.g. a timing tool) and calls
+    [k dir] with that folder before it is removed. *)
 
 val run_module :
   Model.t -> module_name:string -> text:string -> cfg_lines:string list ->
