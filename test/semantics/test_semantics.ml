@@ -193,6 +193,41 @@ let scheduler_round_robin () =
   Alcotest.(check (list int)) "alternating" [ 1; 2; 1; 2; 1; 2; 1; 2; 1; 2 ]
     (List.filteri (fun i _ -> i < 10) ids)
 
+(* Decisions D1-D7 of docs/semantics.md that no ruling makes. *)
+
+let d1_oneshot_not_blocked () =
+  let m = model ~behaviours:[ "O", "oneshot", false, [], [], [] ] ~initial:[ "O" ] () in
+  let (_, c) = run_agent m [] 10 in
+  Alcotest.(check (list int)) "not blocked" [] c.blocked;
+  Alcotest.(check int) "deactivated" 0 (List.length c.active)
+
+let d2_snapshot_ids_reserved () =
+  (* B's first handler deactivates B (id 1) and activates C: C must not take
+     id 1, which the snapshot still names for B's second handler. *)
+  let m = model ~behaviours:[ "B", "cyclic", true, [], [ handler [ "a" ] [ deactivate; activate "C" ];
+                                                        handler [ "a" ] [] ], [];
+                              "C", "cyclic", true, [], [ handler [ "a" ] [] ], [] ] () in
+  let (ls, c) = run_agent m [ notify "a" ] 8 in
+  Alcotest.(check (list int)) "C got id 2" [ 2 ] (List.map (fun (a : _ Mc.instance) -> a.id) c.active);
+  Alcotest.(check bool) "B's second handler skipped, C's not tried" true
+    (List.exists (function Mc.Skip { id = 1; h = 2 } -> true | _ -> false) ls
+     && not (List.exists (function Mc.Handle { id = 2; _ } | Mc.Skip { id = 2; _ } -> true | _ -> false) ls))
+
+let d3_put_does_not_wake () =
+  let m = model ~objects:[ "o" ] ~behaviours:[ "B", "cyclic", false, [], [], [] ] () in
+  let (_, c) = run_agent m [] 10 in
+  Alcotest.(check bool) "idle" true (Model.M.is_idle c);
+  let c = Model.M.put m.params c 0 in
+  Alcotest.(check bool) "still idle after a put" true (Model.M.is_idle c);
+  Alcotest.(check int) "no agent step" 0 (List.length (Model.M.step m.params c))
+
+let d4_printed_never_idles () =
+  let m = model ~variant:"printed" ~behaviours:[ "B", "cyclic", false, [], [], [] ] () in
+  let (ls, c) = run_agent m [] 50 in
+  Alcotest.(check bool) "not idle" false (Model.M.is_idle c);
+  Alcotest.(check bool) "busy loop" true
+    (List.length (List.filter (function Mc.Next_iteration -> true | _ -> false) ls) > 10)
+
 (* -------------------------------------------- agreement with TLC *)
 
 let model_paths = lazy (Conformance.models ())
@@ -295,6 +330,11 @@ let () =
         Alcotest.test_case "R5d blocked until a message" `Quick blocked_until_message;
         Alcotest.test_case "R3a objects stay; printed spins" `Quick objects_stay_reference_spin_printed;
         Alcotest.test_case "R5f round robin" `Quick scheduler_round_robin ]);
+    ("decisions", [
+        Alcotest.test_case "D1 one-shot deactivated, not blocked" `Quick d1_oneshot_not_blocked;
+        Alcotest.test_case "D2 snapshot ids reserved" `Quick d2_snapshot_ids_reserved;
+        Alcotest.test_case "D3 put does not wake" `Quick d3_put_does_not_wake;
+        Alcotest.test_case "D4 printed never idles" `Quick d4_printed_never_idles ]);
     ("tlc", agreement_cases () @ [
         Alcotest.test_case "every mutant is caught" `Slow mutants_caught;
         Alcotest.test_case "random models agree" `Slow random_models_agree;
