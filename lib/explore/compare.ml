@@ -6,6 +6,7 @@ type difference =
   | Transition of side * Tla.t * string * Tla.t
 
 type report = {
+  ocaml_view : string -> string option;
   explorer_states : int;
   tlc_states : int;
   explorer_transitions : int;
@@ -96,7 +97,10 @@ let graphs (x : Explorer.graph) (d : Dot.graph) =
       (match d with
        | Transition (_, _, l, t) -> path @ [ (l, t) ]
        | _ -> path) in
-  { explorer_states = Array.length a.names; tlc_states = Array.length b.names;
+  let ocaml_view v = match Hashtbl.find_opt ia v with
+    | Some i -> Some (Explorer.show x.model x.states.(i))
+    | None -> None in
+  { ocaml_view; explorer_states = Array.length a.names; tlc_states = Array.length b.names;
     explorer_transitions = ES.cardinal ea; tlc_transitions = ES.cardinal eb;
     differences = List.map (fun (_, _, d, _) -> d) sorted; witness }
 
@@ -126,11 +130,15 @@ let render r =
       | Initial (s, v) -> Printf.bprintf b "  an initial state that %s has:\n    %s\n" (side_name s) (Tla.to_string v)
       | State (s, v) -> Printf.bprintf b "  a state that %s reaches:\n    %s\n" (side_name s) (Tla.to_string v)
       | Transition (s, _, l, _) -> Printf.bprintf b "  a %s transition that %s takes (last step below)\n" l (side_name s));
-     Buffer.add_string b "  path:\n";
+     Buffer.add_string b "  path (TLA+: the variables each step changed; OCaml: the machine's configuration):\n";
      let prev = ref None in
-     List.iter (fun (l, v) ->
+     List.iteri (fun i (l, v) ->
          (match !prev with
-          | None -> Printf.bprintf b "    %s: %s\n" l (Tla.to_string v)
-          | Some p -> Printf.bprintf b "    %s: %s\n" l (String.concat "; " (changed p v)));
+          | None -> Printf.bprintf b "  %2d %s\n     TLA+:  %s\n" i l (Tla.to_string v)
+          | Some p -> Printf.bprintf b "  %2d %s\n     TLA+:  %s\n" i l (String.concat "; " (changed p v)));
+         Printf.bprintf b "     OCaml: %s\n"
+           (match r.ocaml_view (Tla.to_string v) with
+            | Some s -> s
+            | None -> "(a state the OCaml machine does not reach)");
          prev := Some v) r.witness);
   Buffer.contents b

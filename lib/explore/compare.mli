@@ -10,6 +10,8 @@ type difference =
   | Transition of side * Tla.t * string * Tla.t
 
 type report = {
+  ocaml_view : string -> string option;
+      (** the explorer's configuration (OCaml notation) of a canonical TLA+ state *)
   explorer_states : int;
   tlc_states : int;
   explorer_transitions : int;
@@ -25,4 +27,5 @@ val agree : report -> bool
 
 val render : report -> string
 (** A summary; on a difference, the first one and the path to it, each step
-    with the action and the variables it changed, in TLA+ notation. *)
+    in both notations: the TLA+ variables it changed, and the OCaml
+    configuration (or a note that the machine does not reach that state). *)

@@ -98,6 +98,30 @@ let key (c : Model.M.t) =
   add_label b c.last;
   Buffer.contents b
 
+(* ------------------------------------------------------------- show *)
+
+let show (m : Model.t) (c : Model.M.t) =
+  let e (x : int entry) = Printf.sprintf "(%s,%d,#%d)" m.percepts.(x.p) x.prio x.seq in
+  let list f l = "[" ^ String.concat "; " (List.map f l) ^ "]" in
+  let msg = function
+    | M_message { m = x; mseq } -> Printf.sprintf "msg(%s,#%d)" m.messages.(x) mseq
+    | M_percept x -> e x in
+  let phase = match c.phase with
+    | Transfer_phase -> "Transfer_phase" | Dispatch_phase -> "Dispatch_phase"
+    | Handle_phase -> "Handle_phase" | Idle_phase -> "Idle_phase" in
+  Printf.sprintf "{phase=%s; o2a=%s; pq=%s; msgq=%s; active=%s; ready=%s; blocked=%s; pos=%d%s; last=%s}"
+    phase
+    (list (function O_percept x -> e x | O_object o -> "obj " ^ m.objects.(o)) (Semantics.Fqueue.to_list c.o2a))
+    (list e (Semantics.Pqueue.to_sorted_list c.pq))
+    (list msg (Semantics.Fqueue.to_list c.msgq))
+    (list (fun (a : Model.beh instance) -> Printf.sprintf "%d:%s" a.id a.beh.bname) c.active)
+    (list string_of_int c.ready) (list string_of_int c.blocked) c.pos
+    (match c.cur with
+     | None -> ""
+     | Some d -> Printf.sprintf "; cur=%s todo=%s applied=%b" (e d.e)
+                   (list (fun (i, h) -> Printf.sprintf "%d.%d" i h) d.todo) d.applied)
+    (action_name c.last)
+
 (* ---------------------------------------------------------- explore *)
 
 let explore ?(max_states = 5_000_000) (m : Model.t) =

@@ -22,6 +22,11 @@ val successors : Model.t -> Model.M.t -> (Model.M.lbl * Model.M.t) list
 val key : Model.M.t -> string
 (** The canonical key of a configuration. *)
 
+val show : Model.t -> Model.M.t -> string
+(** A configuration in OCaml notation, one line: the phase, the queues, the
+    behaviours and the last rule, as the machine's record holds them (the pairing
+    heap shown in dequeue order). *)
+
 val explore : ?max_states:int -> Model.t -> graph
 (** @raise Failure when more than [max_states] (default 5,000,000) states are found. *)
 

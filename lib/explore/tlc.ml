@@ -82,8 +82,12 @@ let run_in_dir ?(prefix = "") (m : Model.t) ~main ~cfg_lines ~options ~prepare k
       prepare dir;
       write_file (Filename.concat dir "Run.cfg") (String.concat "\n" cfg_lines ^ "\n");
       let out = Filename.concat dir "tlc.out" in
-      let cmd = Printf.sprintf "cd %s && %s java -XX:+UseParallelGC -cp %s tlc2.TLC -nowarning -metadir %s %s -config Run.cfg %s > %s 2>&1"
-          (Filename.quote dir) prefix (Filename.quote jar) (Filename.quote (Filename.concat dir "meta"))
+      (* A private java.io.tmpdir: TLC unpacks its standard modules there, and
+         runs sharing /tmp can read each other's half-written files. *)
+      let jtmp = Filename.concat dir "jtmp" in
+      Unix.mkdir jtmp 0o700;
+      let cmd = Printf.sprintf "cd %s && %s java -XX:+UseParallelGC -Djava.io.tmpdir=%s -cp %s tlc2.TLC -nowarning -metadir %s %s -config Run.cfg %s > %s 2>&1"
+          (Filename.quote dir) prefix (Filename.quote jtmp) (Filename.quote jar) (Filename.quote (Filename.concat dir "meta"))
           (String.concat " " (List.map Filename.quote (options dir))) main (Filename.quote out) in
       let t0 = Unix.gettimeofday () in
       let code = Sys.command cmd in
