@@ -198,6 +198,7 @@ module Bodies = struct
   let run_action () ~id:_ b = ((), effects b b.action_effects)
   let message_accepted () ~id:_ b h m = List.mem m b.message_handlers.(h - 1).accepts
   let run_message_handler () ~id:_ b h _ = ((), effects b b.message_handlers.(h - 1).effects)
+  let take_outbox () = ((), [])
 end
 
 module M = Semantics.Machine.Make (Bodies)

@@ -115,6 +115,7 @@ module type BODIES = sig
   val run_action : world -> id:int -> beh -> world * beh effect list
   val message_accepted : world -> id:int -> beh -> int -> message -> bool
   val run_message_handler : world -> id:int -> beh -> int -> message -> world * beh effect list
+  val take_outbox : world -> world * (string * message) list
 end
 
 module Make (B : BODIES) = struct

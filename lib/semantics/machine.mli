@@ -166,6 +166,10 @@ module type BODIES = sig
       [when])? *)
 
   val run_message_handler : world -> id:int -> beh -> int -> message -> world * beh effect list
+
+  val take_outbox : world -> world * (string * message) list
+  (** The messages the bodies sent since the last call, with their receivers'
+      names, in order; the platform delivers them (R5e). *)
 end
 
 module Make (B : BODIES) : sig

@@ -228,6 +228,56 @@ let d4_printed_never_idles () =
   Alcotest.(check bool) "busy loop" true
     (List.length (List.filter (function Mc.Next_iteration -> true | _ -> false) ls) > 10)
 
+(* ----------------------------------------------------------- platform *)
+
+(* Two agents: "a" runs a one-shot behaviour that sends "ping" to "b" and to
+   "nobody"; "b" has a cyclic behaviour whose message handler answers "pong". *)
+module Ping = struct
+  type percept = unit
+  type message = string
+  type obj = unit
+  type beh = Pinger | Ponger
+  type world = { outbox : (string * string) list; got : string list }
+  let cyclic = function Pinger -> false | Ponger -> true
+  let has_action = function Pinger -> true | Ponger -> false
+  let percept_handlers _ = 0
+  let message_handlers = function Pinger -> 1 | Ponger -> 1
+  let percept_applicable w ~id:_ _ _ () = (w, false)
+  let run_percept_handler w ~id:_ _ _ () = (w, [])
+  let run_action w ~id:_ _ = ({ w with outbox = w.outbox @ [ ("b", "ping"); ("nobody", "ping") ] }, [])
+  let message_accepted _ ~id:_ b _ m = (b = Ponger && m = "ping") || (b = Pinger && m = "pong")
+  let run_message_handler w ~id:_ b _ m =
+    let w = { w with got = w.got @ [ m ] } in
+    ((if b = Ponger then { w with outbox = w.outbox @ [ ("a", "pong") ] } else w), [])
+  let take_outbox w = ({ w with outbox = [] }, w.outbox)
+end
+
+module P = Semantics.Platform.Make (Ping)
+
+let platform_ping_pong () =
+  let p = { Mc.variant = Mc.Reference; tie = Mc.Stable; budget = 1; max_active = None;
+            o2a_capacity = None; flood = false; ghosts = false; mutant = None } in
+  let w = { Ping.outbox = []; got = [] } in
+  let t = P.create [ ("a", P.M.init p ~world:w [ Ping.Pinger ]); ("b", P.M.init p ~world:w [ Ping.Ponger ]) ] in
+  let rec run t n acc =
+    if n = 0 then (t, List.rev acc)
+    else match P.schedule P.Round_robin t with
+      | None -> (t, List.rev acc)
+      | Some i -> let (t, evs) = P.iteration p t i in run t (n - 1) (List.rev_append evs acc) in
+  let (t, evs) = run t 20 [] in
+  let delivered = List.filter_map (function
+      | P.Delivered { sender; receiver; message } -> Some (sender ^ ">" ^ receiver ^ ":" ^ message)
+      | _ -> None) evs in
+  Alcotest.(check (list string)) "ping delivered to b, pong back to a" [ "a>b:ping"; "b>a:pong" ] delivered;
+  Alcotest.(check bool) "the message to an unknown agent is reported (R5e)" true
+    (List.exists (function P.Undeliverable { receiver = "nobody"; _ } -> true | _ -> false) evs);
+  Alcotest.(check (list string)) "b handled the ping" [ "ping" ] t.agents.(1).config.world.got;
+  Alcotest.(check bool) "everyone idle at the end" true (P.all_idle t);
+  (* R6: one iteration of one agent is atomic: its steps are contiguous. *)
+  let owners = List.filter_map (function P.Step (n, _) -> Some n | _ -> None) evs in
+  let rec runs = function a :: (b :: _ as r) -> (if a <> b then 1 else 0) + runs r | _ -> 0 in
+  Alcotest.(check bool) "agents interleave by whole iterations" true (runs owners <= 6)
+
 (* -------------------------------------------- agreement with TLC *)
 
 let model_paths = lazy (Conformance.models ())
@@ -250,25 +300,26 @@ let mutants_caught () =
       | None -> Alcotest.failf "mutant %s agrees with TLC on every model" row.mutant)
     (Conformance.mutant_table ms)
 
-let random_models_agree () =
-  let n = if long then 40 else 4 in
-  let rand = Random.State.make [| seed |] in
+let rand_dir = lazy (
   let dir = Filename.concat (Filename.get_temp_dir_name ()) (Printf.sprintf "jsref-rand-%d" (Unix.getpid ())) in
   (try Unix.mkdir dir 0o700 with Unix.Unix_error (Unix.EEXIST, _, _) -> ());
-  let checked = ref 0 in
-  while !checked < n do
-    let cs = Random_model.constants rand in
-    let name = Printf.sprintf "MCRandom%d" !checked in
-    let path = Random_model.write ~dir ~name cs in
-    let m = Model.load path in
-    let g = Explorer.explore ~max_states:50_000 m in
-    let (dot, _) = Tlc.state_graph m in
-    let r = Compare.graphs g dot in
-    if not (Compare.agree r) then
-      Alcotest.failf "random model %s (QCHECK_SEED=%d) differs:\n%s\n%s" name seed
-        (Tlc.read_file path) (Compare.render r);
-    incr checked
-  done
+  dir)
+
+let random_counter = ref 0
+
+let arb_random_model =
+  QCheck.make ~print:(fun cs -> String.concat "\n" (List.map (fun (c, v) -> c ^ " = " ^ Tla.to_string v) cs))
+    Random_model.constants
+
+let random_model_agrees cs =
+  incr random_counter;
+  let path = Random_model.write ~dir:(Lazy.force rand_dir) ~name:(Printf.sprintf "MCRandom%d" !random_counter) cs in
+  let m = Model.load path in
+  let g = Explorer.explore ~max_states:50_000 m in
+  let (dot, _) = Tlc.state_graph m in
+  let r = Compare.graphs g dot in
+  if not (Compare.agree r) then QCheck.Test.fail_reportf "%s" (Compare.render r);
+  true
 
 let simulation_replayed () =
   List.iter (fun name ->
@@ -335,9 +386,10 @@ let () =
         Alcotest.test_case "D2 snapshot ids reserved" `Quick d2_snapshot_ids_reserved;
         Alcotest.test_case "D3 put does not wake" `Quick d3_put_does_not_wake;
         Alcotest.test_case "D4 printed never idles" `Quick d4_printed_never_idles ]);
+    ("platform", [ Alcotest.test_case "R5e R6 ping-pong between agents" `Quick platform_ping_pong ]);
     ("tlc", agreement_cases () @ [
         Alcotest.test_case "every mutant is caught" `Slow mutants_caught;
-        Alcotest.test_case "random models agree" `Slow random_models_agree;
+        qcheck ~count:4 ~long_factor:10 "random models agree with TLC" arb_random_model random_model_agrees;
         Alcotest.test_case "TLC behaviours replayed" `Slow simulation_replayed;
         Alcotest.test_case "OCaml runs validated by TLC" `Slow runs_validated;
         Alcotest.test_case "a mutant's run is rejected" `Slow wrong_run_rejected ]);

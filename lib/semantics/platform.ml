@@ -1,0 +1,73 @@
+module Make (B : Machine.BODIES) = struct
+  module M = Machine.Make (B)
+
+  type agent = { name : string; config : M.t }
+  type t = { agents : agent array; next : int }
+
+  type event =
+    | Step of string * M.lbl
+    | Delivered of { sender : string; receiver : string; message : B.message }
+    | Undeliverable of { sender : string; receiver : string; message : B.message }
+
+  let create l = { agents = Array.of_list (List.map (fun (name, config) -> { name; config }) l); next = 0 }
+
+  let find t name =
+    let r = ref None in
+    Array.iteri (fun i a -> if !r = None && a.name = name then r := Some i) t.agents;
+    !r
+
+  let set t i config =
+    let agents = Array.copy t.agents in
+    agents.(i) <- { (agents.(i)) with config };
+    { t with agents }
+
+  let deliver p t ~sender ~receiver message =
+    match find t receiver with
+    | None -> (t, Undeliverable { sender; receiver; message })
+    | Some i -> (set t i (M.send p t.agents.(i).config message), Delivered { sender; receiver; message })
+
+  (* Deliver what agent i's bodies sent during its last step. *)
+  let flush p t i =
+    let c = t.agents.(i).config in
+    let (world, out) = B.take_outbox c.world in
+    let t = set t i { c with world } in
+    List.fold_left (fun (t, evs) (receiver, m) ->
+        let (t, ev) = deliver p t ~sender:t.agents.(i).name ~receiver m in
+        (t, ev :: evs)) (t, []) out
+    |> fun (t, evs) -> (t, List.rev evs)
+
+  (* The rules that end a loop iteration. *)
+  let ends_iteration (l : M.lbl) = match l with
+    | Machine.Behaviour_step _ | Machine.Next_iteration | Machine.Idle -> true
+    | _ -> false
+
+  let iteration ?(max_steps = 1_000_000) p t i =
+    let name = t.agents.(i).name in
+    let t = { t with next = (i + 1) mod Array.length t.agents } in
+    let rec go t n acc =
+      if n >= max_steps then (t, List.rev acc)
+      else match M.step p t.agents.(i).config with
+        | [] -> (t, List.rev acc)
+        | (l, c) :: _ ->
+          let t = set t i c in
+          let (t, evs) = flush p t i in
+          let acc = List.rev_append evs (Step (name, l) :: acc) in
+          if ends_iteration l then (t, List.rev acc) else go t (n + 1) acc in
+    go t 0 []
+
+  type policy = Round_robin | Seeded of Random.State.t
+
+  let all_idle t = Array.for_all (fun a -> M.is_idle a.config) t.agents
+
+  let schedule policy t =
+    let n = Array.length t.agents in
+    let busy = List.filter (fun i -> not (M.is_idle t.agents.(i).config)) (List.init n Fun.id) in
+    match busy, policy with
+    | [], _ -> None
+    | _, Round_robin ->
+      let rec from k = if k >= 2 * n then None
+        else let i = (t.next + k) mod n in
+          if List.mem i busy then Some i else from (k + 1) in
+      from 0
+    | _, Seeded r -> Some (List.nth busy (Random.State.int r (List.length busy)))
+end

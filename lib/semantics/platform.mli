@@ -1,0 +1,48 @@
+(** A platform: several agents, each a {!Machine} configuration, and the
+    host's view of them (R6).
+
+    Agents run concurrently; one loop iteration of one agent is atomic with
+    respect to the others. {!iteration} runs one iteration of one agent: its
+    steps from a transfer up to the next transfer (after its behaviour step or
+    NextIteration) or until it idles. Messages its bodies send are delivered at
+    once, at the end of the step that sent them, to the receivers' message
+    queues (R5e: first in, first out per receiver); a message to an unknown
+    agent is not delivered and is reported. {!schedule} picks the next agent to
+    run: round-robin in creation order, or seeded random choice among the agents
+    that are not idle. *)
+
+module Make (B : Machine.BODIES) : sig
+  module M : module type of Machine.Make (B)
+
+  type agent = { name : string; config : M.t }
+
+  type t = {
+    agents : agent array;      (** in creation order (R5g) *)
+    next : int;                (** round-robin position *)
+  }
+
+  type event =
+    | Step of string * M.lbl                   (** an agent took a rule *)
+    | Delivered of { sender : string; receiver : string; message : B.message }
+    | Undeliverable of { sender : string; receiver : string; message : B.message }
+
+  val create : (string * M.t) list -> t
+  (** Agents in creation order, each already created ([on create] run). *)
+
+  val find : t -> string -> int option
+
+  val deliver : Machine.params -> t -> sender:string -> receiver:string -> B.message -> t * event
+  (** A message from [sender] (an agent, or the host) to [receiver] (R5e). *)
+
+  val iteration : ?max_steps:int -> Machine.params -> t -> int -> t * event list
+  (** One loop iteration of agent [i] ([max_steps] bounds it; default 10^6).
+      Empty when the agent is idle. Under the [Unstable] tie policy the first
+      candidate is taken. *)
+
+  type policy = Round_robin | Seeded of Random.State.t
+
+  val schedule : policy -> t -> int option
+  (** The next agent that is not idle, or [None] when all are idle. *)
+
+  val all_idle : t -> bool
+end
