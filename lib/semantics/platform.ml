@@ -41,7 +41,7 @@ module Make (B : Machine.BODIES) = struct
     | Machine.Behaviour_step _ | Machine.Next_iteration | Machine.Idle -> true
     | _ -> false
 
-  let iteration ?(max_steps = 1_000_000) p t i =
+  let iteration ?(max_steps = 1_000_000) ?(on_event = fun _ _ -> ()) p t i =
     let name = t.agents.(i).name in
     let t = { t with next = (i + 1) mod Array.length t.agents } in
     let rec go t n acc =
@@ -50,7 +50,9 @@ module Make (B : Machine.BODIES) = struct
         | [] -> (t, List.rev acc)
         | (l, c) :: _ ->
           let t = set t i c in
+          on_event t (Step (name, l));
           let (t, evs) = flush p t i in
+          List.iter (on_event t) evs;
           let acc = List.rev_append evs (Step (name, l) :: acc) in
           if ends_iteration l then (t, List.rev acc) else go t (n + 1) acc in
     go t 0 []

@@ -1,0 +1,204 @@
+(* jadescript-ref run FILE... --agent NAME:TYPE[:ARG,...] ... [--events FILE]
+   [--trace FILE] [--seed N] [--max-steps N] [--variant V] [--fuel N] *)
+
+open Syntax
+open Cmdliner
+module V = Interp.Value
+module Mc = Semantics.Machine
+
+exception Stop of int
+
+let report_at file line col msg =
+  prerr_endline (Printf.sprintf "%s:%d:%d: error: %s" file line col msg)
+
+(* Parse and check the program; print every diagnostic; stop on an error. *)
+let load files =
+  let parsed = List.map (fun f -> match Parse.file f with
+      | r -> Ok r
+      | exception Diag.Failed d -> Error d) files in
+  let syntax = List.filter_map (function Error d -> Some d | Ok _ -> None) parsed in
+  let ok = List.filter_map (function Ok r -> Some r | Error _ -> None) parsed in
+  let env, diags = Typing.check ok in
+  let errors = List.filter (fun d -> d.Diag.severity = Diag.Error) (syntax @ diags) in
+  List.iter (fun d -> prerr_endline (Diag.to_string d)) (List.sort Diag.compare errors);
+  if errors <> [] then raise (Stop 1);
+  env
+
+(* The host objects the command line offers: @robome records the RoboMe
+   SDK commands the paper's agent invokes (the simulation offers a real one). *)
+let host_objects () =
+  let calls = [ "startListening"; "callStop"; "callMoveForward"; "callMoveBackward";
+                "callTurnLeft"; "callTurnRight"; "callHeadTiltUp"; "callHeadTiltDown"; "callHeadReset" ] in
+  [ "@robome", V.Native { nid = 1; cls = "RoboMe"; methods = List.map (fun m -> (m, fun _ -> V.Unit)) calls } ]
+
+(* Split "a,b(1, 2),\"x,y\"" at the commas outside brackets and quotes. *)
+let split_args s =
+  let parts = ref [] and b = Buffer.create 16 and depth = ref 0 and quoted = ref false in
+  String.iteri (fun i c ->
+      if !quoted then begin
+        Buffer.add_char b c;
+        if c = '"' && (i = 0 || s.[i - 1] <> '\\') then quoted := false
+      end else match c with
+        | '"' -> quoted := true; Buffer.add_char b c
+        | '(' | '[' | '{' -> incr depth; Buffer.add_char b c
+        | ')' | ']' | '}' -> decr depth; Buffer.add_char b c
+        | ',' when !depth = 0 -> parts := Buffer.contents b :: !parts; Buffer.clear b
+        | c -> Buffer.add_char b c) s;
+  if Buffer.length b > 0 || !parts <> [] then parts := Buffer.contents b :: !parts;
+  List.rev_map String.trim !parts
+
+let agent_spec env spec =
+  let fail msg = prerr_endline (Printf.sprintf "--agent %s: error: %s" spec msg); raise (Stop 1) in
+  match String.index_opt spec ':' with
+  | None -> fail "expected NAME:TYPE[:ARG,...]"
+  | Some i ->
+    let name = String.sub spec 0 i in
+    let rest = String.sub spec (i + 1) (String.length spec - i - 1) in
+    let (ty, args) = match String.index_opt rest ':' with
+      | None -> (rest, "")
+      | Some j -> (String.sub rest 0 j, String.sub rest (j + 1) (String.length rest - j - 1)) in
+    if name = "" || ty = "" then fail "expected NAME:TYPE[:ARG,...]";
+    if Typing.Tenv.agent env ty = None then fail (Printf.sprintf "there is no agent type %s" ty);
+    let values = List.map (fun a ->
+        match List.assoc_opt a (host_objects ()) with
+        | Some v -> v
+        | None ->
+          (match Interp.Eval.literal_value env (Parse.expr ~file:"--agent" a) with
+           | v -> v
+           | exception Diag.Failed d -> fail d.message
+           | exception Interp.Eval.Runtime_error (_, m) -> fail m)) (split_args args) in
+    (name, ty, values)
+
+type host_event =
+  | Notify of string * V.t * int * int option
+  | Put of string * V.t
+  | Message of string * string * V.t
+  | Run of int
+  | Run_idle
+
+(* Read and check every line before anything runs: a bad line is reported
+   with its location and nothing is run. *)
+let read_events env agents file =
+  let lines = match Parse.read_all file with
+    | Ok t -> String.split_on_char '\n' t
+    | Error m -> report_at file 1 1 ("cannot read the events file: " ^ m); raise (Stop 1) in
+  let errors = ref 0 in
+  let events = List.concat (List.mapi (fun k line ->
+      let n = k + 1 in
+      let bad col msg = incr errors; report_at file n col msg; [] in
+      let line = String.trim line in
+      if line = "" || line.[0] = '#' then []
+      else match Yojson.Safe.from_string line with
+        | exception Yojson.Json_error m -> bad 1 ("not a JSON object: " ^ String.concat " " (String.split_on_char '\n' m))
+        | `Assoc fields ->
+          let get f = List.assoc_opt f fields in
+          let agent () = match get "agent" with
+            | Some (`String a) ->
+              (match List.assoc_opt a agents with
+               | Some ty -> Some (a, ty)
+               | None -> ignore (bad 1 (Printf.sprintf "there is no agent %s" a)); None)
+            | _ -> ignore (bad 1 "this line needs an \"agent\""); None in
+          let expr what s = match Parse.expr ~file s with
+            | e -> Some e
+            | exception Diag.Failed d -> ignore (bad d.at.left.column (what ^ ": " ^ d.message)); None in
+          (match get "notify", get "put", get "message", get "run" with
+           | Some (`String p), None, None, None ->
+             (match agent () with
+              | None -> []
+              | Some (a, ty) ->
+                (match expr "the percept" p with
+                 | None -> []
+                 | Some e ->
+                   (match Interp.Eval.percept_value env ~agent_type:ty e with
+                    | (v, default) ->
+                      (match get "priority" with
+                       | None -> [ Notify (a, v, default, None) ]
+                       | Some (`Int k) when k >= 0 -> [ Notify (a, v, default, Some k) ]
+                       | Some _ -> bad 1 "\"priority\" is a natural number (R2a)")
+                    | exception Interp.Eval.Runtime_error (at, m) -> bad at.left.column m)))
+           | None, Some (`String o), None, None ->
+             (match agent (), expr "the object" o with
+              | Some (a, _), Some e ->
+                (match Interp.Eval.literal_value env e with
+                 | v -> [ Put (a, v) ]
+                 | exception Interp.Eval.Runtime_error (at, m) -> bad at.left.column m)
+              | _ -> [])
+           | None, None, Some (`String c), None ->
+             let perf = match get "performative" with Some (`String p) -> p | _ -> "inform" in
+             (match agent (), expr "the content" c with
+              | Some (a, _), Some e ->
+                (match Interp.Eval.literal_value env e with
+                 | v -> [ Message (a, perf, v) ]
+                 | exception Interp.Eval.Runtime_error (at, m) -> bad at.left.column m)
+              | _ -> [])
+           | None, None, None, Some (`Int k) when k >= 0 -> [ Run k ]
+           | None, None, None, Some (`String "idle") -> [ Run_idle ]
+           | _ -> bad 1 "expected one of \"notify\", \"put\", \"message\" (with \"agent\") or \"run\" (a number or \"idle\")")
+        | _ -> bad 1 "each line is a JSON object") lines) in
+  if !errors > 0 then raise (Stop 1);
+  events
+
+let run files agent_specs events_file trace_file seed max_steps variant fuel capacity =
+  match
+    let env = load files in
+    let specs = List.map (agent_spec env) agent_specs in
+    if specs = [] then (prerr_endline "error: no agent: give at least one --agent NAME:TYPE"; raise (Stop 1));
+    let events = match events_file with
+      | None -> []
+      | Some f -> read_events env (List.map (fun (n, ty, _) -> (n, ty)) specs) f in
+    let variant = match Mc.variant_of_string variant with
+      | Some v -> v
+      | None -> prerr_endline ("error: unknown variant " ^ variant ^ " (printed, reference, budgeted, native)"); raise (Stop 1) in
+    let trace = Option.map open_out_bin trace_file in
+    let params = { Mc.variant; tie = Mc.Stable; budget = 1; max_active = None;
+                   o2a_capacity = capacity; flood = false; ghosts = false; mutant = None } in
+    let opts = { Interp.Runtime.params; seed; fuel; max_steps; trace;
+                 on_log = (fun a s -> print_string (a ^ ": " ^ s ^ "\n")) } in
+    let rt = match Interp.Runtime.create env opts specs with
+      | rt -> rt
+      | exception Interp.Eval.Runtime_error (_, m) -> prerr_endline ("error: " ^ m); raise (Stop 1) in
+    let host_error = ref false in
+    let check = function
+      | Ok () -> ()
+      | Error m -> host_error := true; prerr_endline ("host: " ^ m) in
+    List.iter (function
+        | Notify (a, v, default, priority) -> check (Interp.Runtime.notify rt ~agent:a v ~default ~priority)
+        | Put (a, v) -> check (Interp.Runtime.put rt ~agent:a v)
+        | Message (a, perf, v) -> check (Interp.Runtime.message rt ~agent:a ~perf v)
+        | Run k -> Interp.Runtime.run_rounds rt k
+        | Run_idle -> Interp.Runtime.run_until_idle rt) events;
+    Interp.Runtime.run_until_idle rt;
+    Interp.Runtime.finish rt;
+    Option.iter close_out trace;
+    ignore !host_error;
+    0
+  with
+  | code -> code
+  | exception Stop code -> code
+
+let cmd =
+  let files = Arg.(non_empty & pos_all string [] & info [] ~docv:"FILE" ~doc:"The program's files.") in
+  let agents = Arg.(value & opt_all string [] & info ["agent"] ~docv:"NAME:TYPE[:ARG,...]"
+                      ~doc:"Create an agent (in the order given). Arguments are Jadescript literals, \
+                            or @robome for a host object recording RoboMe commands.") in
+  let events = Arg.(value & opt (some string) None & info ["events"] ~docv:"FILE"
+                      ~doc:"Host events, JSON lines (docs/trace-format.md).") in
+  let trace = Arg.(value & opt (some string) None & info ["trace"] ~docv:"FILE"
+                     ~doc:"Write the trace, JSON lines (docs/trace-format.md).") in
+  let seed = Arg.(value & opt (some int) None & info ["seed"] ~docv:"N"
+                    ~doc:"Interleave the agents in a random order drawn from this seed (R6); default round-robin.") in
+  let max_steps = Arg.(value & opt int 1_000_000 & info ["max-steps"] ~docv:"N" ~doc:"Stop after N agent steps.") in
+  let variant = Arg.(value & opt string "reference" & info ["variant"] ~docv:"V"
+                       ~doc:"The agent loop: reference (the rulings), printed, budgeted or native.") in
+  let fuel = Arg.(value & opt int 100_000 & info ["fuel"] ~docv:"N"
+                    ~doc:"Statements one handler or behaviour step may execute (R7).") in
+  let capacity = Arg.(value & opt (some int) None & info ["o2a-capacity"] ~docv:"N"
+                        ~doc:"Capacity of each agent's O2A queue (R2d); default unbounded.") in
+  Cmd.v (Cmd.info "run" ~doc:"Run a Jadescript program on the reference semantics."
+           ~man:[`S Manpage.s_description;
+                 `P "Type-checks the program, creates the agents in order, applies the host \
+                     events of $(b,--events) in order, then runs until every agent is idle \
+                     (or $(b,--max-steps)). $(i,log e) prints $(i,NAME: text) on standard \
+                     output. $(b,--trace) writes every observable step (R8) as JSON lines; \
+                     docs/trace-format.md defines the format."])
+    Term.(const run $ files $ agents $ events $ trace $ seed $ max_steps $ variant $ fuel $ capacity)

@@ -1,0 +1,598 @@
+(* The interpreter's evaluation rules. docs/semantics.md ("Running programs")
+   states them; the names of the functions follow the syntactic categories. *)
+
+open Syntax
+module Ast = Syntax.Ast
+module T = Typing.Tenv
+module Ty = Typing.Types
+module V = Value
+
+type message = { perf : string; content : V.t; sender : string }
+
+type event =
+  | Log of string
+  | Invoke of { meth : string; cls : string; args : V.t list; result : V.t }
+  | Sent of { perf : string; content : V.t; receivers : string list }
+  | Activated of string
+  | Deactivated of int
+  | Error of Source.region * string
+
+type beh = {
+  uid : int;
+  btype : T.behaviour;
+  bprops : (string, V.t) Hashtbl.t;
+  phandlers : T.handler array;
+  mhandlers : T.handler array;
+  action : Ast.block option;
+}
+
+let beh_type b = b.btype.b_name
+
+type agent = {
+  env : T.t;
+  name : string;
+  atype : T.agent;
+  props : (string, V.t) Hashtbl.t;
+  mutable outbox : (string * message) list;
+  mutable events : event list;
+  mutable effects : beh Semantics.Machine.effect list;
+  mutable fuel_limit : int;
+  mutable pending : (int * int * (string, V.t) Hashtbl.t) option;
+}
+
+let take_events a = let e = List.rev a.events in a.events <- []; e
+
+exception Runtime_error of Source.region * string
+exception Return of V.t
+exception Break
+exception Continue
+
+let err at fmt = Printf.ksprintf (fun s -> raise (Runtime_error (at, s))) fmt
+
+let uids = ref 0
+
+(* ------------------------------------------------------------ frames *)
+
+type frame = {
+  ag : agent;
+  beh : beh option;          (* the behaviour whose code runs, if any *)
+  id : int;                  (* its machine instance id (0 in agent code) *)
+  locals : (string, V.t) Hashtbl.t;
+  content : V.t option;
+  message : message option;
+  fuel : int ref;
+}
+
+let tick (f : frame) at =
+  decr f.fuel;
+  if !(f.fuel) < 0 then
+    err at "step budget exhausted: more than %d statements in one handler or step (--fuel)" f.ag.fuel_limit
+
+(* ------------------------------------------------------- conversions *)
+
+let rec coerce_param (ty : Ty.t) (v : V.t) : V.t option =
+  match Ty.repr ty, v with
+  | Ty.Integer, V.Int _ -> Some v
+  | Ty.Double, V.Int i -> Some (V.Double (float_of_int i))
+  | Ty.Double, V.Double _ -> Some v
+  | Ty.Float, V.Int i -> Some (V.Float (V.float32 (float_of_int i)))
+  | Ty.Float, (V.Float f | V.Double f) -> Some (V.Float (V.float32 f))
+  | Ty.Text, V.Text _ | Ty.Boolean, V.Bool _ | Ty.Aid, V.Aid _ | Ty.Any, _ -> Some v
+  | Ty.List _, V.List _ | Ty.Map _, V.Map _ -> Some v
+  | Ty.Schema _, V.Schema _ | Ty.Onto _, V.Schema _ -> Some v
+  | (Ty.Agent _ | Ty.Behaviour _ | Ty.Message _), _ -> Some v
+  | (Ty.Var _ | Ty.Error), _ -> Some v
+  | _ -> None
+
+and coerce ty v = match coerce_param ty v with Some v -> v | None -> v
+
+(* ------------------------------------------------------- names *)
+
+let behaviour_prop_type (f : frame) x = match f.beh with
+  | Some b -> (match T.behaviour_property f.ag.env b.btype.b_name x with Some p -> Some p.p_type | None -> None)
+  | None -> None
+
+let agent_prop_type (f : frame) x =
+  match T.agent_property f.ag.env f.ag.atype.a_name x with Some p -> Some p.p_type | None -> None
+
+let lookup (f : frame) at x =
+  match Hashtbl.find_opt f.locals x with
+  | Some v -> v
+  | None ->
+    match (match f.beh with Some b -> Hashtbl.find_opt b.bprops x | None -> None) with
+    | Some v -> v
+    | None ->
+      match Hashtbl.find_opt f.ag.props x with
+      | Some v -> v
+      | None ->
+        match T.schema f.ag.env x with
+        | Some s when s.s_slots = [] -> V.Schema { sname = s.s_name; slots = [||] }
+        | _ -> err at "unknown name %s" x
+
+let assign_name (f : frame) x v =
+  if Hashtbl.mem f.locals x then Hashtbl.replace f.locals x v
+  else match f.beh with
+    | Some b when Hashtbl.mem b.bprops x ->
+      Hashtbl.replace b.bprops x (match behaviour_prop_type f x with Some t -> coerce t v | None -> v)
+    | _ when Hashtbl.mem f.ag.props x ->
+      Hashtbl.replace f.ag.props x (match agent_prop_type f x with Some t -> coerce t v | None -> v)
+    | _ -> Hashtbl.replace f.locals x v
+
+(* ------------------------------------------------------- schemas *)
+
+let construct (env : T.t) at name (args : V.t list) =
+  match T.schema env name with
+  | None -> err at "unknown schema %s" name
+  | Some s ->
+    if List.length args <> List.length s.s_slots then
+      err at "%s takes %d argument%s, not %d" name (List.length s.s_slots)
+        (if List.length s.s_slots = 1 then "" else "s") (List.length args);
+    let slots = List.map2 (fun (n, ty) v ->
+        match coerce_param ty v with
+        | Some v -> (n, ref v)
+        | None -> err at "slot %s of %s is a %s, not a %s" n name (Ty.to_string ty) (V.type_name v))
+        s.s_slots args in
+    V.Schema { sname = s.s_name; slots = Array.of_list slots }
+
+let slot at (s : V.schema_v) x =
+  match Array.find_opt (fun (n, _) -> n = x) s.slots with
+  | Some (_, r) -> r
+  | None -> err at "%s has no slot %s" s.sname x
+
+(* ------------------------------------------------------ arithmetic *)
+
+let num_kind a b = match a, b with
+  | V.Int _, V.Int _ -> `Int
+  | (V.Float _, _) | (_, V.Float _) -> `Float
+  | _ -> `Double
+
+let to_f = function V.Int i -> float_of_int i | V.Float f | V.Double f -> f | _ -> nan
+
+let arith at (op : Ast.binop) a b =
+  let numeric v = match v with V.Int _ | V.Float _ | V.Double _ -> true | _ -> false in
+  if not (numeric a && numeric b) then
+    err at "cannot apply an arithmetic operator to %s and %s" (V.type_name a) (V.type_name b);
+  match num_kind a b, a, b with
+  | `Int, V.Int x, V.Int y ->
+    (match op with
+     | Add -> V.int32 (x + y) | Sub -> V.int32 (x - y) | Mul -> V.int32 (x * y)
+     | Div -> if y = 0 then err at "division by zero" else V.int32 (x / y)
+     | Mod -> if y = 0 then err at "division by zero (%%)" else V.int32 (x mod y)
+     | _ -> assert false)
+  | kind, _, _ ->
+    let x = to_f a and y = to_f b in
+    let r = match op with
+      | Add -> x +. y | Sub -> x -. y | Mul -> x *. y | Div -> x /. y
+      | Mod -> Float.rem x y | _ -> assert false in
+    if kind = `Float then V.Float (V.float32 r) else V.Double r
+
+let compare_values at (op : Ast.binop) a b =
+  let c = match a, b with
+    | (V.Int _ | V.Float _ | V.Double _), (V.Int _ | V.Float _ | V.Double _) -> compare (to_f a) (to_f b)
+    | V.Text x, V.Text y -> compare x y
+    | _ -> err at "cannot compare %s with %s" (V.type_name a) (V.type_name b) in
+  V.Bool (match op with Lt -> c < 0 | Gt -> c > 0 | Le -> c <= 0 | Ge -> c >= 0 | _ -> assert false)
+
+(* ------------------------------------------------------- patterns *)
+
+let rec pattern (f : frame) binds (p : Ast.pattern) (v : V.t) : bool =
+  match p.it, v with
+  | PWild, _ -> true
+  | PLit l, _ -> V.equal (literal l) v
+  | PName x, _ ->
+    (match T.schema f.ag.env x with
+     | Some _ -> (match v with V.Schema s -> T.subschema f.ag.env s.sname x | _ -> false)
+     | None -> Hashtbl.replace binds x v; true)
+  | PCons (c, ps), V.Schema s ->
+    T.subschema f.ag.env s.sname c.it
+    && (match T.schema f.ag.env c.it with
+        | Some sc ->
+          List.length ps = List.length sc.s_slots
+          && List.for_all2 (fun p (n, _) -> pattern f binds p !(slot p.at s n)) ps sc.s_slots
+        | None -> false)
+  | PCons _, _ -> false
+
+and literal = function
+  | Ast.Int i -> V.Int i
+  | Ast.Real r -> V.Double (float_of_string r)
+  | Ast.Text s -> V.Text s
+  | Ast.Bool b -> V.Bool b
+
+(* ---------------------------------------------------- expressions *)
+
+let rec expr (f : frame) (e : Ast.expr) : V.t =
+  match e.it with
+  | Lit l -> literal l
+  | Name x -> lookup f e.at x
+  | This -> (match f.beh with Some b -> V.Behaviour_ref b.uid | None -> V.Agent_ref f.ag.name)
+  | Agent -> V.Agent_ref f.ag.name
+  | Content -> (match f.content with Some c -> c | None -> err e.at "no content here")
+  | Message -> (match f.message with
+      | Some m -> V.Schema { sname = "message"; slots = [| ("performative", ref (V.Text m.perf));
+                                                          ("content", ref m.content);
+                                                          ("sender", ref (V.Aid m.sender)) |] }
+      | None -> err e.at "no message here")
+  | List es -> V.list_of (List.map (expr f) es)
+  | Map kvs ->
+    let m = V.map_empty () in
+    (match m with V.Map mv -> List.iter (fun (k, v) -> V.map_set mv (expr f k) (expr f v)) kvs | _ -> ());
+    m
+  | Call (g, args) -> call f e.at g.it (List.map (expr f) args)
+  | Index (m, k) ->
+    let mv = expr f m and kv = expr f k in
+    (match mv, kv with
+     | V.List l, V.Int i ->
+       if i < 0 || i >= l.len then err e.at "index %d is out of bounds (the list has %d elements)" i l.len;
+       l.items.(i)
+     | V.Map m, _ ->
+       (match V.map_find m kv with
+        | Some v -> v
+        | None -> err e.at "the map has no key %s" (V.to_literal kv))
+     | _ -> err e.at "cannot index a %s" (V.type_name mv))
+  | Of (p, x) -> of_ f e.at p.it (expr f x)
+  | Matches (x, p) ->
+    let v = expr f x in
+    let binds = Hashtbl.create 4 in
+    if pattern f binds p v then (Hashtbl.iter (Hashtbl.replace f.locals) binds; V.Bool true)
+    else V.Bool false
+  | Unop (Not, x) -> (match expr f x with V.Bool b -> V.Bool (not b) | v -> err e.at "not needs a boolean, not a %s" (V.type_name v))
+  | Unop (Neg, x) ->
+    (match expr f x with
+     | V.Int i -> V.int32 (- i) | V.Float x -> V.Float (-. x) | V.Double x -> V.Double (-. x)
+     | v -> err e.at "cannot negate a %s" (V.type_name v))
+  | Binop (And, l, r) -> (match expr f l with V.Bool false -> V.Bool false | V.Bool true -> expr f r
+                                            | v -> err e.at "and needs booleans, not a %s" (V.type_name v))
+  | Binop (Or, l, r) -> (match expr f l with V.Bool true -> V.Bool true | V.Bool false -> expr f r
+                                           | v -> err e.at "or needs booleans, not a %s" (V.type_name v))
+  | Binop (Eq, l, r) -> V.Bool (V.equal (expr f l) (expr f r))
+  | Binop (Neq, l, r) -> V.Bool (not (V.equal (expr f l) (expr f r)))
+  | Binop ((Lt | Gt | Le | Ge) as op, l, r) -> compare_values e.at op (expr f l) (expr f r)
+  | Binop (Add, l, r) ->
+    let a = expr f l and b = expr f r in
+    (match a, b with
+     | V.Text _, _ | _, V.Text _ -> V.Text (V.to_text a ^ V.to_text b)
+     | _ -> arith e.at Add a b)
+  | Binop (op, l, r) -> let a = expr f l in let b = expr f r in arith e.at op a b
+  | Invoke i -> invoke f e.at i
+
+and of_ (f : frame) at p v =
+  match p, v with
+  | "length", V.Text s -> V.Int (String.length s)
+  | ("length" | "size"), V.List l -> V.Int l.len
+  | "size", V.Map m -> V.Int m.size
+  | "keys", V.Map m -> V.list_of (List.map fst (V.map_bindings m))
+  | "values", V.Map m -> V.list_of (List.map snd (V.map_bindings m))
+  | "priority", V.Schema s when Array.for_all (fun (n, _) -> n <> "priority") s.slots ->
+    (match T.schema f.ag.env s.sname with
+     | Some sc when sc.s_percept -> V.Int sc.s_priority
+     | _ -> err at "%s has no priority" s.sname)
+  | _, V.Schema s -> !(slot at s p)
+  | _, V.Agent_ref _ ->
+    (match Hashtbl.find_opt f.ag.props p with Some v -> v | None -> err at "the agent has no property %s" p)
+  | _, V.Behaviour_ref u ->
+    (match f.beh with
+     | Some b when b.uid = u -> (match Hashtbl.find_opt b.bprops p with
+         | Some v -> v | None -> err at "the behaviour has no property %s" p)
+     | _ -> err at "no such behaviour property %s" p)
+  | _ -> err at "a %s has no property %s" (V.type_name v) p
+
+and call (f : frame) at g args =
+  let routine = match f.beh with
+    | Some b -> (match T.behaviour_function f.ag.env b.btype.b_name g with
+        | Some r -> Some (r, f.beh)
+        | None -> Option.map (fun r -> (r, None)) (T.agent_function f.ag.env f.ag.atype.a_name g))
+    | None -> Option.map (fun r -> (r, None)) (T.agent_function f.ag.env f.ag.atype.a_name g) in
+  match routine with
+  | Some (r, beh) -> (match run_routine f at r beh (`Positional args) with Some v -> v | None -> V.Unit)
+  | None ->
+    match g, args with
+    | "aid", [ V.Text n ] -> V.Aid n
+    | "aid", [ V.Aid n ] -> V.Aid n
+    | _ -> construct f.ag.env at g args
+
+and run_routine (f : frame) at (r : T.routine) beh args : V.t option =
+  tick f at;
+  let locals = Hashtbl.create 8 in
+  (match args with
+   | `Positional vs ->
+     if List.length vs <> List.length r.r_params then
+       err at "%s takes %d arguments, not %d" r.r_name (List.length r.r_params) (List.length vs);
+     List.iter2 (fun (n, ty) v -> Hashtbl.replace locals n (coerce ty v)) r.r_params vs
+   | `Named kvs ->
+     List.iter (fun (n, ty) ->
+         match List.assoc_opt n kvs with
+         | Some v -> Hashtbl.replace locals n (coerce ty v)
+         | None -> err at "missing argument %s" n) r.r_params);
+  let f' = { f with beh; locals; content = None; message = None;
+                    id = (match beh with Some _ -> f.id | None -> 0) } in
+  match block f' r.r_body with
+  | () -> None
+  | exception Return v -> Some v
+
+and invoke (f : frame) at (i : Ast.invoke) =
+  let target = expr f i.target in
+  let args = List.map (expr f) i.args in
+  match target with
+  | V.Native n ->
+    (match List.assoc_opt i.meth.it n.methods with
+     | None -> err i.meth.at "%s has no method %S" n.cls i.meth.it
+     | Some m ->
+       let result = try m args with
+         | Runtime_error _ as x -> raise x
+         | Failure msg | Invalid_argument msg -> err at "%s.%s failed: %s" n.cls i.meth.it msg in
+       f.ag.events <- Invoke { meth = i.meth.it; cls = n.cls; args; result } :: f.ag.events;
+       result)
+  | v -> err i.target.at "invoke needs a host object (any), not a %s" (V.type_name v)
+
+(* ----------------------------------------------------- statements *)
+
+and block (f : frame) (b : Ast.block) = List.iter (stmt f) b
+
+and stmt (f : frame) (s : Ast.stmt) =
+  tick f s.at;
+  match s.it with
+  | Assign (lv, e) -> let v = expr f e in assign f lv v
+  | Local (x, ty, e) ->
+    let v = expr f e in
+    let v = match ty.it with
+      | TName ("float") -> coerce Ty.Float v | TName "double" -> coerce Ty.Double v | _ -> v in
+    Hashtbl.replace f.locals x.it v
+  | Do (p, args) ->
+    let r = match f.beh with
+      | Some b -> (match T.behaviour_procedure f.ag.env b.btype.b_name p.it with
+          | Some r -> Some (r, f.beh)
+          | None -> Option.map (fun r -> (r, None)) (T.agent_procedure f.ag.env f.ag.atype.a_name p.it))
+      | None -> Option.map (fun r -> (r, None)) (T.agent_procedure f.ag.env f.ag.atype.a_name p.it) in
+    (match r with
+     | None -> err p.at "unknown procedure %s" p.it
+     | Some (r, beh) ->
+       let args = match args with
+         | Positional es -> `Positional (List.map (expr f) es)
+         | Named kvs -> `Named (List.map (fun ((n : Ast.name), e) -> (n.it, expr f e)) kvs) in
+       ignore (run_routine f s.at r beh args))
+  | Nothing -> ()
+  | InvokeS i -> ignore (invoke f s.at i)
+  | Activate (b, args) ->
+    let kvs = List.map (fun ((n : Ast.name), e) -> (n.it, expr f e)) args in
+    activate f s.at b.it kvs
+  | Deactivate ->
+    (match f.beh with
+     | Some _ ->
+       f.ag.effects <- Semantics.Machine.Deactivate :: f.ag.effects;
+       f.ag.events <- Deactivated f.id :: f.ag.events
+     | None -> err s.at "deactivate this outside a behaviour")
+  | Send (perf, c, rs) ->
+    let content = expr f c in
+    let receivers = List.concat_map (fun r -> match expr f r with
+        | V.Aid a -> [ a ]
+        | V.List l -> List.map (function V.Aid a -> a | v -> err r.at "a receiver is an aid, not a %s" (V.type_name v)) (V.list_items l)
+        | v -> err r.at "a receiver is an aid, not a %s" (V.type_name v)) rs in
+    List.iter (fun r -> f.ag.outbox <- (r, { perf = perf.it; content; sender = f.ag.name }) :: f.ag.outbox) receivers;
+    f.ag.events <- Sent { perf = perf.it; content; receivers } :: f.ag.events
+  | Log e -> let v = expr f e in f.ag.events <- Log (V.to_text v) :: f.ag.events
+  | If (branches, els) ->
+    let rec go = function
+      | [] -> (match els with Some b -> block f b | None -> ())
+      | (c, b) :: rest ->
+        (match expr f c with
+         | V.Bool true -> block f b
+         | V.Bool false -> go rest
+         | v -> err c.at "a condition is a boolean, not a %s" (V.type_name v)) in
+    go branches
+  | While (c, b) ->
+    let rec loop () =
+      match expr f c with
+      | V.Bool true ->
+        (match block f b with () -> () | exception Continue -> ());
+        tick f s.at; loop ()
+      | V.Bool false -> ()
+      | v -> err c.at "a condition is a boolean, not a %s" (V.type_name v) in
+    (try loop () with Break -> ())
+  | For (x, e, b) ->
+    let items = match expr f e with
+      | V.List l -> V.list_items l
+      | V.Map m -> List.map fst (V.map_bindings m)
+      | V.Text t -> List.init (String.length t) (fun i -> V.Text (String.make 1 t.[i]))
+      | v -> err e.at "cannot iterate over a %s" (V.type_name v) in
+    (try List.iter (fun v ->
+         Hashtbl.replace f.locals x.it v;
+         tick f s.at;
+         match block f b with () -> () | exception Continue -> ()) items
+     with Break -> ())
+  | Return e -> raise (Return (match e with Some e -> expr f e | None -> V.Unit))
+  | Break -> raise Break
+  | Continue -> raise Continue
+
+and assign (f : frame) (lv : Ast.lvalue) v =
+  match lv.it with
+  | LName x -> assign_name f x v
+  | LIndex (m, k) ->
+    let mv = expr f m and kv = expr f k in
+    (match mv, kv with
+     | V.List l, V.Int i ->
+       if i < 0 || i >= l.len then err lv.at "index %d is out of bounds (the list has %d elements)" i l.len;
+       l.items.(i) <- v
+     | V.Map m, _ -> V.map_set m kv v
+     | _ -> err lv.at "cannot index a %s" (V.type_name mv))
+  | LOf (p, e) ->
+    (match expr f e with
+     | V.Schema s -> (slot lv.at s p.it) := v
+     | V.Agent_ref _ when Hashtbl.mem f.ag.props p.it ->
+       Hashtbl.replace f.ag.props p.it (match agent_prop_type f p.it with Some t -> coerce t v | None -> v)
+     | V.Behaviour_ref u ->
+       (match f.beh with
+        | Some b when b.uid = u -> Hashtbl.replace b.bprops p.it (match behaviour_prop_type f p.it with Some t -> coerce t v | None -> v)
+        | _ -> err lv.at "no such behaviour property %s" p.it)
+     | o -> err lv.at "cannot set %s of a %s" p.it (V.type_name o))
+
+(* R5g: a new instance; its properties, then its on create, run now; then the
+   machine appends it to the active behaviours and the ready list. *)
+and activate (f : frame) at name kvs =
+  match T.behaviour f.ag.env name with
+  | None -> err at "unknown behaviour %s" name
+  | Some bt ->
+    incr uids;
+    let handlers = T.behaviour_handlers f.ag.env name in
+    let b = { uid = !uids; btype = bt; bprops = Hashtbl.create 8;
+              phandlers = Array.of_list (List.filter (fun (h : T.handler) -> h.h_kind = T.On_percept) handlers);
+              mhandlers = Array.of_list (List.filter (fun (h : T.handler) -> h.h_kind <> T.On_percept) handlers);
+              action = T.behaviour_action f.ag.env name } in
+    let bf = { f with beh = Some b; id = 0; locals = Hashtbl.create 4; content = None; message = None } in
+    List.iter (fun (p : T.property) ->
+        let v = match p.p_init with Some e -> coerce p.p_type (expr bf e) | None -> default_value p.p_type in
+        Hashtbl.replace b.bprops p.p_name v) (T.behaviour_properties f.ag.env name);
+    (match T.behaviour_create f.ag.env name with
+     | Some r -> ignore (run_routine bf at r (Some b) (`Named kvs))
+     | None -> ());
+    f.ag.effects <- Semantics.Machine.Activate b :: f.ag.effects;
+    f.ag.events <- Activated name :: f.ag.events
+
+and default_value (ty : Ty.t) = match Ty.repr ty with
+  | Ty.Integer -> V.Int 0 | Ty.Float -> V.Float 0. | Ty.Double -> V.Double 0.
+  | Ty.Boolean -> V.Bool false | Ty.Text -> V.Text ""
+  | Ty.List _ -> V.list_of [] | Ty.Map _ -> V.map_empty ()
+  | _ -> V.Unit
+
+(* -------------------------------------------------------- running *)
+
+let frame ag ?beh ?(id = 0) ?content ?message () =
+  { ag; beh; id; locals = Hashtbl.create 8; content; message; fuel = ref ag.fuel_limit }
+
+(* Run a body: a run-time error stops it and is recorded (R7). *)
+let protect (a : agent) body =
+  try body () with
+  | Runtime_error (at, msg) -> a.events <- Error (at, msg) :: a.events
+  | Return _ | Break | Continue -> ()
+  | Stack_overflow -> a.events <- Error (Source.no_region, "recursion too deep") :: a.events
+
+let take_effects a = let e = List.rev a.effects in a.effects <- []; e
+
+let guard_holds (f : frame) (h : T.handler) =
+  match h.h_guard with
+  | None -> true
+  | Some g ->
+    (match expr f g with
+     | V.Bool b -> b
+     | v -> err g.at "a when condition is a boolean, not a %s" (V.type_name v))
+
+let create_agent env ~name ~atype ~args ~fuel =
+  match T.agent env atype with
+  | None -> raise (Runtime_error (Source.no_region, Printf.sprintf "unknown agent type %s" atype))
+  | Some at ->
+    let a = { env; name; atype = at; props = Hashtbl.create 16; outbox = []; events = [];
+              effects = []; fuel_limit = fuel; pending = None } in
+    let f = frame a () in
+    let params = match T.agent_create env atype with Some r -> r.r_params | None -> [] in
+    if List.length params <> List.length args then
+      raise (Runtime_error (Source.no_region, Printf.sprintf "agent type %s takes %d creation argument%s, not %d"
+                              atype (List.length params) (if List.length params = 1 then "" else "s") (List.length args)));
+    let args = List.map2 (fun (n, ty) v -> match coerce_param ty v with
+        | Some v -> v
+        | None -> raise (Runtime_error (Source.no_region,
+                                        Printf.sprintf "creation argument %s of %s is a %s, not a %s" n atype (Ty.to_string ty) (V.type_name v))))
+        params args in
+    protect a (fun () ->
+        List.iter (fun (p : T.property) ->
+            let v = match p.p_init with Some e -> coerce p.p_type (expr f e) | None -> default_value p.p_type in
+            Hashtbl.replace a.props p.p_name v) (T.agent_properties env atype);
+        match T.agent_create env atype with
+        | Some r -> ignore (run_routine f Source.no_region r None (`Positional args))
+        | None -> ());
+    let behs = List.filter_map (function Semantics.Machine.Activate b -> Some b | _ -> None) (take_effects a) in
+    (a, behs)
+
+let destroy_agent a =
+  match a.atype.a_destroy with
+  | None -> ()
+  | Some b -> protect a (fun () -> block (frame a ()) b)
+
+let rec literal_value env (e : Ast.expr) : V.t =
+  match e.it with
+  | Lit l -> literal l
+  | Unop (Neg, x) -> (match literal_value env x with
+      | V.Int i -> V.int32 (- i) | V.Double d -> V.Double (-. d) | V.Float d -> V.Float (-. d)
+      | _ -> err e.at "only numbers can be negated")
+  | List es -> V.list_of (List.map (literal_value env) es)
+  | Map kvs ->
+    let m = V.map_empty () in
+    (match m with V.Map mv -> List.iter (fun (k, v) -> V.map_set mv (literal_value env k) (literal_value env v)) kvs | _ -> ());
+    m
+  | Call ({ it = "aid"; _ }, [ a ]) -> (match literal_value env a with V.Text n -> V.Aid n | _ -> err e.at "aid takes a text")
+  | Call (g, args) -> construct env e.at g.it (List.map (literal_value env) args)
+  | Name x -> (match T.schema env x with
+      | Some s when s.s_slots = [] -> V.Schema { sname = s.s_name; slots = [||] }
+      | _ -> err e.at "%s is not a value the host can give (a literal, aid(\"name\") or a schema construction)" x)
+  | _ -> err e.at "only literal values can be given here"
+
+let percept_value env ~agent_type (e : Ast.expr) =
+  let v = literal_value env e in
+  match v with
+  | V.Schema s ->
+    (match T.schema env s.sname with
+     | Some sc when sc.s_percept ->
+       let visible = match T.agent env agent_type with Some a -> a.a_visible | None -> [] in
+       if not (T.visible_schema env visible s.sname) then
+         err e.at "percept type %s is not in an ontology that agent type %s uses" s.sname agent_type;
+       (v, sc.s_priority)
+     | _ -> err e.at "%s is not a percept type (it does not extend percept)" s.sname)
+  | _ -> err e.at "a percept is a construction of a percept type, such as qrCodeRead(\"A7\")"
+
+module Bodies = struct
+  type percept = V.t
+  type nonrec message = message
+  type obj = V.t
+  type nonrec beh = beh
+  type world = agent
+
+  let cyclic b = b.btype.b_kind = Ast.Cyclic
+  let has_action b = b.action <> None
+  let percept_handlers b = Array.length b.phandlers
+  let message_handlers b = Array.length b.mhandlers
+
+  (* R3b: the pattern and the when are evaluated now; an error makes the
+     handler not applicable, and is recorded. The bindings are kept for the
+     body. *)
+  let percept_applicable a ~id b h p =
+    let f = frame a ~beh:b ~id ~content:p () in
+    let ok = try guard_holds f b.phandlers.(h - 1)
+      with Runtime_error (at, msg) -> a.events <- Error (at, msg) :: a.events; false in
+    a.pending <- (if ok then Some (id, h, f.locals) else None);
+    (a, ok)
+
+  let run_percept_handler a ~id b h p =
+    let locals = match a.pending with
+      | Some (i, j, l) when i = id && j = h -> l
+      | _ -> Hashtbl.create 4 in
+    a.pending <- None;
+    let f = { (frame a ~beh:b ~id ~content:p ()) with locals } in
+    protect a (fun () -> block f b.phandlers.(h - 1).h_body);
+    (a, take_effects a)
+
+  let run_action a ~id b =
+    (match b.action with
+     | Some body -> protect a (fun () -> block (frame a ~beh:b ~id ()) body)
+     | None -> ());
+    (a, take_effects a)
+
+  let perf_ok (h : T.handler) (m : message) = match h.h_kind with
+    | T.On_message (Some p) -> p = m.perf
+    | T.On_message None -> true
+    | T.On_percept -> false
+
+  let message_accepted a ~id b h (m : message) =
+    let hd = b.mhandlers.(h - 1) in
+    perf_ok hd m
+    && (let f = frame a ~beh:b ~id ~content:m.content ~message:m () in
+        try guard_holds f hd with Runtime_error (at, msg) -> a.events <- Error (at, msg) :: a.events; false)
+
+  let run_message_handler a ~id b h (m : message) =
+    let hd = b.mhandlers.(h - 1) in
+    let f = frame a ~beh:b ~id ~content:m.content ~message:m () in
+    protect a (fun () ->
+        (* the guard again, for its pattern variables *)
+        ignore (guard_holds f hd);
+        block f hd.h_body);
+    (a, take_effects a)
+
+  let take_outbox a = let o = List.rev a.outbox in a.outbox <- []; (a, o)
+end

@@ -1,0 +1,84 @@
+(** Evaluation of Jadescript code, and the bodies it gives the machine.
+
+    An agent's state ({!agent}) holds its properties, the host objects it was
+    given, and what its code produced during the current step: trace events
+    (log, invoke, send, activate, deactivate, error), effects on the behaviours
+    (for the machine, R5g/R5h) and messages to send (for the platform, R5e).
+    {!Bodies} runs handlers and action blocks on it; {!create_agent} runs an
+    agent's property initialisers and [on create].
+
+    Run-time errors (R7) stop the handler, action block or [on create] that
+    raised them; they are recorded as an [Error] event with their source
+    location, and what the code did before the error stays done. A step budget
+    ([fuel], statements and loop iterations per handler or step) turns an endless
+    loop into such an error. *)
+
+type message = {
+  perf : string;       (** the performative *)
+  content : Value.t;
+  sender : string;     (** an agent's name, or ["host"] *)
+}
+
+type event =
+  | Log of string
+  | Invoke of { meth : string; cls : string; args : Value.t list; result : Value.t }
+  | Sent of { perf : string; content : Value.t; receivers : string list }
+  | Activated of string          (** the behaviour type *)
+  | Deactivated of int           (** the instance id *)
+  | Error of Syntax.Source.region * string
+
+type beh
+(** A behaviour instance: its type and its properties. *)
+
+val beh_type : beh -> string
+
+type agent = {
+  env : Typing.Tenv.t;
+  name : string;
+  atype : Typing.Tenv.agent;
+  props : (string, Value.t) Hashtbl.t;
+  mutable outbox : (string * message) list;     (** newest first *)
+  mutable events : event list;                  (** newest first *)
+  mutable effects : beh Semantics.Machine.effect list;  (** newest first *)
+  mutable fuel_limit : int;
+  mutable pending : (int * int * (string, Value.t) Hashtbl.t) option;
+      (** the bindings of the last applicable percept guard (instance, handler) *)
+}
+
+val take_events : agent -> event list
+(** The events since the last call, oldest first. *)
+
+exception Runtime_error of Syntax.Source.region * string
+
+val create_agent :
+  Typing.Tenv.t -> name:string -> atype:string -> args:Value.t list -> fuel:int ->
+  agent * beh list
+(** Creates the agent: its properties in declaration order (inherited first),
+    then its [on create] with [args] (R5g). Returns the behaviours that
+    [on create] activated, in activation order. An error in [on create] is an
+    [Error] event, as in a handler.
+    @raise Runtime_error when the agent type does not exist or the arguments do
+    not fit the parameters (the host's mistake, reported to the host). *)
+
+val destroy_agent : agent -> unit
+(** Runs [on destroy], if any. *)
+
+val percept_value : Typing.Tenv.t -> agent_type:string -> Syntax.Ast.expr -> Value.t * int
+(** A percept written in Jadescript by the host (an events file, the command
+    line): it must construct a percept type visible to the agent, with
+    arguments of the slots' types (integers widen, R1c). Returns the value and
+    its type's default priority (R1a).
+    @raise Runtime_error otherwise. *)
+
+val literal_value : Typing.Tenv.t -> Syntax.Ast.expr -> Value.t
+(** A literal value given by the host (an agent's creation arguments, a [put]):
+    numbers, texts, booleans, lists, maps, [aid("r")] and schema
+    constructions. @raise Runtime_error *)
+
+val coerce_param : Typing.Types.t -> Value.t -> Value.t option
+(** The value converted to a parameter or slot type (integer to float or
+    double), or [None] if it does not fit. *)
+
+module Bodies : Semantics.Machine.BODIES
+  with type percept = Value.t and type message = message and type obj = Value.t
+   and type beh = beh and type world = agent

@@ -1,0 +1,47 @@
+(** Running a checked program on a platform: the agents the host creates, the
+    host's notifications, objects and messages, the agent loops interleaved as
+    R6 says, and the trace of every observable step (R8,
+    docs/trace-format.md). *)
+
+module P : module type of Semantics.Platform.Make (Eval.Bodies)
+
+type t
+
+type options = {
+  params : Semantics.Machine.params;
+  seed : int option;          (** [None]: round-robin (R6); [Some s]: seeded *)
+  fuel : int;                 (** statements per handler or step (R7) *)
+  max_steps : int;            (** agent steps in the whole run *)
+  trace : out_channel option;
+  on_log : string -> string -> unit;   (** agent name, text: [log e] *)
+}
+
+val create :
+  Typing.Tenv.t -> options -> (string * string * Value.t list) list -> t
+(** Boots the agents (name, type, creation arguments) in order (R5g);
+    messages sent by their [on create] are delivered once all exist.
+    @raise Eval.Runtime_error when the host's request is wrong (an unknown agent
+    type, arguments that do not fit). *)
+
+val notify : t -> agent:string -> Value.t -> default:int -> priority:int option -> (unit, string) result
+(** R2: [Error] when the agent does not exist, the priority is negative
+    (R2a) or the O2A queue is full (R2d); nothing is enqueued then. *)
+
+val put : t -> agent:string -> Value.t -> (unit, string) result
+val message : t -> agent:string -> perf:string -> Value.t -> (unit, string) result
+(** A message from the host (sender ["host"]). *)
+
+val run_rounds : t -> int -> unit
+(** [n] rounds: in each, every agent that is not idle runs one loop iteration
+    (round-robin, or a seeded order). *)
+
+val run_until_idle : t -> unit
+(** Until every agent is idle or the step limit is reached. *)
+
+val finish : t -> unit
+(** Runs every agent's [on destroy], in creation order, and closes the trace. *)
+
+val steps : t -> int
+val agent_state : t -> string -> Eval.agent option
+val platform : t -> P.t
+val env : t -> Typing.Tenv.t

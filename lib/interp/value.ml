@@ -1,0 +1,129 @@
+type t =
+  | Bool of bool
+  | Int of int
+  | Float of float
+  | Double of float
+  | Text of string
+  | Aid of string
+  | List of list_v
+  | Map of map_v
+  | Schema of schema_v
+  | Native of native
+  | Agent_ref of string
+  | Behaviour_ref of int
+  | Unit
+
+and list_v = { mutable items : t array; mutable len : int }
+and map_v = { table : (int, (t * t ref) list) Hashtbl.t; mutable order : t list; mutable size : int }
+and schema_v = { sname : string; slots : (string * t ref) array }
+and native = { nid : int; cls : string; methods : (string * (t list -> t)) list }
+
+let int32 n = Int (Int32.to_int (Int32.of_int n))
+let float32 x = Int32.float_of_bits (Int32.bits_of_float x)
+
+let list_items l = Array.to_list (Array.sub l.items 0 l.len)
+let list_of l = let a = Array.of_list l in List { items = a; len = Array.length a }
+
+let tag = function
+  | Bool _ -> 0 | Int _ | Float _ | Double _ -> 1 | Text _ -> 2 | Aid _ -> 3
+  | List _ -> 4 | Map _ -> 5 | Schema _ -> 6 | Native _ -> 7 | Agent_ref _ -> 8
+  | Behaviour_ref _ -> 9 | Unit -> 10
+
+let num = function Int i -> float_of_int i | Float f | Double f -> f | _ -> nan
+
+let rec compare a b = match a, b with
+  | Bool x, Bool y -> Stdlib.compare x y
+  | Int x, Int y -> Stdlib.compare x y
+  | (Int _ | Float _ | Double _), (Int _ | Float _ | Double _) -> Stdlib.compare (num a) (num b)
+  | Text x, Text y | Aid x, Aid y | Agent_ref x, Agent_ref y -> Stdlib.compare x y
+  | List x, List y -> List.compare compare (list_items x) (list_items y)
+  | Map x, Map y ->
+    List.compare (fun (k1, v1) (k2, v2) -> let c = compare k1 k2 in if c <> 0 then c else compare v1 v2)
+      (map_bindings x) (map_bindings y)
+  | Schema x, Schema y ->
+    let c = Stdlib.compare x.sname y.sname in
+    if c <> 0 then c
+    else List.compare (fun (_, u) (_, v) -> compare !u !v) (Array.to_list x.slots) (Array.to_list y.slots)
+  | Native x, Native y -> Stdlib.compare x.nid y.nid
+  | Behaviour_ref x, Behaviour_ref y -> Stdlib.compare x y
+  | Unit, Unit -> 0
+  | _ -> Stdlib.compare (tag a) (tag b)
+
+and map_bindings m =
+  List.rev_map (fun k -> (k, match map_find m k with Some v -> v | None -> Unit)) m.order
+
+and hash v = match v with
+  | Bool b -> Hashtbl.hash b
+  | Int i -> Hashtbl.hash (float_of_int i)
+  | Float f | Double f -> Hashtbl.hash f
+  | Text s | Aid s | Agent_ref s -> Hashtbl.hash s
+  | List l -> List.fold_left (fun h x -> (h * 31) + hash x) 7 (list_items l)
+  | Map m -> List.fold_left (fun h (k, x) -> (h * 31) + (hash k * 17) + hash x) 11 (map_bindings m)
+  | Schema s -> Array.fold_left (fun h (_, x) -> (h * 31) + hash !x) (Hashtbl.hash s.sname) s.slots
+  | Native n -> n.nid
+  | Behaviour_ref i -> i
+  | Unit -> 0
+
+and map_find m k =
+  match Hashtbl.find_opt m.table (hash k land max_int) with
+  | None -> None
+  | Some bucket ->
+    (match List.find_opt (fun (k', _) -> compare k k' = 0) bucket with
+     | Some (_, v) -> Some !v
+     | None -> None)
+
+let equal a b = compare a b = 0
+
+let map_empty () = Map { table = Hashtbl.create 8; order = []; size = 0 }
+
+let map_set m k v =
+  let h = hash k land max_int in
+  let bucket = Option.value (Hashtbl.find_opt m.table h) ~default:[] in
+  match List.find_opt (fun (k', _) -> equal k k') bucket with
+  | Some (_, r) -> r := v
+  | None ->
+    Hashtbl.replace m.table h ((k, ref v) :: bucket);
+    m.order <- k :: m.order;
+    m.size <- m.size + 1
+
+let float_text f =
+  (* Java-like: always a decimal point ("2.0"), shortest round-trip digits. *)
+  if Float.is_integer f && Float.abs f < 1e15 then Printf.sprintf "%.1f" f
+  else if Float.is_nan f then "NaN"
+  else if f = Float.infinity then "Infinity" else if f = Float.neg_infinity then "-Infinity"
+  else
+    let rec go p = let s = Printf.sprintf "%.*g" p f in
+      if p >= 17 || float_of_string s = f then s else go (p + 1) in
+    go 1
+
+let float32_text f =
+  if Float.is_integer f && Float.abs f < 1e7 then Printf.sprintf "%.1f" f
+  else
+    let rec go p = let s = Printf.sprintf "%.*g" p f in
+      if p >= 9 || float32 (float_of_string s) = f then s else go (p + 1) in
+    go 1
+
+let rec show ~quote v = match v with
+  | Bool b -> if b then "true" else "false"
+  | Int i -> string_of_int i
+  | Float f -> float32_text f
+  | Double f -> float_text f
+  | Text s -> if quote then Syntax.Print.text_literal s else s
+  | Aid a -> "aid(" ^ Syntax.Print.text_literal a ^ ")"
+  | List l -> "[" ^ String.concat ", " (List.map (show ~quote:true) (list_items l)) ^ "]"
+  | Map m -> "{" ^ String.concat ", " (List.map (fun (k, v) -> show ~quote:true k ^ ": " ^ show ~quote:true v) (map_bindings m)) ^ "}"
+  | Schema s when Array.length s.slots = 0 -> s.sname
+  | Schema s -> s.sname ^ "(" ^ String.concat ", " (List.map (fun (_, v) -> show ~quote:true !v) (Array.to_list s.slots)) ^ ")"
+  | Native n -> "<" ^ n.cls ^ ">"
+  | Agent_ref a -> "agent " ^ a
+  | Behaviour_ref i -> "behaviour #" ^ string_of_int i
+  | Unit -> "nothing"
+
+let to_text v = show ~quote:false v
+let to_literal v = show ~quote:true v
+
+let type_name = function
+  | Bool _ -> "boolean" | Int _ -> "integer" | Float _ -> "float" | Double _ -> "double"
+  | Text _ -> "text" | Aid _ -> "aid" | List _ -> "list" | Map _ -> "map"
+  | Schema s -> s.sname | Native _ -> "any" | Agent_ref _ -> "agent"
+  | Behaviour_ref _ -> "behaviour" | Unit -> "nothing"

@@ -1,0 +1,77 @@
+(** Run-time values of Jadescript.
+
+    - [integer] is Java's 32-bit [int]: arithmetic wraps around on overflow, as
+      Java's does (docs/semantics.md, "Values"); division truncates towards zero;
+    - [float] is IEEE binary32: every operation's result is rounded to binary32;
+    - [double] is IEEE binary64;
+    - lists and maps are mutable and shared by reference, like Java's; maps keep
+      insertion order and compare keys structurally (a percept or a concept can
+      be a key: [worldMap[currentPosition] = qrCode], R1c);
+    - schema values (concepts, predicates, propositions, actions, percepts) are
+      records of slots, compared structurally;
+    - [any] values are host objects with named methods (OCaml closures). *)
+
+type t =
+  | Bool of bool
+  | Int of int               (** always within -2^31 .. 2^31-1 *)
+  | Float of float           (** always a binary32 value *)
+  | Double of float
+  | Text of string
+  | Aid of string            (** an agent identifier: the agent's name *)
+  | List of list_v
+  | Map of map_v
+  | Schema of schema_v
+  | Native of native         (** an [any] value *)
+  | Agent_ref of string      (** [agent]: the agent, by name *)
+  | Behaviour_ref of int     (** [this] in a behaviour: its instance (by a
+                                 unique number, not the machine's id) *)
+  | Unit                     (** no value: a procedure's or a method's result *)
+
+and list_v = { mutable items : t array; mutable len : int }
+
+and map_v = {
+  table : (int, (t * t ref) list) Hashtbl.t;   (** structural hash -> bindings *)
+  mutable order : t list;                      (** keys, newest first *)
+  mutable size : int;
+}
+(** A hash map keyed by structural equality, remembering insertion order. *)
+
+and schema_v = { sname : string; slots : (string * t ref) array }
+
+and native = {
+  nid : int;
+  cls : string;                              (** shown in messages and traces *)
+  methods : (string * (t list -> t)) list;   (** by name *)
+}
+
+val int32 : int -> t
+(** Wraps an OCaml integer to Java's [int] range. *)
+
+val float32 : float -> float
+(** Rounds to the nearest binary32. *)
+
+val compare : t -> t -> int
+(** Structural, with integers, floats and doubles compared by value. *)
+
+val equal : t -> t -> bool
+
+val hash : t -> int
+(** Consistent with {!equal}: equal values hash equal (1 and 1.0 included). *)
+
+val list_of : t list -> t
+val list_items : list_v -> t list
+val map_empty : unit -> t
+val map_find : map_v -> t -> t option
+val map_set : map_v -> t -> t -> unit
+val map_bindings : map_v -> (t * t) list
+(** In insertion order. *)
+
+val to_text : t -> string
+(** As [log] and text concatenation show it: [3], [2.5], [A7] (text without
+    quotes), [position(1.0, 2.0)], [[1, 2]], [{a: 1}], [aid(r)]. *)
+
+val to_literal : t -> string
+(** As a Jadescript literal (texts quoted): used in traces. *)
+
+val type_name : t -> string
+(** For error messages: [integer], [text], [position], ... *)
