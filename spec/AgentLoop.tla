@@ -63,6 +63,15 @@ Effect == [op : {"activate"}, b : Behaviours] \cup [op : {"deactivate"}]
 \* A handler: the percepts (or messages) it accepts and the effects of its body.
 HandlerSet(Accepted) == [accepts : SUBSET Accepted, effects : Seq(Effect)]
 
+\* The effects of handler h's body when it runs for the percept or message x.
+\* A handler record may carry an optional field byValue, a function from the
+\* values it accepts to effect sequences, for bodies whose effects depend on
+\* the value (an `if` around an `activate`).  The models of spec/models do not
+\* use it; the trace-validation models that jadescript-ref generates from an
+\* interpreter trace do, since there every percept and message is its own
+\* value ("n3", "m1").
+HandlerEffects(h, x) == IF "byValue" \in DOMAIN h THEN h.byValue[x] ELSE h.effects
+
 \* Every priority a percept can get: defaults and host overrides.
 Prios == {DefaultPriority[p] : p \in Percepts} \cup Overrides
 
@@ -480,7 +489,7 @@ Handle ==
     /\ cur.todo # <<>>
     /\ LET t == Head(cur.todo)
        IN /\ Applicable(t)
-          /\ SetBS(ApplyEffects(BS, t.id, PerceptHandlers[BOf(t.id)][t.h].effects,
+          /\ SetBS(ApplyEffects(BS, t.id, HandlerEffects(PerceptHandlers[BOf(t.id)][t.h], cur.e.p),
                                 TodoIds(cur.todo)))
           /\ last' = [act |-> "Handle", id |-> t.id, h |-> t.h,
                       p |-> cur.e.p, seq |-> cur.e.seq]
@@ -522,14 +531,14 @@ DispatchOver == pq = EmptyQueue \/ BudgetSpent
 
 \* The handlers a behaviour step tries, in order: message handlers (R5b);
 \* in native the percept handlers first, then the message handlers.
-\* Each is [accepts, effects, isPercept].
+\* Each is [accepts, handler, isPercept].
 StepHandlers(b) ==
     LET ph == [j \in DOMAIN PerceptHandlers[b] |->
                   [accepts |-> PerceptHandlers[b][j].accepts,
-                   effects |-> PerceptHandlers[b][j].effects, isPercept |-> TRUE]]
+                   handler |-> PerceptHandlers[b][j], isPercept |-> TRUE]]
         mh == [j \in DOMAIN MessageHandlers[b] |->
                   [accepts |-> MessageHandlers[b][j].accepts,
-                   effects |-> MessageHandlers[b][j].effects, isPercept |-> FALSE]]
+                   handler |-> MessageHandlers[b][j], isPercept |-> FALSE]]
     IN IF Variant = "native" THEN ph \o mh ELSE mh
 
 \* Does message-queue entry x match handler h?
@@ -573,7 +582,8 @@ BehaviourStep ==
            hs == StepHandlers(b)
            j == FirstHandler(hs)
            k == IF j = 0 THEN 0 ELSE FirstEntry(hs[j])
-           S2 == IF j = 0 THEN S1 ELSE ApplyEffects(S1, id, hs[j].effects, {id})
+           x == IF k = 0 THEN "" ELSE IF IsPercept(msgq[k]) THEN msgq[k].p ELSE msgq[k].m
+           S2 == IF j = 0 THEN S1 ELSE ApplyEffects(S1, id, HandlerEffects(hs[j].handler, x), {id})
            stillActive == \E a \in Range(S2.active) : a.id = id
            S3 == IF Kind[b] = "oneshot" THEN Deactivate(S2, id)
                  ELSE IF ~HasAction[b] /\ j = 0 /\ stillActive THEN Block(S2, id)

@@ -38,6 +38,9 @@ type agent = {
   mutable effects : beh Semantics.Machine.effect list;
   mutable fuel_limit : int;
   mutable pending : (int * int * (string, V.t) Hashtbl.t) option;
+  mutable last_action_effects : string list option;
+  mutable last_handler : int option;
+  mutable last_effects : string list;
 }
 
 let take_events a = let e = List.rev a.events in a.events <- []; e
@@ -465,7 +468,17 @@ let protect (a : agent) body =
   | Return _ | Break | Continue -> ()
   | Stack_overflow -> a.events <- Error (Source.no_region, "recursion too deep") :: a.events
 
-let take_effects a = let e = List.rev a.effects in a.effects <- []; e
+let describe_effect = function
+  | Semantics.Machine.Activate b -> "activate " ^ b.btype.b_name
+  | Semantics.Machine.Deactivate -> "deactivate"
+
+(* The effects of the body that just ran, for the machine; remembered for the
+   trace. *)
+let take_effects a =
+  let e = List.rev a.effects in
+  a.effects <- [];
+  a.last_effects <- List.map describe_effect e;
+  e
 
 let guard_holds (f : frame) (h : T.handler) =
   match h.h_guard with
@@ -480,7 +493,8 @@ let create_agent env ~name ~atype ~args ~fuel =
   | None -> raise (Runtime_error (Source.no_region, Printf.sprintf "unknown agent type %s" atype))
   | Some at ->
     let a = { env; name; atype = at; props = Hashtbl.create 16; outbox = []; events = [];
-              effects = []; fuel_limit = fuel; pending = None } in
+              effects = []; fuel_limit = fuel; pending = None; last_action_effects = None;
+              last_handler = None; last_effects = [] } in
     let f = frame a () in
     let params = match T.agent_create env atype with Some r -> r.r_params | None -> [] in
     if List.length params <> List.length args then
@@ -566,13 +580,19 @@ module Bodies = struct
     a.pending <- None;
     let f = { (frame a ~beh:b ~id ~content:p ()) with locals } in
     protect a (fun () -> block f b.phandlers.(h - 1).h_body);
+    a.last_handler <- Some h;
     (a, take_effects a)
 
   let run_action a ~id b =
+    a.last_handler <- None;
+    a.last_effects <- [];
     (match b.action with
      | Some body -> protect a (fun () -> block (frame a ~beh:b ~id ()) body)
      | None -> ());
-    (a, take_effects a)
+    let effs = take_effects a in
+    a.last_action_effects <- Some a.last_effects;
+    a.last_effects <- [];
+    (a, effs)
 
   let perf_ok (h : T.handler) (m : message) = match h.h_kind with
     | T.On_message (Some p) -> p = m.perf
@@ -592,6 +612,7 @@ module Bodies = struct
         (* the guard again, for its pattern variables *)
         ignore (guard_holds f hd);
         block f hd.h_body);
+    a.last_handler <- Some h;
     (a, take_effects a)
 
   let take_outbox a = let o = List.rev a.outbox in a.outbox <- []; (a, o)

@@ -43,6 +43,13 @@ type agent = {
   mutable fuel_limit : int;
   mutable pending : (int * int * (string, Value.t) Hashtbl.t) option;
       (** the bindings of the last applicable percept guard (instance, handler) *)
+  mutable last_action_effects : string list option;
+      (** the effects of the action block in the last behaviour step
+          (["activate B"], ["deactivate"]), if it had one *)
+  mutable last_handler : int option;
+      (** the message (or native percept) handler that ran in the last step *)
+  mutable last_effects : string list;
+      (** the effects of the last handler body that ran *)
 }
 
 val take_events : agent -> event list

@@ -102,7 +102,18 @@ let on_event t (pl : P.t) (e : P.event) =
   match e with
   | P.Step (name, l) ->
     let i = Option.get (P.find pl name) in
-    write t (("agent", str name) :: label_fields pl.agents.(i).config l);
+    let a = world t i in
+    let effects l = `List (List.map str l) in
+    let extra = match l with
+      | Mc.Handle _ -> [ "effects", effects a.last_effects ]
+      | Mc.Behaviour_step { msg; _ } ->
+        (match a.last_action_effects with Some e -> [ "action_effects", effects e ] | None -> [])
+        @ (match msg, a.last_handler with
+            | Some _, Some h -> [ "handler", int h; "effects", effects a.last_effects ]
+            | _ -> [])
+      | _ -> [] in
+    write t (("agent", str name) :: label_fields pl.agents.(i).config l @ extra);
+    a.last_action_effects <- None; a.last_handler <- None; a.last_effects <- [];
     flush_body t i (Mc.action_name l)
   | P.Delivered { sender; receiver; message } ->
     let i = Option.get (P.find pl receiver) in

@@ -79,10 +79,6 @@ public final class Bench {
         try (ServerSocket s = new ServerSocket(0, 1, java.net.InetAddress.getLoopbackAddress())) {
             port = s.getLocalPort(); // a free port, so parallel runs do not collide on 1099
         }
-        // JADE's default IMTP is RMI; LOCAL_HOST only sets the advertised address and the
-        // registry would listen on every interface. A default RMI socket factory whose server
-        // sockets bind to the loopback address keeps the one port JADE opens on 127.0.0.1.
-        java.rmi.server.RMISocketFactory.setSocketFactory(new LoopbackRmi());
         jade.core.Runtime rt = jade.core.Runtime.instance();
         rt.setCloseVM(false);
         Profile p = new ProfileImpl();
@@ -91,6 +87,9 @@ public final class Bench {
         p.setParameter(Profile.NO_MTP, "true");           // no HTTP MTP (port 7778)
         p.setParameter(Profile.LOCAL_HOST, "127.0.0.1");  // IMTP on loopback only
         p.setParameter(Profile.LOCAL_PORT, Integer.toString(port));
+        // JADE 4.3's IMTP is LEAP/JICP; without this its server socket binds every
+        // interface (LOCAL_HOST alone only sets the advertised address).
+        p.setParameter("jade_imtp_leap_JICP_JICPServer_acceptlocalhostonly", "true");
         p.setParameter(Profile.PLATFORM_ID, "jsbench");
         ContainerController cc = rt.createMainContainer(p);
         controller = cc.createNewAgent("percepts", PerceptAgent.class.getName(), new Object[] { probe });
@@ -101,15 +100,6 @@ public final class Bench {
                 + port + " on 127.0.0.1, no MTP, no GUI; host put path: " + put
                 + "; Java " + System.getProperty("java.version") + ", " + java.lang.Runtime.getRuntime().availableProcessors()
                 + " cpus, max heap " + (java.lang.Runtime.getRuntime().maxMemory() >> 20) + " MB");
-    }
-
-    static final class LoopbackRmi extends java.rmi.server.RMISocketFactory {
-        @Override public java.net.Socket createSocket(String host, int port) throws java.io.IOException {
-            return new java.net.Socket(host, port);
-        }
-        @Override public ServerSocket createServerSocket(int port) throws java.io.IOException {
-            return new ServerSocket(port, 50, java.net.InetAddress.getLoopbackAddress());
-        }
     }
 
     static void notifyPercept(long i) throws Exception {

@@ -1,0 +1,40 @@
+(* jadescript-ref validate TRACE: is the run a behaviour of spec/AgentLoop.tla? *)
+
+open Cmdliner
+open Explore
+
+let run trace keep =
+  match Validate.trace ?keep trace with
+  | verdicts ->
+    List.fold_left (fun code v ->
+        match v with
+        | Validate.Accepted { agent; steps } ->
+          Printf.printf "%s: agent %s: TLC accepts the %d steps as a behaviour of spec/AgentLoop.tla\n%!"
+            trace agent steps;
+          code
+        | Validate.Rejected { agent; line; step; after } ->
+          prerr_endline (Printf.sprintf "%s:%d:1: error: spec/AgentLoop.tla cannot take this step of agent %s after the %d before it: last = %s"
+                           trace line agent after step);
+          1
+        | Validate.Cannot { agent; line; reason } ->
+          prerr_endline (Printf.sprintf "%s:%d:1: error: agent %s: cannot validate: %s" trace line agent reason);
+          1) 0 verdicts
+  | exception Failure msg -> prerr_endline msg; 1
+  | exception Tlc.Error msg -> prerr_endline (Printf.sprintf "%s:1:1: error: %s" trace msg); 1
+  | exception Model.Error msg -> prerr_endline (Printf.sprintf "%s:1:1: error: %s" trace msg); 1
+  | exception Sys_error msg -> prerr_endline (Printf.sprintf "%s:1:1: error: %s" trace msg); 1
+
+let cmd =
+  let trace = Arg.(required & pos 0 (some string) None & info [] ~docv:"TRACE"
+                     ~doc:"A trace written by jadescript-ref run --trace.") in
+  let keep = Arg.(value & opt (some string) None & info ["keep"] ~docv:"DIR"
+                    ~doc:"Also write the generated TLA+ modules into DIR.") in
+  Cmd.v (Cmd.info "validate" ~doc:"Ask TLC whether a trace is a behaviour of spec/AgentLoop.tla."
+           ~man:[`S Manpage.s_description;
+                 `P "For each agent, projects the trace onto the spec (each percept and \
+                     message its own value; the model's constants read off the trace), \
+                     writes a TLA+ module whose behaviours follow the trace's steps, and \
+                     runs TLC on it. Reports each agent accepted, or the first step the spec \
+                     cannot take as $(i,TRACE:LINE:1: error: ...). Exit status 1 when a \
+                     step is rejected."])
+    Term.(const run $ trace $ keep)

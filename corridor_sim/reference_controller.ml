@@ -1,0 +1,123 @@
+open Semantics
+
+type world = {
+  host : Agent.host;
+  current : float * float;
+  map : ((float * float) * string) list;   (* insertion order of keys *)
+}
+
+let invoke w name =
+  match Robome.Host.call w.host name with
+  | Ok () -> ()
+  | Error _ -> ()   (* R7: recorded by an interpreter; the names here all exist *)
+
+module Bodies = struct
+  type percept = Agent.percept
+  type message = unit
+  type obj = unit
+  type beh = unit     (* HandlePercepts, the only behaviour *)
+  type nonrec world = world
+
+  let cyclic () = true
+  let has_action () = false
+  let percept_handlers () = 4
+  let message_handlers () = 0
+
+  let percept_applicable w ~id:_ () h (p : Agent.percept) =
+    let ok = match h, p with
+      | 1, Falling | 2, Obstacle | 3, Qr_code_read _ | 4, Position _ -> true
+      | _ -> false in
+    (w, ok)
+
+  let run_percept_handler w ~id:_ () h (p : Agent.percept) =
+    match h, p with
+    | 1, Falling ->
+      invoke w "callStop"; invoke w "callMoveBackward"; invoke w "callHeadTiltDown"; (w, [])
+    | 2, Obstacle ->
+      invoke w "callStop"; invoke w "callTurnLeft"; invoke w "callMoveForward"; (w, [])
+    | 3, Qr_code_read text ->
+      let key = w.current in
+      let map =
+        if List.mem_assoc key w.map then List.map (fun (k, v) -> if k = key then (k, text) else (k, v)) w.map
+        else w.map @ [ (key, text) ] in
+      ({ w with map }, [])
+    | 4, Position (x, y) -> ({ w with current = (x, y) }, [])
+    | _ -> (w, [])
+
+  let run_action w ~id:_ () = (w, [])
+  let message_accepted _ ~id:_ () _ () = false
+  let run_message_handler w ~id:_ () _ () = (w, [])
+  let take_outbox w = (w, [])
+end
+
+module M = Machine.Make (Bodies)
+
+type label = (Agent.percept, unit, unit) Machine.label
+
+type t = {
+  params : Machine.params;
+  mutable c : M.t;
+  mutable logging : bool;
+  mutable log_rev : label list;
+}
+
+let name = "reference"
+
+let create (loop : Agent.loop) host =
+  let params = { Machine.variant = loop.variant; tie = Machine.Stable; budget = loop.budget;
+                 max_active = None; o2a_capacity = loop.o2a_capacity; flood = false;
+                 ghosts = false; mutant = None } in
+  let w = { host; current = (0., 0.); map = [] } in
+  invoke w "startListening";
+  let c = M.init params ~world:w [ () ] in
+  invoke w "callMoveForward";
+  { params; c; logging = false; log_rev = [] }
+
+let enable_log t = t.logging <- true
+let log t = List.rev t.log_rev
+let record t l = if t.logging then t.log_rev <- l :: t.log_rev
+
+let notify t p ~priority =
+  match priority with
+  | Some k when k < 0 -> Error (Printf.sprintf "priority %d is not a natural number (R2a)" k)
+  | _ ->
+    if not (M.o2a_has_room t.params t.c) then Error "the O2A queue is full (R2d)"
+    else begin
+      let c = match priority with
+        | None -> M.notify t.params t.c p (Agent.default_priority p)
+        | Some k -> M.notify_with t.params t.c p k in
+      t.c <- c;
+      record t c.last;
+      Ok c.next_seq
+    end
+
+let take t =
+  match M.step t.params t.c with
+  | [] -> None
+  | (l, c) :: _ -> t.c <- c; record t l; Some l
+
+let step t : Agent.work option =
+  match take t with
+  | None -> None
+  | Some l ->
+    match l with
+    | Transfer n -> Some (Transfer { moved = n; o2a_calls = 1 })
+    | Transfer_one _ -> Some (Transfer { moved = 1; o2a_calls = 1 })
+    | Transfer_spin _ -> Some (Transfer { moved = 0; o2a_calls = 1 })
+    | Transfer_end -> Some (Loop { o2a_calls = 1 })
+    | Dequeue e ->
+      let rec finish handlers =
+        match take t with
+        | Some (Handle _) -> finish (handlers + 1)
+        | Some (Skip _) -> finish handlers
+        | Some (End_dispatch _) | None -> handlers
+        | Some _ -> handlers in
+      let handlers_run = finish 0 in
+      Some (Dispatch { percept = e.p; priority = e.prio; seq = e.seq; handlers_run })
+    | Behaviour_step _ -> Some Behaviour_step
+    | Next_iteration | Idle -> Some (Loop { o2a_calls = 0 })
+    | Init | Notify _ | Notify_with _ | Put _ | Send _ | Handle _ | Skip _ | End_dispatch _ ->
+      Some (Loop { o2a_calls = 0 })
+
+let world_map t = List.map (fun ((x, y), s) -> (x, y, s)) t.c.world.map
+let current_position t = t.c.world.current

@@ -1,0 +1,126 @@
+type point = { px : float; py : float }
+type segment = { a : point; b : point }
+
+type cube = {
+  id : string;
+  cx : float;
+  cy : float;
+  size : float;
+  yaw : float;
+  faces : string array;
+}
+
+type rect = { x_min : float; y_min : float; x_max : float; y_max : float }
+
+type t = {
+  length : float;
+  width : float;
+  walls : segment list;
+  cubes : cube array;
+  dropoffs : rect list;
+}
+
+let pt px py = { px; py }
+
+let make ~length ~width ?(extra_walls = []) ~cubes ~dropoffs () =
+  let c00 = pt 0. 0. and c10 = pt length 0. and c11 = pt length width and c01 = pt 0. width in
+  let outer = [ { a = c00; b = c10 }; { a = c10; b = c11 }; { a = c11; b = c01 }; { a = c01; b = c00 } ] in
+  { length; width; walls = outer @ extra_walls; cubes = Array.of_list cubes; dropoffs }
+
+(* The cube's local axes: face i has its normal at yaw + i * 90 degrees. *)
+let face_normal c i =
+  let a = c.yaw +. float_of_int i *. Float.pi /. 2. in
+  pt (cos a) (sin a)
+
+let face_centre c i =
+  let n = face_normal c i in
+  let h = c.size /. 2. in
+  pt (c.cx +. h *. n.px) (c.cy +. h *. n.py)
+
+let corners c =
+  let h = c.size /. 2. in
+  let co = cos c.yaw and si = sin c.yaw in
+  List.map (fun (u, v) -> pt (c.cx +. u *. co -. v *. si) (c.cy +. u *. si +. v *. co))
+    [ (h, h); (-.h, h); (-.h, -.h); (h, -.h) ]
+
+let cube_segments c =
+  match corners c with
+  | [ p1; p2; p3; p4 ] -> [ { a = p1; b = p2 }; { a = p2; b = p3 }; { a = p3; b = p4 }; { a = p4; b = p1 } ]
+  | _ -> assert false
+
+let in_rect r x y = x >= r.x_min && x <= r.x_max && y >= r.y_min && y <= r.y_max
+
+let over_dropoff w x y = List.exists (fun r -> in_rect r x y) w.dropoffs
+
+(* Coordinates of a point in the cube's frame. *)
+let local c x y =
+  let dx = x -. c.cx and dy = y -. c.cy in
+  let co = cos c.yaw and si = sin c.yaw in
+  (dx *. co +. dy *. si, -.dx *. si +. dy *. co)
+
+let in_cube c x y =
+  let (u, v) = local c x y in
+  let h = c.size /. 2. in
+  Float.abs u <= h && Float.abs v <= h
+
+let disc_hits_cube c x y r =
+  let (u, v) = local c x y in
+  let h = c.size /. 2. in
+  let cu = Float.max (-.h) (Float.min h u) and cv = Float.max (-.h) (Float.min h v) in
+  let du = u -. cu and dv = v -. cv in
+  du *. du +. dv *. dv < r *. r
+
+let dist_point_segment x y s =
+  let vx = s.b.px -. s.a.px and vy = s.b.py -. s.a.py in
+  let wx = x -. s.a.px and wy = y -. s.a.py in
+  let l2 = vx *. vx +. vy *. vy in
+  let t = if l2 = 0. then 0. else Float.max 0. (Float.min 1. ((wx *. vx +. wy *. vy) /. l2)) in
+  let dx = wx -. t *. vx and dy = wy -. t *. vy in
+  sqrt (dx *. dx +. dy *. dy)
+
+let disc_collides w x y r =
+  List.exists (fun s -> dist_point_segment x y s < r) w.walls
+  || Array.exists (fun c -> disc_hits_cube c x y r) w.cubes
+
+(* Intersection of the ray (o + t d, t >= 0) with a segment: the t, if any. *)
+let ray_segment ox oy dx dy s =
+  let ex = s.b.px -. s.a.px and ey = s.b.py -. s.a.py in
+  let den = dx *. ey -. dy *. ex in
+  if Float.abs den < 1e-12 then None
+  else
+    let ax = s.a.px -. ox and ay = s.a.py -. oy in
+    let t = (ax *. ey -. ay *. ex) /. den in
+    let u = (ax *. dy -. ay *. dx) /. den in
+    if t >= 0. && u >= 0. && u <= 1. then Some t else None
+
+let ray w x y angle ~max =
+  let dx = cos angle and dy = sin angle in
+  let best = ref None in
+  let consider s =
+    match ray_segment x y dx dy s with
+    | Some t when t <= max -> (match !best with Some b when b <= t -> () | _ -> best := Some t)
+    | _ -> () in
+  List.iter consider w.walls;
+  Array.iter (fun c ->
+      (* cheap reject: the cube is farther than max plus its half diagonal *)
+      let ddx = c.cx -. x and ddy = c.cy -. y in
+      let reach = max +. c.size in
+      if ddx *. ddx +. ddy *. ddy <= reach *. reach then List.iter consider (cube_segments c))
+    w.cubes;
+  !best
+
+let orient p q r = (q.px -. p.px) *. (r.py -. p.py) -. (q.py -. p.py) *. (r.px -. p.px)
+
+let segments_cross s1 s2 =
+  let d1 = orient s2.a s2.b s1.a and d2 = orient s2.a s2.b s1.b in
+  let d3 = orient s1.a s1.b s2.a and d4 = orient s1.a s1.b s2.b in
+  ((d1 > 0. && d2 < 0.) || (d1 < 0. && d2 > 0.)) && ((d3 > 0. && d4 < 0.) || (d3 < 0. && d4 > 0.))
+
+let segment_hits_cube s c =
+  in_cube c s.a.px s.a.py || in_cube c s.b.px s.b.py
+  || List.exists (segments_cross s) (cube_segments c)
+
+let segment_crosses_wall w s =
+  match w.walls with
+  | _ :: _ :: _ :: _ :: extra -> List.exists (segments_cross s) extra
+  | _ -> false

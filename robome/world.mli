@@ -1,0 +1,70 @@
+(** The geometry of the world the robot moves in: a rectangular corridor
+    (the floor is [[0, length] x [0, width]], walled on all four sides),
+    extra wall segments inside it, cubes carrying a QR code on each side
+    face, and drop-off regions where the floor ends (a stairwell, a step).
+    Metres and radians; the frame is that of {!Kinematics}. *)
+
+type point = { px : float; py : float }
+
+type segment = { a : point; b : point }
+
+type cube = {
+  id : string;
+  cx : float;
+  cy : float;
+  size : float;           (** side, m; the cube is [size] high too *)
+  yaw : float;            (** rad; rotation of the cube about its vertical axis *)
+  faces : string array;
+      (** the QR texts of the four side faces, in the cube's own frame:
+          +x (east at yaw 0), +y (north), -x (west), -y (south); an empty
+          text is a face without a code *)
+}
+
+type rect = { x_min : float; y_min : float; x_max : float; y_max : float }
+
+type t = {
+  length : float;
+  width : float;
+  walls : segment list;     (** the four corridor walls first, then the extra ones *)
+  cubes : cube array;
+  dropoffs : rect list;
+}
+
+val make : length:float -> width:float -> ?extra_walls:segment list -> cubes:cube list ->
+  dropoffs:rect list -> unit -> t
+
+val face_centre : cube -> int -> point
+(** The centre of face [i] (0-3), on the floor plan. *)
+
+val face_normal : cube -> int -> point
+(** The outward unit normal of face [i]. *)
+
+val cube_segments : cube -> segment list
+(** The four sides of the cube's footprint. *)
+
+val in_rect : rect -> float -> float -> bool
+
+val over_dropoff : t -> float -> float -> bool
+(** Is this floor point inside a drop-off region? *)
+
+val in_cube : cube -> float -> float -> bool
+(** Is this point inside the cube's footprint? *)
+
+val disc_hits_cube : cube -> float -> float -> float -> bool
+(** [disc_hits_cube c x y r]: does the disc overlap the cube's footprint? *)
+
+val disc_collides : t -> float -> float -> float -> bool
+(** Does a disc of radius [r] centred at [(x, y)] overlap a wall or a cube?
+    Drop-offs are not obstacles (the robot can drive over them, and fall). *)
+
+val ray : t -> float -> float -> float -> max:float -> float option
+(** [ray w x y angle ~max]: the distance to the first wall or cube side hit
+    by the ray from [(x, y)] in direction [angle], if it is at most [max]. *)
+
+val segment_hits_cube : segment -> cube -> bool
+(** Does the segment properly cross a side of the cube's footprint, or
+    have an end inside it (the boundary included)? *)
+
+val segment_crosses_wall : t -> segment -> bool
+(** Does the segment cross one of the extra wall segments (the corridor's
+    own walls enclose everything and are never crossed inside it)? *)
