@@ -1,0 +1,16 @@
+(** The simulation's agenda: a binary min-heap of events ordered by time,
+    ties broken by insertion order (first scheduled, first run), so that the
+    order of events never depends on anything but the schedule. *)
+
+type 'a t
+
+val create : unit -> 'a t
+val is_empty : 'a t -> bool
+val size : 'a t -> int
+val add : 'a t -> float -> 'a -> unit
+(** Schedule an event at a time. *)
+
+val pop : 'a t -> (float * 'a) option
+(** The earliest event (the first scheduled among equal times). *)
+
+val peek_time : 'a t -> float option
