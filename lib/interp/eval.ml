@@ -41,6 +41,7 @@ type agent = {
   mutable last_action_effects : string list option;
   mutable last_handler : int option;
   mutable last_effects : string list;
+  mutable last_behaviour : string;
 }
 
 let take_events a = let e = List.rev a.events in a.events <- []; e
@@ -494,7 +495,7 @@ let create_agent env ~name ~atype ~args ~fuel =
   | Some at ->
     let a = { env; name; atype = at; props = Hashtbl.create 16; outbox = []; events = [];
               effects = []; fuel_limit = fuel; pending = None; last_action_effects = None;
-              last_handler = None; last_effects = [] } in
+              last_handler = None; last_effects = []; last_behaviour = "" } in
     let f = frame a () in
     let params = match T.agent_create env atype with Some r -> r.r_params | None -> [] in
     if List.length params <> List.length args then
@@ -579,11 +580,13 @@ module Bodies = struct
       | _ -> Hashtbl.create 4 in
     a.pending <- None;
     let f = { (frame a ~beh:b ~id ~content:p ()) with locals } in
+    a.last_behaviour <- b.btype.b_name;
     protect a (fun () -> block f b.phandlers.(h - 1).h_body);
     a.last_handler <- Some h;
     (a, take_effects a)
 
   let run_action a ~id b =
+    a.last_behaviour <- b.btype.b_name;
     a.last_handler <- None;
     a.last_effects <- [];
     (match b.action with
@@ -608,6 +611,7 @@ module Bodies = struct
   let run_message_handler a ~id b h (m : message) =
     let hd = b.mhandlers.(h - 1) in
     let f = frame a ~beh:b ~id ~content:m.content ~message:m () in
+    a.last_behaviour <- b.btype.b_name;
     protect a (fun () ->
         (* the guard again, for its pattern variables *)
         ignore (guard_holds f hd);

@@ -50,6 +50,8 @@ type agent = {
       (** the message (or native percept) handler that ran in the last step *)
   mutable last_effects : string list;
       (** the effects of the last handler body that ran *)
+  mutable last_behaviour : string;
+      (** the behaviour type of the last body that ran (for the trace) *)
 }
 
 val take_events : agent -> event list

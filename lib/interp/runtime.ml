@@ -112,7 +112,11 @@ let on_event t (pl : P.t) (e : P.event) =
             | Some _, Some h -> [ "handler", int h; "effects", effects a.last_effects ]
             | _ -> [])
       | _ -> [] in
-    write t (("agent", str name) :: label_fields pl.agents.(i).config l @ extra);
+    let fields = List.map (fun (k, v) ->
+        if k = "behaviour" && a.last_behaviour <> "" then (k, str a.last_behaviour) else (k, v))
+        (label_fields pl.agents.(i).config l) in
+    write t (("agent", str name) :: fields @ extra);
+    a.last_behaviour <- "";
     a.last_action_effects <- None; a.last_handler <- None; a.last_effects <- [];
     flush_body t i (Mc.action_name l)
   | P.Delivered { sender; receiver; message } ->

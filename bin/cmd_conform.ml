@@ -1,0 +1,77 @@
+(* jadescript-ref conform [--impl 'COMMAND'] [--vectors DIR] [--update] *)
+
+open Cmdliner
+module O = Interp.Oracle
+
+let self_run () =
+  let exe = Sys.executable_name in
+  let exe = if Filename.is_relative exe then Filename.concat (Sys.getcwd ()) exe else exe in
+  Filename.quote exe ^ " run"
+
+let find_vectors = function
+  | Some d -> d
+  | None ->
+    let rec up d = let p = Filename.concat d "conformance" in
+      if Sys.file_exists p then p else let u = Filename.dirname d in if u = d then p else up u in
+    up (Sys.getcwd ())
+
+let run impl vectors update only =
+  let dir = find_vectors vectors in
+  match O.load dir with
+  | exception Failure m -> prerr_endline (dir ^ ":1:1: error: " ^ m); 1
+  | exception Sys_error m -> prerr_endline (dir ^ ":1:1: error: " ^ m); 1
+  | vs ->
+    let vs = if only = [] then vs else List.filter (fun (v : O.vector) -> List.mem v.name only) vs in
+    let impl = match impl with Some c -> c | None -> self_run () in
+    let failed = ref 0 in
+    List.iter (fun (v : O.vector) ->
+        if update then begin
+          let out = Filename.concat v.dir "expected.jsonl" in
+          let cmd = Printf.sprintf "cd %s && %s %s %s --events events.jsonl --trace expected.jsonl > /dev/null 2>&1"
+              (Filename.quote v.dir) (self_run ())
+              (String.concat " " (List.map Filename.quote v.files))
+              (String.concat " " (List.map Filename.quote v.args)) in
+          ignore (Sys.command cmd);
+          ignore out
+        end;
+        let expectations =
+          match O.check_expectations v.expect (O.read_trace (Filename.concat v.dir "expected.jsonl")) with
+          | Ok () -> None
+          | Error e -> Some e
+          | exception (Failure e | Sys_error e) -> Some e in
+        match expectations with
+        | Some e ->
+          incr failed;
+          Printf.printf "%-44s %-14s BROKEN VECTOR: its expected trace fails its assertions: %s\n%!"
+            v.name (String.concat "," v.rulings) e
+        | None ->
+          match O.run_vector ~impl v with
+          | O.Pass -> Printf.printf "%-44s %-14s pass\n%!" v.name (String.concat "," v.rulings)
+          | O.Diverge { index; expected; got } ->
+            incr failed;
+            Printf.printf "%-44s %-14s FAIL at event %d\n    expected: %s\n    got:      %s\n%!"
+              v.name (String.concat "," v.rulings) index expected got
+          | O.Failed m ->
+            incr failed;
+            Printf.printf "%-44s %-14s FAIL: %s\n%!" v.name (String.concat "," v.rulings) m) vs;
+    Printf.printf "%d vectors: %d pass, %d fail\n" (List.length vs) (List.length vs - !failed) !failed;
+    if !failed = 0 then 0 else 1
+
+let cmd =
+  let impl = Arg.(value & opt (some string) None & info ["impl"] ~docv:"COMMAND"
+                    ~doc:"The implementation: a command taking run's arguments (FILES --agent ... \
+                          --events F --trace F) and writing a trace. Default: jadescript-ref run.") in
+  let vectors = Arg.(value & opt (some string) None & info ["vectors"] ~docv:"DIR"
+                       ~doc:"The folder of vectors (default: conformance/ of the repository).") in
+  let update = Arg.(value & flag & info ["update"]
+                      ~doc:"Rewrite each expected.jsonl with jadescript-ref (for vector authors); \
+                            the vector's assertions are still checked.") in
+  let only = Arg.(value & pos_all string [] & info [] ~docv:"VECTOR" ~doc:"Only these vectors.") in
+  Cmd.v (Cmd.info "conform" ~doc:"Run an implementation on the conformance vectors."
+           ~man:[`S Manpage.s_description;
+                 `P "Runs the implementation on every vector of conformance/ and compares \
+                     its trace with the expected one, event by event; reports each vector's \
+                     pass or failure with the first diverging event. Each vector's expected \
+                     trace is first checked against the vector's own assertions \
+                     (docs/trace-format.md). Exit status 1 when a vector fails."])
+    Term.(const run $ impl $ vectors $ update $ only)

@@ -1,0 +1,98 @@
+type latency = { priority : int; count : int; mean : float; p95 : float; max : float }
+type cube_map = { cube : string; entries : int; error : float option }
+
+type t = {
+  duration : float;
+  cubes_total : int;
+  cubes_mapped : int;
+  map_entries : int;
+  map_error_mean : float option;
+  map_error_max : float option;
+  cubes : cube_map list;
+  collisions : int;
+  falls : int;
+  near_falls : int;
+  distance : float;
+  coverage : float;
+  latency : latency list;
+  latency_max : float;
+  notified : (string * int) list;
+  refused : int;
+  unhandled : int;
+  unhandled_oldest : float;
+  commands : int;
+  utilisation : float;
+}
+
+let percentile sorted q =
+  let n = Array.length sorted in
+  if n = 0 then 0. else sorted.(min (n - 1) (int_of_float (Float.ceil (q *. float_of_int n)) - 1 |> max 0))
+
+let of_result (r : Sim.result) =
+  let cubes = Array.to_list r.world.cubes |> List.map (fun (c : Robome.World.cube) ->
+      let mine = List.filter (fun (_, _, s) -> s <> "" && Array.mem s c.faces) r.world_map in
+      let n = List.length mine in
+      let error =
+        if n = 0 then None
+        else
+          let sx = List.fold_left (fun a (x, _, _) -> a +. x) 0. mine
+          and sy = List.fold_left (fun a (_, y, _) -> a +. y) 0. mine in
+          let mx = sx /. float_of_int n and my = sy /. float_of_int n in
+          Some (Float.hypot (mx -. c.cx) (my -. c.cy)) in
+      { cube = c.id; entries = n; error }) in
+  let errors = List.filter_map (fun c -> c.error) cubes in
+  let prios = List.sort_uniq (fun a b -> compare b a) (List.map (fun (h : Sim.handled) -> h.priority) r.handled) in
+  let latency = List.map (fun prio ->
+      let ls = List.filter_map (fun (h : Sim.handled) ->
+          if h.priority = prio then Some (h.dispatched -. h.notified) else None) r.handled in
+      let a = Array.of_list ls in
+      Array.sort compare a;
+      let n = Array.length a in
+      { priority = prio; count = n;
+        mean = Array.fold_left ( +. ) 0. a /. float_of_int (max 1 n);
+        p95 = percentile a 0.95; max = (if n = 0 then 0. else a.(n - 1)) }) prios in
+  let falls = List.length r.falls in
+  { duration = r.end_time;
+    cubes_total = Array.length r.world.cubes;
+    cubes_mapped = List.length errors;
+    map_entries = List.length r.world_map;
+    map_error_mean = (match errors with [] -> None
+                                       | l -> Some (List.fold_left ( +. ) 0. l /. float_of_int (List.length l)));
+    map_error_max = (match errors with [] -> None | l -> Some (List.fold_left Float.max 0. l));
+    cubes;
+    collisions = List.length r.collisions;
+    falls;
+    near_falls = max 0 (List.length r.tippings - falls);
+    distance = r.odometer;
+    coverage = r.coverage;
+    latency;
+    latency_max = List.fold_left (fun m (l : latency) -> Float.max m l.max) 0. latency;
+    notified = r.notified;
+    refused = r.refused;
+    unhandled = List.length r.pending;
+    unhandled_oldest = List.fold_left (fun m (p : Sim.pending) -> Float.max m (r.end_time -. p.p_notified)) 0. r.pending;
+    commands = List.length r.commands;
+    utilisation = (if r.end_time > 0. then r.busy_total /. r.end_time else 0.) }
+
+let lat prio m = match List.find_opt (fun l -> l.priority = prio) m.latency with
+  | Some l -> l.max | None -> nan
+
+let opt = function Some x -> x | None -> nan
+
+let summary_fields = [
+  ("cubes mapped", fun m -> float_of_int m.cubes_mapped);
+  ("map error mean (m)", fun m -> opt m.map_error_mean);
+  ("map error max (m)", fun m -> opt m.map_error_max);
+  ("collisions", fun m -> float_of_int m.collisions);
+  ("falls", fun m -> float_of_int m.falls);
+  ("near falls", fun m -> float_of_int m.near_falls);
+  ("distance (m)", fun m -> m.distance);
+  ("coverage", fun m -> m.coverage);
+  ("latency max p10 (ms)", fun m -> 1000. *. lat 10 m);
+  ("latency max p8 (ms)", fun m -> 1000. *. lat 8 m);
+  ("latency max p4 (ms)", fun m -> 1000. *. lat 4 m);
+  ("latency max p2 (ms)", fun m -> 1000. *. lat 2 m);
+  ("latency max (ms)", fun m -> 1000. *. m.latency_max);
+  ("unhandled", fun m -> float_of_int m.unhandled);
+  ("agent utilisation", fun m -> m.utilisation);
+]

@@ -1,0 +1,302 @@
+open Robome
+
+type handled = {
+  seq : int;
+  percept : Agent.percept;
+  priority : int;
+  source : string;
+  notified : float;
+  dispatched : float;
+  handlers : int;
+}
+
+type pending = { p_seq : int; p_percept : Agent.percept; p_priority : int; p_notified : float }
+type busy = { b_start : float; b_end : float; b_kind : string }
+
+type result = {
+  scenario : Scenario.t;
+  seed : int;
+  agent_name : string;
+  world : World.t;
+  end_time : float;
+  final_pose : Kinematics.pose;
+  trajectory : (float * Kinematics.pose) list;
+  collisions : (float * Kinematics.pose) list;
+  falls : (float * Kinematics.pose) list;
+  tippings : (float * Kinematics.pose) list;
+  notified : (string * int) list;
+  refused : int;
+  handled : handled list;
+  pending : pending list;
+  world_map : (float * float * string) list;
+  commands : (float * float * Command.t) list;
+  busy : busy list;
+  busy_total : float;
+  odometer : float;
+  coverage : float;
+  events : int;
+  trace : string;
+}
+
+let coverage_cell = 0.2
+
+type source = Uwb | Proximity | Camera | Imu | Flood
+
+type ev =
+  | Sample of source * int               (* the k-th sample of a periodic source *)
+  | Deliver of Agent.percept * string    (* a reading reaching the phone late *)
+  | Sound
+  | Agent_work
+
+(* ------------------------------------------------------------ coverage *)
+
+type grid = { nx : int; ny : int; free : bool array; seen : bool array }
+
+let make_grid (w : World.t) =
+  let nx = max 1 (int_of_float (Float.ceil (w.length /. coverage_cell)))
+  and ny = max 1 (int_of_float (Float.ceil (w.width /. coverage_cell))) in
+  let free = Array.init (nx * ny) (fun k ->
+      let i = k mod nx and j = k / nx in
+      let x = (float_of_int i +. 0.5) *. coverage_cell and y = (float_of_int j +. 0.5) *. coverage_cell in
+      not (World.over_dropoff w x y || Array.exists (fun c -> World.in_cube c x y) w.cubes)) in
+  { nx; ny; free; seen = Array.make (nx * ny) false }
+
+let mark g x y r =
+  let i0 = max 0 (int_of_float ((x -. r) /. coverage_cell))
+  and i1 = min (g.nx - 1) (int_of_float ((x +. r) /. coverage_cell))
+  and j0 = max 0 (int_of_float ((y -. r) /. coverage_cell))
+  and j1 = min (g.ny - 1) (int_of_float ((y +. r) /. coverage_cell)) in
+  for i = i0 to i1 do
+    for j = j0 to j1 do
+      let cx = Float.max (float_of_int i *. coverage_cell) (Float.min (float_of_int (i + 1) *. coverage_cell) x)
+      and cy = Float.max (float_of_int j *. coverage_cell) (Float.min (float_of_int (j + 1) *. coverage_cell) y) in
+      if (cx -. x) *. (cx -. x) +. (cy -. y) *. (cy -. y) < r *. r then g.seen.(j * g.nx + i) <- true
+    done
+  done
+
+let coverage g =
+  let free = ref 0 and seen = ref 0 in
+  Array.iteri (fun k f -> if f then (incr free; if g.seen.(k) then incr seen)) g.free;
+  if !free = 0 then 0. else float_of_int !seen /. float_of_int !free
+
+(* ---------------------------------------------------------------- run *)
+
+module Make (A : Agent.AGENT) = struct
+  let run ?(trace = false) ?(timeline_window = 20.) ?(on_create = fun _ -> ()) (sc : Scenario.t) ~seed =
+    let world = Scenario.world sc ~seed in
+    let p = sc.params and s = sc.sensors in
+    let robot = Robot.create ~step:sc.physics_step p world sc.start in
+    let sound = Sound_queue.create ~duration:p.sound_duration ~gap:p.sound_gap in
+    let agenda : ev Event_queue.t = Event_queue.create () in
+    let rng_uwb = Random.State.make [| seed; 1 |] and rng_flood = Random.State.make [| seed; 2 |] in
+    let buf = Buffer.create (if trace then 65536 else 16) in
+    let tr fmt = Printf.ksprintf (fun l -> if trace then (Buffer.add_string buf l; Buffer.add_char buf '\n')) fmt in
+    let now = ref 0. in
+    (* records *)
+    let trajectory = ref [ (0., sc.start) ] and last_traj = ref 0. in
+    let collisions = ref [] and falls = ref [] and tippings = ref [] in
+    let counts = Array.make 4 0 and refused = ref 0 in
+    let handled = ref [] and commands = ref [] and busy = ref [] and busy_total = ref 0. in
+    let outstanding : (int, Agent.percept * int * string * float) Hashtbl.t = Hashtbl.create 1024 in
+    let events = ref 0 in
+    let grid = make_grid world in
+    mark grid sc.start.x sc.start.y p.body_radius;
+    Robot.on_step robot (fun r ->
+        let q = Robot.pose r in
+        mark grid q.x q.y p.body_radius;
+        let t = Robot.time r in
+        if t -. !last_traj >= sc.trajectory_step then (trajectory := (t, q) :: !trajectory; last_traj := t));
+    (* the sound channel *)
+    let sound_scheduled = ref false in
+    let schedule_sound () =
+      if not !sound_scheduled then
+        match Sound_queue.next_effect sound with
+        | Some at -> Event_queue.add agenda at Sound; sound_scheduled := true
+        | None -> () in
+    (* the host object *)
+    let pending_cmds = ref [] and invokes = ref 0 in
+    let listening = ref false in
+    let start_sources () =
+      let start src rate = if rate > 0. then Event_queue.add agenda !now (Sample (src, 0)) in
+      start Uwb s.position_rate; start Proximity s.proximity_rate; start Camera s.camera_rate;
+      start Imu s.imu_rate;
+      match sc.flood with
+      | Some f -> Event_queue.add agenda (Float.max !now f.start_time) (Sample (Flood, 0))
+      | None -> () in
+    let host = Host.make sc.mapping
+        ~enqueue:(fun c -> incr invokes; pending_cmds := c :: !pending_cmds)
+        ~start_listening:(fun () ->
+            incr invokes;
+            if not !listening then (listening := true; tr "%.6f startListening" !now; start_sources ())) in
+    let issue_commands at =
+      List.iter (fun c ->
+          Sound_queue.enqueue sound ~now:at c;
+          tr "%.6f issue %s" at (Command.to_string c)) (List.rev !pending_cmds);
+      pending_cmds := [];
+      schedule_sound () in
+    (* the agent *)
+    let agent = A.create sc.loop host in
+    on_create agent;
+    issue_commands 0.;
+    invokes := 0;
+    let agent_scheduled = ref false and agent_free = ref 0. in
+    let wake () =
+      if not !agent_scheduled then begin
+        agent_scheduled := true;
+        Event_queue.add agenda (Float.max !now !agent_free) Agent_work
+      end in
+    wake ();   (* the first iteration runs HandlePercepts' first step (R5g) *)
+    let override name = List.assoc_opt name s.overrides in
+    let notify ?priority (pc : Agent.percept) src =
+      let name = Agent.percept_name pc in
+      let priority = match priority with Some _ -> priority | None -> override name in
+      match A.notify agent pc ~priority with
+      | Ok seq ->
+        let k = match pc with Falling -> 0 | Obstacle -> 1 | Qr_code_read _ -> 2 | Position _ -> 3 in
+        counts.(k) <- counts.(k) + 1;
+        let prio = match priority with Some k -> k | None -> Agent.default_priority pc in
+        Hashtbl.replace outstanding seq (pc, prio, src, !now);
+        tr "%.6f notify seq=%d %s prio=%d src=%s" !now seq (Agent.percept_to_string pc) prio src;
+        wake ()
+      | Error e ->
+        incr refused;
+        tr "%.6f refused %s src=%s: %s" !now (Agent.percept_to_string pc) src e in
+    (* sensor state *)
+    let alert_on = ref false and last_alert = ref neg_infinity in
+    let last_qr : (string, float) Hashtbl.t = Hashtbl.create 16 in
+    let last_falling = ref neg_infinity and fell_unreported = ref false in
+    let period = function
+      | Uwb -> 1. /. s.position_rate | Proximity -> 1. /. s.proximity_rate
+      | Camera -> 1. /. s.camera_rate | Imu -> 1. /. s.imu_rate
+      | Flood -> (match sc.flood with Some f -> 1. /. f.rate | None -> infinity) in
+    let base = function
+      | Flood -> (match sc.flood with Some f -> Float.max 0. f.start_time | None -> 0.)
+      | _ -> 0. in
+    let sample src k =
+      (match src with
+       | Uwb ->
+         let (x, y) = Sensors.uwb rng_uwb ~sigma:s.uwb_sigma robot in
+         notify (Position (x, y)) "uwb"
+       | Proximity ->
+         let band = Sensors.proximity_band p (Sensors.nearest_ahead robot) in
+         let near = match band with Some b -> b <= s.obstacle_band +. 1e-9 | None -> false in
+         let edge = s.edge_detector && Sensors.edge_ahead robot in
+         let on = near || edge in
+         if on && ((not !alert_on) || !now -. !last_alert >= s.obstacle_repeat -. 1e-9) then begin
+           last_alert := !now;
+           Event_queue.add agenda (!now +. p.alert_latency)
+             (Deliver (Obstacle, if near then "proximity" else "edge"))
+         end;
+         alert_on := on
+       | Camera ->
+         List.iter (fun (sg : Sensors.sighting) ->
+             let fresh = match Hashtbl.find_opt last_qr sg.text with
+               | None -> true | Some t -> !now -. t >= s.qr_repeat -. 1e-9 in
+             if fresh then begin
+               Hashtbl.replace last_qr sg.text !now;
+               Event_queue.add agenda (!now +. p.camera_latency) (Deliver (Qr_code_read sg.text, "camera"))
+             end) (Sensors.readable robot)
+       | Imu ->
+         if (Robot.tipping robot || !fell_unreported)
+         && !now -. !last_falling >= s.falling_repeat -. 1e-9 then begin
+           last_falling := !now; fell_unreported := false;
+           notify Falling "imu"
+         end
+       | Flood ->
+         (match sc.flood with
+          | None -> ()
+          | Some f ->
+            let pc : Agent.percept = match f.percept with
+              | "falling" -> Falling | "obstacle" -> Obstacle
+              | "qrCodeRead" -> Qr_code_read f.text
+              | _ -> let (x, y) = Sensors.uwb rng_flood ~sigma:s.uwb_sigma robot in Position (x, y) in
+            notify ?priority:f.priority pc "flood"));
+      let next = base src +. float_of_int (k + 1) *. period src in
+      let stop = match src with Flood -> (match sc.flood with Some f -> f.end_time | None -> 0.) | _ -> infinity in
+      if next < stop then Event_queue.add agenda next (Sample (src, k + 1)) in
+    let work_kind : Agent.work -> string = function
+      | Transfer _ -> "transfer" | Dispatch _ -> "dispatch" | Behaviour_step -> "step" | Loop _ -> "loop" in
+    let agent_work () =
+      pending_cmds := []; invokes := 0;
+      match A.step agent with
+      | None -> agent_scheduled := false; tr "%.6f idle" !now
+      | Some w ->
+        let cost = Agent.cost_of sc.cost w ~invokes:!invokes in
+        let t_end = !now +. cost in
+        (match w with
+         | Dispatch d ->
+           let (pc, prio, src, t0) = match Hashtbl.find_opt outstanding d.seq with
+             | Some x -> x | None -> (d.percept, d.priority, "?", !now) in
+           Hashtbl.remove outstanding d.seq;
+           ignore pc;
+           handled := { seq = d.seq; percept = d.percept; priority = prio; source = src; notified = t0;
+                        dispatched = !now; handlers = d.handlers_run } :: !handled;
+           tr "%.6f dispatch seq=%d %s prio=%d latency=%.6f handlers=%d" !now d.seq
+             (Agent.percept_to_string d.percept) prio (!now -. t0) d.handlers_run
+         | Transfer { moved; _ } -> if moved > 0 then tr "%.6f transfer moved=%d" !now moved
+         | Behaviour_step -> tr "%.6f behaviour-step" !now
+         | Loop _ -> ());
+        busy_total := !busy_total +. cost;
+        if !now < timeline_window then busy := { b_start = !now; b_end = t_end; b_kind = work_kind w } :: !busy;
+        issue_commands t_end;
+        agent_free := t_end;
+        Event_queue.add agenda t_end Agent_work in
+    let robot_events evs =
+      List.iter (fun (e : Robot.event) ->
+          let t = Robot.time robot in
+          match e with
+          | Collision q -> collisions := (t, q) :: !collisions; tr "%.6f collision x=%.4f y=%.4f" t q.x q.y
+          | Tipping_start q -> tippings := (t, q) :: !tippings; tr "%.6f tipping x=%.4f y=%.4f" t q.x q.y
+          | Tipping_end _ -> tr "%.6f tipping-end" t
+          | Fall q -> falls := (t, q) :: !falls; fell_unreported := true; tr "%.6f fall x=%.4f y=%.4f" t q.x q.y)
+        evs in
+    let rec loop () =
+      match Event_queue.peek_time agenda with
+      | Some t when t <= sc.duration ->
+        (match Event_queue.pop agenda with
+         | None -> ()
+         | Some (t, ev) ->
+           incr events;
+           robot_events (Robot.advance robot t);
+           now := t;
+           (match ev with
+            | Sample (src, k) -> sample src k
+            | Deliver (pc, src) -> notify pc src
+            | Sound ->
+              sound_scheduled := false;
+              (match Sound_queue.pop sound with
+               | Some (c, issued, _) ->
+                 Robot.apply robot c;
+                 commands := (issued, t, c) :: !commands;
+                 tr "%.6f play %s" t (Command.to_string c)
+               | None -> ());
+              schedule_sound ()
+            | Agent_work -> agent_work ()));
+        loop ()
+      | _ -> () in
+    loop ();
+    robot_events (Robot.advance robot sc.duration);
+    now := sc.duration;
+    let pending =
+      Hashtbl.fold (fun seq (pc, prio, _, t0) acc -> { p_seq = seq; p_percept = pc; p_priority = prio; p_notified = t0 } :: acc)
+        outstanding []
+      |> List.sort (fun a b -> compare a.p_seq b.p_seq) in
+    let q = Robot.pose robot in
+    trajectory := (sc.duration, q) :: !trajectory;
+    tr "%.6f end x=%.4f y=%.4f theta=%.4f" sc.duration q.x q.y q.theta;
+    let result = {
+      scenario = sc; seed; agent_name = A.name; world; end_time = sc.duration; final_pose = q;
+      trajectory = List.rev !trajectory; collisions = List.rev !collisions; falls = List.rev !falls;
+      tippings = List.rev !tippings;
+      notified = [ ("falling", counts.(0)); ("obstacle", counts.(1)); ("qrCodeRead", counts.(2));
+                   ("position", counts.(3)) ];
+      refused = !refused; handled = List.rev !handled; pending;
+      world_map = A.world_map agent; commands = List.rev !commands; busy = List.rev !busy;
+      busy_total = !busy_total; odometer = Robot.odometer robot; coverage = coverage grid;
+      events = !events; trace = Buffer.contents buf } in
+    (result, agent)
+end
+
+let run ?trace ?timeline_window (module A : Agent.AGENT) sc ~seed =
+  let module S = Make (A) in
+  fst (S.run ?trace ?timeline_window sc ~seed)

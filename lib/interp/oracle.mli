@@ -1,0 +1,50 @@
+(** The conformance oracle: test vectors any Jadescript implementation can be
+    run against ([jadescript-ref conform]).
+
+    A vector is a folder of [conformance/] holding the program ([*.jade]),
+    [vector.json] ([{"about": ..., "rulings": ["R3b"], "args": [...],
+    "expect": [...]}]), the host's [events.jsonl] and the [expected.jsonl]
+    trace. [args] are the arguments of [run] after the files ([--agent ...],
+    [--o2a-capacity 2], ...). [expect] states what the vector pins, as
+    assertions over a trace, so that the expected trace is checked against the
+    rulings independently of the implementation that wrote it:
+    - [{"has": PATTERN}] / [{"lacks": PATTERN}]: some / no event matches;
+    - [{"count": PATTERN, "is": N}];
+    - [{"before": [PATTERN, PATTERN]}]: the first event matching the first
+      pattern comes before the first matching the second;
+    - [{"order": PATTERN, "field": F, "is": [V1, V2, ...]}]: the values of field
+      F in the events matching PATTERN, in order.
+    A PATTERN is a JSON object; an event matches when it has every field of the
+    pattern with an equal value. *)
+
+type vector = {
+  name : string;
+  dir : string;
+  about : string;
+  rulings : string list;
+  args : string list;
+  files : string list;
+  expect : Yojson.Safe.t list;
+}
+
+val load : string -> vector list
+(** Every vector of a folder, by name. @raise Failure *)
+
+val read_trace : string -> Yojson.Safe.t list
+(** A trace's lines, without the header. @raise Failure *)
+
+val check_expectations : Yojson.Safe.t list -> Yojson.Safe.t list -> (unit, string) result
+(** The vector's assertions on a trace. *)
+
+type outcome =
+  | Pass
+  | Diverge of { index : int; expected : string; got : string }
+      (** the first event (1-based, after the header) that differs *)
+  | Failed of string   (** the implementation failed or wrote no trace *)
+
+val compare_traces : expected:Yojson.Safe.t list -> got:Yojson.Safe.t list -> outcome
+(** Event by event, ignoring [step]. *)
+
+val run_vector : impl:string -> vector -> outcome
+(** Runs [impl FILES ARGS --events events.jsonl --trace TMP] in the vector's
+    folder and compares its trace with [expected.jsonl]. *)
