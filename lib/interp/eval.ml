@@ -152,7 +152,15 @@ let num_kind a b = match a, b with
 
 let to_f = function V.Int i -> float_of_int i | V.Float f | V.Double f -> f | _ -> nan
 
+(* A double next to a float can only be a decimal literal (the type checker
+   rejects float op double): it counts as a float, rounded to binary32. *)
+let as_float_pair a b = match a, b with
+  | V.Float _, V.Double d -> (a, V.Float (V.float32 d))
+  | V.Double d, V.Float _ -> (V.Float (V.float32 d), b)
+  | _ -> (a, b)
+
 let arith at (op : Ast.binop) a b =
+  let (a, b) = as_float_pair a b in
   let numeric v = match v with V.Int _ | V.Float _ | V.Double _ -> true | _ -> false in
   if not (numeric a && numeric b) then
     err at "cannot apply an arithmetic operator to %s and %s" (V.type_name a) (V.type_name b);
@@ -171,6 +179,7 @@ let arith at (op : Ast.binop) a b =
     if kind = `Float then V.Float (V.float32 r) else V.Double r
 
 let compare_values at (op : Ast.binop) a b =
+  let (a, b) = as_float_pair a b in
   let c = match a, b with
     | (V.Int _ | V.Float _ | V.Double _), (V.Int _ | V.Float _ | V.Double _) -> compare (to_f a) (to_f b)
     | V.Text x, V.Text y -> compare x y
@@ -248,8 +257,8 @@ let rec expr (f : frame) (e : Ast.expr) : V.t =
                                             | v -> err e.at "and needs booleans, not a %s" (V.type_name v))
   | Binop (Or, l, r) -> (match expr f l with V.Bool true -> V.Bool true | V.Bool false -> expr f r
                                            | v -> err e.at "or needs booleans, not a %s" (V.type_name v))
-  | Binop (Eq, l, r) -> V.Bool (V.equal (expr f l) (expr f r))
-  | Binop (Neq, l, r) -> V.Bool (not (V.equal (expr f l) (expr f r)))
+  | Binop (Eq, l, r) -> let (a, b) = as_float_pair (expr f l) (expr f r) in V.Bool (V.equal a b)
+  | Binop (Neq, l, r) -> let (a, b) = as_float_pair (expr f l) (expr f r) in V.Bool (not (V.equal a b))
   | Binop ((Lt | Gt | Le | Ge) as op, l, r) -> compare_values e.at op (expr f l) (expr f r)
   | Binop (Add, l, r) ->
     let a = expr f l and b = expr f r in

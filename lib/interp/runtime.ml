@@ -21,6 +21,8 @@ type t = {
   mutable events : int;          (* trace events written *)
   rand : Random.State.t option;
   puts : (string, int) Hashtbl.t;   (* objects put per agent, for their index *)
+  types : (string * int, string) Hashtbl.t;
+      (* (agent, instance id) -> behaviour type, as of the previous step *)
 }
 
 (* -------------------------------------------------------------- trace *)
@@ -112,9 +114,15 @@ let on_event t (pl : P.t) (e : P.event) =
             | Some _, Some h -> [ "handler", int h; "effects", effects a.last_effects ]
             | _ -> [])
       | _ -> [] in
+    let known id = Option.value (Hashtbl.find_opt t.types (name, id)) ~default:"?" in
     let fields = List.map (fun (k, v) ->
-        if k = "behaviour" && a.last_behaviour <> "" then (k, str a.last_behaviour) else (k, v))
-        (label_fields pl.agents.(i).config l) in
+        if k <> "behaviour" then (k, v)
+        else if a.last_behaviour <> "" then (k, str a.last_behaviour)
+        else match l with
+          | Mc.Handle { id; _ } | Mc.Behaviour_step { id; _ } -> (k, str (known id))
+          | _ -> (k, v)) (label_fields pl.agents.(i).config l) in
+    List.iter (fun (x : Eval.beh Mc.instance) -> Hashtbl.replace t.types (name, x.id) (Eval.beh_type x.beh))
+      pl.agents.(i).config.active;
     write t (("agent", str name) :: fields @ extra);
     a.last_behaviour <- "";
     a.last_action_effects <- None; a.last_handler <- None; a.last_effects <- [];
@@ -133,7 +141,7 @@ let on_event t (pl : P.t) (e : P.event) =
 let create env opts specs =
   let t = { env; opts; platform = P.create []; steps = 0; events = 0;
             rand = Option.map (fun s -> Random.State.make [| s |]) opts.seed;
-            puts = Hashtbl.create 8 } in
+            puts = Hashtbl.create 8; types = Hashtbl.create 16 } in
   (match opts.trace with
    | None -> ()
    | Some oc ->

@@ -86,22 +86,45 @@ let map_set m k v =
     m.order <- k :: m.order;
     m.size <- m.size + 1
 
-let float_text f =
-  (* Java-like: always a decimal point ("2.0"), shortest round-trip digits. *)
-  if Float.is_integer f && Float.abs f < 1e15 then Printf.sprintf "%.1f" f
-  else if Float.is_nan f then "NaN"
-  else if f = Float.infinity then "Infinity" else if f = Float.neg_infinity then "-Infinity"
-  else
-    let rec go p = let s = Printf.sprintf "%.*g" p f in
-      if p >= 17 || float_of_string s = f then s else go (p + 1) in
-    go 1
+(* Java's Double.toString / Float.toString: the shortest digits that read
+   back as the same value; plain notation for 10^-3 <= |x| < 10^7, otherwise
+   d.dddE[-]n; always a digit after the point. *)
+let java_text ~single f =
+  if Float.is_nan f then "NaN"
+  else if f = Float.infinity then "Infinity"
+  else if f = Float.neg_infinity then "-Infinity"
+  else if f = 0. then (if 1. /. f < 0. then "-0.0" else "0.0")
+  else begin
+    let same s = let g = float_of_string s in if single then float32 g = f else g = f in
+    let rec digits p = let s = Printf.sprintf "%.*e" p f in if p >= 17 || same s then s else digits (p + 1) in
+    let e = digits 0 in
+    (* e is like "-1.2345e+07": split the mantissa digits and the exponent *)
+    let neg = e.[0] = '-' in
+    let e = if neg then String.sub e 1 (String.length e - 1) else e in
+    let k = String.index e 'e' in
+    let mant = String.concat "" (String.split_on_char '.' (String.sub e 0 k)) in
+    let exp = int_of_string (String.sub e (k + 1) (String.length e - k - 1)) in
+    let mant = (* drop trailing zeros, keep one digit *)
+      let n = ref (String.length mant) in
+      while !n > 1 && mant.[!n - 1] = '0' do decr n done;
+      String.sub mant 0 !n in
+    let a = Float.abs f in
+    let body =
+      if a >= 1e-3 && a < 1e7 then
+        if exp >= 0 then
+          let ip = if String.length mant > exp + 1 then String.sub mant 0 (exp + 1)
+            else mant ^ String.make (exp + 1 - String.length mant) '0' in
+          let fp = if String.length mant > exp + 1 then String.sub mant (exp + 1) (String.length mant - exp - 1) else "0" in
+          ip ^ "." ^ fp
+        else "0." ^ String.make (- exp - 1) '0' ^ mant
+      else
+        let fp = if String.length mant > 1 then String.sub mant 1 (String.length mant - 1) else "0" in
+        String.sub mant 0 1 ^ "." ^ fp ^ "E" ^ string_of_int exp in
+    (if neg then "-" else "") ^ body
+  end
 
-let float32_text f =
-  if Float.is_integer f && Float.abs f < 1e7 then Printf.sprintf "%.1f" f
-  else
-    let rec go p = let s = Printf.sprintf "%.*g" p f in
-      if p >= 9 || float32 (float_of_string s) = f then s else go (p + 1) in
-    go 1
+let float_text f = java_text ~single:false f
+let float32_text f = java_text ~single:true f
 
 let rec show ~quote v = match v with
   | Bool b -> if b then "true" else "false"

@@ -1,0 +1,272 @@
+(* Tests of lib/interp: evaluation, run-time errors, the run command, and
+   traces validated by TLC. *)
+
+open Syntax
+open Test_support
+open Support
+module V = Interp.Value
+module Mc = Semantics.Machine
+
+let long = Sys.getenv_opt "JSREF_LONG" = Some "1"
+
+(* Run a program; return the log lines and the trace events. *)
+let run_program ?(variant = Mc.Reference) ?(fuel = 10_000) ?(events = fun _ -> ()) text agents =
+  let r = Parse.string ~file:"t.jade" text in
+  let env, diags = Typing.check [ r ] in
+  (match List.filter (fun d -> d.Diag.severity = Diag.Error) diags with
+   | [] -> ()
+   | d :: _ -> Alcotest.failf "the test program does not check: %s" (Diag.to_string d));
+  let logs = ref [] in
+  let trace = Filename.temp_file "jsref" ".jsonl" in
+  let oc = open_out_bin trace in
+  let params = { Mc.variant; tie = Mc.Stable; budget = 1; max_active = None; o2a_capacity = None;
+                 flood = false; ghosts = false; mutant = None } in
+  let opts = { Interp.Runtime.params; seed = None; fuel; max_steps = 100_000; trace = Some oc;
+               on_log = (fun a s -> logs := (a ^ ": " ^ s) :: !logs) } in
+  let rt = Interp.Runtime.create env opts agents in
+  events rt;
+  Interp.Runtime.run_until_idle rt;
+  Interp.Runtime.finish rt;
+  close_out oc;
+  let evs = Interp.Oracle.read_trace trace in
+  Sys.remove trace;
+  (List.rev !logs, evs)
+
+let logs_of text = fst (run_program text [ ("a", "A", []) ])
+
+let program body = "agent A\n\ton create do\n" ^ body
+
+let check_logs name body expected =
+  Alcotest.(check (list string)) name (List.map (fun s -> "a: " ^ s) expected) (logs_of (program body))
+
+(* ------------------------------------------------------------- values *)
+
+(* Java's int: wrap-around, truncating division, remainder with the sign of
+   the dividend (JLS 15.17). *)
+let integers () =
+  check_logs "Java int" "\t\tx = 2147483647\n\t\tlog x + 1\n\t\tlog -7 / 2\n\t\tlog -7 % 2\n\t\tlog 7 % -2\n\t\ty = -2147483647 - 1\n\t\tlog y / -1\n\t\tlog 65536 * 65536\n"
+    [ "-2147483648"; "-3"; "-1"; "1"; "-2147483648"; "0" ]
+
+(* float is binary32 after every operation; double is binary64. *)
+let floats () =
+  (* 0.1f + 0.1f + 0.1f rounds to 0.3f, and the literal 0.3 beside a float is
+     0.3f; as doubles the sum is 0.30000000000000004 (Java prints the same).
+     2^24 + 1 is not a binary32 value: it rounds to 2^24. Java's toString uses
+     E notation from 10^7 on. *)
+  check_logs "binary32 and binary64"
+    "\t\tf as float = 0.1\n\t\tg as float = f + f + f\n\t\tlog g = 0.3\n\t\tlog g\n\t\td as double = 0.1\n\t\tlog d + d + d\n\t\tlog 1.0 / 3.0\n\t\tlog 16777216.0 + 1.0\n\t\th as float = 16777216.0\n\t\tlog h + 1\n\t\tlog 0.0001\n\t\tlog 100.0\n"
+    [ "true"; "0.3"; "0.30000000000000004"; "0.3333333333333333"; "1.6777217E7"; "1.6777216E7"; "1.0E-4"; "100.0" ]
+
+let texts () =
+  check_logs "text concatenation and of" "\t\tlog \"a\" + 1 + 2\n\t\tlog 1 + 2 + \"a\"\n\t\tlog length of \"hello\"\n\t\tl = [1, 2, 3]\n\t\tlog size of l\n\t\tlog \"x\" + 2.5\n"
+    [ "a12"; "3a"; "5"; "3"; "x2.5" ]
+
+let maps_structural () =
+  (* R1c: percepts and concepts as map keys, by structural equality. *)
+  let text = "ontology O\n\tpredicate position(x as double, y as double) extends percept with priority = 2\n\n\
+              agent A uses ontology O\n\tproperty worldMap as map of position:text = {}\n\n\ton create do\n\
+              \t\tworldMap[position(1, 2)] = \"A7\"\n\t\tworldMap[position(1.0, 2.0)] = \"B2\"\n\
+              \t\tlog size of worldMap\n\t\tlog worldMap[position(1, 2.0)]\n\t\tlog keys of worldMap\n" in
+  Alcotest.(check (list string)) "one key, widened, structural"
+    [ "a: 1"; "a: B2"; "a: [position(1.0, 2.0)]" ] (logs_of text)
+
+let control () =
+  check_logs "loops, break, continue, functions" "\t\ts = 0\n\t\tfor i in [1, 2, 3, 4, 5] do\n\t\t\tif i = 2 do\n\t\t\t\tcontinue\n\t\t\tif i = 5 do\n\t\t\t\tbreak\n\t\t\ts = s + i\n\t\tlog s\n\t\tn = 0\n\t\twhile n < 10 do\n\t\t\tn = n + 3\n\t\tlog n\n"
+    [ "8"; "12" ]
+
+(* ----------------------------------------------------- R7 errors *)
+
+let error_events evs = List.filter (fun e -> Interp.Oracle.check_expectations [ `Assoc [ "has", `Assoc [ "event", `String "error" ] ] ] [ e ] = Ok ()) evs
+
+let runtime_errors_located () =
+  let text = "ontology O\n\tproposition p extends percept\n\nagent A uses ontology O\n\tproperty m as map of text:integer = {}\n\n\ton create do\n\t\tactivate behaviour B\n\n\
+              cyclic behaviour B for agent A\n\ton percept when content matches p do\n\t\tlog m[\"missing\"]\n\t\tlog \"not reached\"\n\n\
+              \ton percept when content matches p do\n\t\tlog 1 / (size of m)\n\n\ton percept when content matches p do\n\t\tlog \"third handler still runs\"\n" in
+  let (logs, evs) = run_program text [ ("a", "A", []) ]
+      ~events:(fun rt -> ignore (Interp.Runtime.notify rt ~agent:"a" (V.Schema { sname = "p"; slots = [||] }) ~default:0 ~priority:None)) in
+  Alcotest.(check (list string)) "the agent carries on (R7)" [ "a: third handler still runs" ] logs;
+  let errs = error_events evs in
+  Alcotest.(check int) "two errors recorded" 2 (List.length errs);
+  let at e = match e with `Assoc f -> (match List.assoc_opt "at" f with Some (`String s) -> s | _ -> "") | _ -> "" in
+  (* at the start of the failing expression: m["missing"], 1 / (size of m) *)
+  Alcotest.(check (list string)) "located" [ "t.jade:12:7"; "t.jade:16:7" ] (List.map at errs)
+
+let fuel_exhausted () =
+  let text = program "\t\tactivate behaviour Spin\n\ncyclic behaviour Spin\n\tdo\n\t\twhile true do\n\t\t\tx = 1\n\t\tlog \"never\"\n" in
+  let (logs, evs) = run_program ~fuel:500 text [ ("a", "A", []) ] in
+  Alcotest.(check (list string)) "no log" [] logs;
+  Alcotest.(check bool) "step budget exhausted, recorded" true
+    (List.exists (fun e -> Interp.Oracle.check_expectations [ `Assoc [ "has", `Assoc [ "event", `String "error" ] ] ] [ e ] = Ok ()
+                           && (match e with `Assoc f -> (match List.assoc_opt "message" f with
+                               | Some (`String m) -> String.length m > 10 && String.sub m 0 11 = "step budget" | _ -> false) | _ -> false)) evs)
+
+(* --------------------------------------------------------- the CLI *)
+
+let with_file name text f =
+  let p = Filename.concat (Filename.get_temp_dir_name ()) name in
+  let oc = open_out_bin p in output_string oc text; close_out oc;
+  Fun.protect ~finally:(fun () -> Sys.remove p) (fun () -> f p)
+
+let robome = Filename.concat root "examples/paper/robome_completed.jade"
+
+let is_diag l =
+  match String.split_on_char ':' l with
+  | _ :: line :: col :: rest -> int_of_string_opt line <> None && int_of_string_opt col <> None
+                               && (match rest with r :: _ -> String.trim r = "error" | [] -> false)
+  | _ -> false
+
+let cli_bad_events () =
+  let bad = "{\"agent\": \"r\", \"notify\": \"qrCodeRead(42)\"}\n{\"agent\": \"zz\", \"notify\": \"obstacle\"}\nnot json\n\
+             {\"agent\": \"r\", \"notify\": \"position(1, 2\"}\n{\"agent\": \"r\", \"notify\": \"obstacle\", \"priority\": -3}\n\
+             {\"agent\": \"r\", \"notify\": \"nothing(1)\"}\n{\"run\": \"forever\"}\n" in
+  with_file "jsref_bad_events.jsonl" bad (fun ev ->
+      let (status, out, err) = run_command (Printf.sprintf "%s run %s --agent r:RoboMe:@robome --events %s" exe robome ev) in
+      Alcotest.(check int) "exit 1" 1 status;
+      Alcotest.(check string) "nothing ran: no log" "" out;
+      let ls = List.filter (( <> ) "") (String.split_on_char '\n' err) in
+      Alcotest.(check int) ("one line per bad line:\n" ^ err) 7 (List.length ls);
+      List.iteri (fun i l ->
+          Alcotest.(check bool) ("located: " ^ l) true (is_diag l);
+          let line = int_of_string (List.nth (String.split_on_char ':' l) 1) in
+          Alcotest.(check int) ("at its line: " ^ l) (i + 1) line) ls)
+
+let cli_bad_program () =
+  with_file "jsref_bad_prog.jade" "agent A\n\tproperty x as integer = \"no\"\n" (fun p ->
+      let (status, _, err) = run_command (Printf.sprintf "%s run %s --agent a:A" exe p) in
+      Alcotest.(check int) "exit 1" 1 status;
+      Alcotest.(check bool) ("a type error, located: " ^ err) true (is_diag (String.trim err)));
+  let (status, _, err) = run_command (Printf.sprintf "%s run %s --agent r:NoSuchAgent" exe robome) in
+  Alcotest.(check int) "unknown agent type: exit 1" 1 status;
+  Alcotest.(check bool) ("one line, no backtrace: " ^ err) true
+    (List.length (List.filter (( <> ) "") (String.split_on_char '\n' err)) = 1)
+
+let cli_logs () =
+  with_file "jsref_ev.jsonl" "{\"agent\": \"r\", \"notify\": \"falling\"}\n" (fun ev ->
+      let (status, out, _) = run_command (Printf.sprintf "%s run %s --agent r:RoboMe:@robome --events %s" exe robome ev) in
+      Alcotest.(check int) "exit 0" 0 status;
+      Alcotest.(check string) "log e prints NAME: text" "r: falling: stopped and backing off\n" out)
+
+(* ------------------------------------------------ traces and TLC *)
+
+let validate_file trace =
+  List.iter (function
+      | Explore.Validate.Accepted _ -> ()
+      | Explore.Validate.Rejected { line; step; _ } -> Alcotest.failf "TLC rejects line %d: %s" line step
+      | Explore.Validate.Cannot { line; reason; _ } -> Alcotest.failf "cannot validate (line %d): %s" line reason)
+    (Explore.Validate.trace trace)
+
+let paper_run_validated () =
+  let events = "{\"agent\": \"r\", \"notify\": \"position(1.5, 2.0)\"}\n{\"agent\": \"r\", \"notify\": \"qrCodeRead(\\\"A7\\\")\"}\n\
+                {\"agent\": \"r\", \"notify\": \"obstacle\"}\n{\"run\": 1}\n{\"agent\": \"r\", \"notify\": \"falling\", \"priority\": 1}\n\
+                {\"agent\": \"r\", \"notify\": \"position(2, 3)\"}\n" in
+  List.iter (fun variant ->
+      with_file "jsref_pev.jsonl" events (fun ev ->
+          let trace = Filename.temp_file "jsref" ".jsonl" in
+          let (status, _, err) = run_command (Printf.sprintf "%s run %s --agent r:RoboMe:@robome --events %s --trace %s --variant %s --max-steps 300"
+                                                exe robome ev trace variant) in
+          Alcotest.(check int) ("run exits 0: " ^ err) 0 status;
+          validate_file trace;
+          (* and a tampered trace is rejected *)
+          let lines = String.split_on_char '\n' (read_file trace) in
+          let swapped = List.map (fun l ->
+              let rep a b s = match Explore.Str_find.find s a with
+                | k -> String.sub s 0 k ^ b ^ String.sub s (k + String.length a) (String.length s - k - String.length a)
+                | exception Not_found -> s in
+              if String.length l > 0 && (try ignore (Explore.Str_find.find l "\"event\":\"transfer\""); true with Not_found -> false)
+              then rep "\"moved\":" "\"moved\":1" l else l) lines in
+          let oc = open_out_bin trace in output_string oc (String.concat "\n" swapped); close_out oc;
+          (match Explore.Validate.trace trace with
+           | [ Explore.Validate.Rejected _ ] -> ()
+           | _ -> Alcotest.failf "a tampered %s trace was not rejected" variant);
+          Sys.remove trace)) [ "reference"; "budgeted"; "native" ]
+
+let vectors_validated () =
+  let dir = Filename.concat root "conformance" in
+  let vs = Interp.Oracle.load dir in
+  let vs = if long then vs else List.filteri (fun i _ -> i mod 10 = 0) vs in
+  Alcotest.(check bool) "some vectors" true (vs <> []);
+  List.iter (fun (v : Interp.Oracle.vector) -> validate_file (Filename.concat v.dir "expected.jsonl")) vs
+
+let conform_passes () =
+  let (status, out, _) = run_command (Printf.sprintf "%s conform" exe) in
+  Alcotest.(check int) ("every vector passes:\n" ^ out) 0 status;
+  let (status, out, _) = run_command (Printf.sprintf "%s conform --impl '%s run --variant native'" exe exe) in
+  Alcotest.(check int) ("native fails the suite:\n" ^ out) 1 status
+
+(* ------------------------------------- random programs, random hosts *)
+
+let percept_types env =
+  List.filter (fun (s : Typing.Tenv.schema) -> s.s_percept) (Typing.Tenv.schemas env)
+
+let rec literal_of rand (ty : Typing.Types.t) =
+  match Typing.Types.repr ty with
+  | Typing.Types.Integer -> string_of_int (Random.State.int rand 5)
+  | Typing.Types.Double | Typing.Types.Float -> Printf.sprintf "%d.5" (Random.State.int rand 5)
+  | Typing.Types.Text -> Printf.sprintf "\"t%d\"" (Random.State.int rand 3)
+  | Typing.Types.Boolean -> if Random.State.bool rand then "true" else "false"
+  | Typing.Types.List t -> "[" ^ literal_of rand t ^ "]"
+  | _ -> "0"
+
+let random_run_validates =
+  let arb = QCheck.pair Typed_gen.arb_program QCheck.small_nat in
+  fun (prog, seed) ->
+    let text = Print.program prog in
+    let r = Parse.string ~file:"gen.jade" text in
+    let env, diags = Typing.check [ r ] in
+    if List.exists (fun d -> d.Diag.severity = Diag.Error) diags then
+      QCheck.Test.fail_reportf "the generated program does not check";
+    let rand = Random.State.make [| seed |] in
+    let percepts = percept_types env in
+    let events = List.init (1 + Random.State.int rand 6) (fun _ ->
+        if Random.State.int rand 4 = 0 then "{\"run\": 1}"
+        else
+          let s = List.nth percepts (Random.State.int rand (List.length percepts)) in
+          let args = List.map (fun (_, ty) -> literal_of rand ty) s.s_slots in
+          let p = if args = [] then s.s_name else s.s_name ^ "(" ^ String.concat ", " args ^ ")" in
+          let prio = if Random.State.int rand 3 = 0 then Printf.sprintf ", \"priority\": %d" (Random.State.int rand 9) else "" in
+          Printf.sprintf "{\"agent\": \"g\", \"notify\": %s%s}" (Yojson.Safe.to_string (`String p)) prio) in
+    let params = match Typing.Tenv.agent_create env "Ag" with Some r -> r.r_params | None -> [] in
+    let args = List.map (fun (_, ty) -> literal_of rand ty) params in
+    let dir = Filename.get_temp_dir_name () in
+    let prog_file = Filename.concat dir (Printf.sprintf "jsref_gen_%d.jade" seed) in
+    let ev_file = Filename.concat dir (Printf.sprintf "jsref_gen_%d.jsonl" seed) in
+    let trace = Filename.concat dir (Printf.sprintf "jsref_gen_%d.trace" seed) in
+    let write p s = let oc = open_out_bin p in output_string oc s; close_out oc in
+    write prog_file text; write ev_file (String.concat "\n" events ^ "\n");
+    let variant = List.nth [ "reference"; "budgeted"; "native" ] (seed mod 3) in
+    let (status, _, err) = run_command (Printf.sprintf "%s run %s --agent %s --events %s --trace %s --variant %s --max-steps 2000"
+                                          exe prog_file (Filename.quote ("g:Ag" ^ (if args = [] then "" else ":" ^ String.concat "," args)))
+                                          ev_file trace variant) in
+    if status <> 0 then QCheck.Test.fail_reportf "run failed (%d): %s\n%s" status err text;
+    (match Explore.Validate.trace trace with
+     | [ Explore.Validate.Accepted _ ] -> ()
+     | [ Explore.Validate.Rejected { line; step; _ } ] ->
+       QCheck.Test.fail_reportf "TLC rejects line %d of the %s trace: %s\nprogram:\n%s\nevents:\n%s" line variant step text (String.concat "\n" events)
+     | [ Explore.Validate.Cannot { reason; _ } ] -> ignore reason   (* documented limits *)
+     | _ -> QCheck.Test.fail_reportf "one agent expected");
+    List.iter (fun f -> try Sys.remove f with Sys_error _ -> ()) [ prog_file; ev_file; trace ];
+    ignore arb;
+    true
+
+let () =
+  Alcotest.run "interp" [
+    ("values", [
+        Alcotest.test_case "integers are Java ints" `Quick integers;
+        Alcotest.test_case "float is binary32" `Quick floats;
+        Alcotest.test_case "texts and of" `Quick texts;
+        Alcotest.test_case "R1c structural map keys" `Quick maps_structural;
+        Alcotest.test_case "loops and control" `Quick control ]);
+    ("errors", [
+        Alcotest.test_case "R7 errors located, agent carries on" `Quick runtime_errors_located;
+        Alcotest.test_case "R7 step budget" `Quick fuel_exhausted ]);
+    ("cli", [
+        Alcotest.test_case "bad events lines, each located, nothing runs" `Quick cli_bad_events;
+        Alcotest.test_case "bad programs and agents" `Quick cli_bad_program;
+        Alcotest.test_case "log prints NAME: text" `Quick cli_logs ]);
+    ("tlc", [
+        Alcotest.test_case "paper runs validated; tampering rejected" `Slow paper_run_validated;
+        Alcotest.test_case "conformance vectors' traces validated" `Slow vectors_validated;
+        Alcotest.test_case "conform: reference passes, native fails" `Slow conform_passes;
+        qcheck ~count:3 ~long_factor:15 "random programs' traces validated by TLC"
+          (QCheck.pair Typed_gen.arb_program QCheck.small_nat) random_run_validates ]);
+  ]
