@@ -127,10 +127,146 @@ let explorer_bench () =
                 \  Buffer per state, priority queue sorted into the key), hashing; TLC's wall clock\n\
                 \  includes starting the JVM and parsing the spec (about 1 s of it).\n"
 
+(* ------------------------------------------------- interpreter *)
+
+module P = Interp.Runtime.P
+module M = P.M
+module V = Interp.Value
+
+let load_program file =
+  let r = Syntax.Parse.file file in
+  let env, diags = Typing.check [ r ] in
+  if Typing.has_errors diags then failwith ("bench program does not check: " ^ file);
+  env
+
+let find_program name =
+  let rec up d = let p = Filename.concat d ("bench/programs/" ^ name) in
+    if Sys.file_exists p then p else let u = Filename.dirname d in
+      if u = d then failwith ("bench/programs/" ^ name ^ " not found") else up u in
+  up (Sys.getcwd ())
+
+let percept k =
+  (* the four types in turn: position most often, as the sensors would *)
+  match k land 7 with
+  | 0 -> (V.Schema { sname = "falling"; slots = [||] }, 10)
+  | 1 | 2 -> (V.Schema { sname = "obstacle"; slots = [| ("d", ref (V.Int (k land 1023))) |] }, 8)
+  | 3 -> (V.Schema { sname = "qrCodeRead"; slots = [| ("qrCode", ref (V.Text "A7")) |] }, 4)
+  | _ -> (V.Schema { sname = "position"; slots = [| ("k", ref (V.Int (k land 1023))) |] }, 2)
+
+let machine_params = { Semantics.Machine.variant = Semantics.Machine.Reference; tie = Semantics.Machine.Stable;
+                       budget = 1; max_active = None; o2a_capacity = None; flood = false; ghosts = false;
+                       mutant = None }
+
+let new_agent env =
+  let (a, behs) = Interp.Eval.create_agent env ~name:"l" ~atype:"Loader" ~args:[] ~fuel:1000 in
+  M.init machine_params ~world:a behs
+
+(* Run the agent until idle; count the percepts that left (EndDispatch) and
+   call [window] every [every] of them. *)
+let drain ?(every = 0) ?(window = fun _ -> ()) c =
+  let handled = ref 0 in
+  let rec go c =
+    match M.step machine_params c with
+    | [] -> c
+    | (Semantics.Machine.End_dispatch _, c') :: _ ->
+      incr handled;
+      if every > 0 && !handled mod every = 0 then window !handled;
+      go c'
+    | (_, c') :: _ -> go c' in
+  let c = go c in
+  (c, !handled)
+
+let interp_steady env total =
+  let c = ref (new_agent env) and k = ref 0 in
+  let t0 = Unix.gettimeofday () in
+  while !k < total do
+    for _ = 1 to 1024 do
+      let (p, d) = percept !k in
+      c := M.notify machine_params !c p d; incr k
+    done;
+    let (c', _) = drain !c in
+    c := c'
+  done;
+  let dt = Unix.gettimeofday () -. t0 in
+  (float_of_int total /. dt, dt)
+
+let interp_flood env total =
+  let c = ref (new_agent env) in
+  Gc.compact ();
+  let t0 = Unix.gettimeofday () in
+  for k = 0 to total - 1 do
+    let (p, d) = percept k in
+    c := M.notify machine_params !c p d
+  done;
+  let t_notify = Unix.gettimeofday () -. t0 in
+  let windows = ref [] and last = ref (Unix.gettimeofday ()) in
+  let (_, handled) = drain ~every:1_000_000 ~window:(fun _ ->
+      let now = Unix.gettimeofday () in
+      windows := (1e6 /. (now -. !last)) :: !windows; last := now) !c in
+  let dt = Unix.gettimeofday () -. t0 in
+  (float_of_int handled /. dt, dt, t_notify, List.rev !windows, handled)
+
+let jade_results quick =
+  (* bench/jade/run.sh prints "JADE steady ..." and "JADE flood ..." lines. *)
+  let script = let rec up d = let p = Filename.concat d "bench/jade/run.sh" in
+                 if Sys.file_exists p then Some p else let u = Filename.dirname d in if u = d then None else up u in
+    up (Sys.getcwd ()) in
+  match script with
+  | None -> []
+  | Some s ->
+    let out = Filename.temp_file "jade" ".out" in
+    let code = Sys.command (Printf.sprintf "bash %s %s > %s 2>&1" (Filename.quote s) (if quick then "--quick" else "") (Filename.quote out)) in
+    let ic = open_in out in
+    let lines = ref [] in
+    (try while true do lines := input_line ic :: !lines done with End_of_file -> ());
+    close_in ic; Sys.remove out;
+    if code <> 0 then (Printf.printf "  (the JADE baseline failed: exit %d)\n" code; [])
+    else List.filter_map (fun l ->
+        let words = String.split_on_char ' ' l in
+        match words with
+        | "JADE" :: kind :: rest ->
+          let kv = List.filter_map (fun w -> match String.index_opt w '=' with
+              | Some i -> Some (String.sub w 0 i, String.sub w (i + 1) (String.length w - i - 1))
+              | None -> None) rest in
+          Some (kind, kv)
+        | _ -> None) (List.rev !lines)
+
+let interp_bench () =
+  (* The same GC settings as jadescript-ref run (Interp.Runtime.tune_gc). *)
+  Interp.Runtime.tune_gc ();
+  let quick = Sys.getenv_opt "JSREF_BENCH_QUICK" = Some "1" in
+  let env = load_program (find_program "percepts.jade") in
+  let steady_n = if quick then 200_000 else 3_000_000 and flood_n = if quick then 1_000_000 else 10_000_000 in
+  Printf.printf "interpreter: percepts end to end (notify, transfer, dispatch to 4 handlers of 3 behaviours, map update)\n";
+  let (rate_s, dt_s) = interp_steady env steady_n in
+  Printf.printf "  %-46s %12.0f percepts/s  (%d in %.2f s)\n" "jadescript-ref, 1,024 in flight" rate_s steady_n dt_s;
+  Gc.compact ();
+  let (rate_f, dt_f, t_notify, windows, handled) = interp_flood env flood_n in
+  let peak = peak_rss_kb () in
+  Printf.printf "  %-46s %12.0f percepts/s  (%d in %.2f s, of which notify %.2f s; peak RSS %d MB)\n"
+    (Printf.sprintf "jadescript-ref, flood of %d" flood_n) rate_f handled dt_f t_notify (peak / 1024);
+  Printf.printf "  per-million dispatch rates in the flood (flat = constant per-percept cost): %s\n"
+    (String.concat ", " (List.map (fun r -> Printf.sprintf "%.2fM" (r /. 1e6)) windows));
+  match jade_results quick with
+  | [] -> Printf.printf "  JADE baseline: not run (bench/jade/run.sh missing or failed)\n"
+  | res ->
+    let get kind key = match List.assoc_opt kind res with
+      | Some kv -> (match List.assoc_opt key kv with Some v -> float_of_string_opt v | None -> None)
+      | None -> None in
+    (match get "steady" "percepts_per_second" with
+     | Some j -> Printf.printf "  %-46s %12.0f percepts/s  -> ratio %.1fx\n" "JADE 4.3, 1,024 in flight" j (rate_s /. j)
+     | None -> ());
+    (match get "flood" "percepts_per_second" with
+     | Some j -> Printf.printf "  %-46s %12.0f percepts/s  -> ratio %.1fx (JADE windows: %s)\n" "JADE 4.3, flood" j (rate_f /. j)
+                   (match List.assoc_opt "flood" res with Some kv -> Option.value (List.assoc_opt "windows" kv) ~default:"" | None -> "")
+     | None -> ());
+    Printf.printf "  target: at least 3,000,000 percepts/s and 3x JADE, flat under the flood\n"
+
 let () =
   let what = if Array.length Sys.argv > 1 then Sys.argv.(1) else "all" in
   match what with
   | "parser" -> parser_bench ()
   | "explorer" -> explorer_bench ()
-  | "all" -> parser_bench (); print_newline (); explorer_bench ()
-  | other -> Printf.eprintf "bench: unknown benchmark %s (known: parser, explorer, all)\n" other; exit 2
+  | "interp" -> interp_bench ()
+  | "all" -> parser_bench (); print_newline (); explorer_bench (); print_newline (); interp_bench ()
+  | other -> Printf.eprintf "bench: unknown benchmark %s (known: parser, explorer, interp, all)\n" other; exit 2

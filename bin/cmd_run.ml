@@ -150,6 +150,7 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
       | Some v -> v
       | None -> prerr_endline ("error: unknown variant " ^ variant ^ " (printed, reference, budgeted, native)"); raise (Stop 1) in
     let trace = Option.map open_out_bin trace_file in
+    Interp.Runtime.tune_gc ();
     let params = { Mc.variant; tie = Mc.Stable; budget = 1; max_active = None;
                    o2a_capacity = capacity; flood = false; ghosts = false; mutant = None } in
     let opts = { Interp.Runtime.params; seed; fuel; max_steps; trace;

@@ -41,7 +41,7 @@ let of_result (r : Sim.result) =
           Some (Float.hypot (mx -. c.cx) (my -. c.cy)) in
       { cube = c.id; entries = n; error }) in
   let errors = List.filter_map (fun c -> c.error) cubes in
-  let prios = List.sort_uniq (fun a b -> compare b a) (List.map (fun (h : Sim.handled) -> h.priority) r.handled) in
+  let prios = List.sort_uniq (fun a b -> compare b a) (List.rev_map (fun (h : Sim.handled) -> h.priority) r.handled) in
   let latency = List.map (fun prio ->
       let ls = List.filter_map (fun (h : Sim.handled) ->
           if h.priority = prio then Some (h.dispatched -. h.notified) else None) r.handled in

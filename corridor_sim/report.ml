@@ -1,6 +1,5 @@
 let fixed d x =
-  if Float.is_nan x || Float.is_integer x && Float.abs x = infinity then `Null
-  else if Float.abs x = infinity then `Null
+  if Float.is_nan x || Float.abs x = infinity then `Null
   else `Intlit (Printf.sprintf "%.*f" d (if x = 0. then 0. else x))
 
 let m = fixed 3

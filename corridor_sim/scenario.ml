@@ -181,7 +181,8 @@ let host path v =
 let robot path v =
   let d = Params.default in
   let o = as_obj path [ "body_radius_m"; "sound_duration_s"; "sound_gap_s"; "angle_turn_rate_deg_s";
-                        "forward_speeds_m_s"; "camera_hfov_deg"; "qr_range_factor" ] v in
+                        "forward_speeds_m_s"; "camera_hfov_deg"; "qr_range_factor";
+                        "speed_noise"; "drift_deg_s" ] v in
   let speeds p v = let l = list p num v in
     if List.length l <> 5 then fail "%s: five speeds expected" p; Array.of_list l in
   { d with
@@ -192,7 +193,9 @@ let robot path v =
         | Some r -> Params.deg r | None -> d.angle_turn_rate);
     forward_speeds = dflt o "forward_speeds_m_s" speeds d.forward_speeds;
     camera_hfov = (match opt o "camera_hfov_deg" pos_num with Some a -> Params.deg a | None -> d.camera_hfov);
-    qr_range_factor = dflt o "qr_range_factor" pos_num d.qr_range_factor }
+    qr_range_factor = dflt o "qr_range_factor" pos_num d.qr_range_factor;
+    speed_noise = dflt o "speed_noise" nn_num d.speed_noise;
+    drift = (match opt o "drift_deg_s" nn_num with Some a -> Params.deg a | None -> d.drift) }
 
 let cost path v =
   let d = Agent.default_cost in

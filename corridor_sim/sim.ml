@@ -85,7 +85,7 @@ module Make (A : Agent.AGENT) = struct
   let run ?(trace = false) ?(timeline_window = 20.) ?(on_create = fun _ -> ()) (sc : Scenario.t) ~seed =
     let world = Scenario.world sc ~seed in
     let p = sc.params and s = sc.sensors in
-    let robot = Robot.create ~step:sc.physics_step p world sc.start in
+    let robot = Robot.create ~step:sc.physics_step ~rng:(Random.State.make [| seed; 3 |]) p world sc.start in
     let sound = Sound_queue.create ~duration:p.sound_duration ~gap:p.sound_gap in
     let agenda : ev Event_queue.t = Event_queue.create () in
     let rng_uwb = Random.State.make [| seed; 1 |] and rng_flood = Random.State.make [| seed; 2 |] in

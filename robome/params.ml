@@ -20,6 +20,8 @@ type t = {
   camera_latency : float;
   head_up_angle : float;
   head_down_angle : float;
+  speed_noise : float;
+  drift : float;
 }
 
 let deg d = d *. Float.pi /. 180.
@@ -47,4 +49,8 @@ let default = {
   camera_latency = 0.05;
   head_up_angle = deg 20.;
   head_down_angle = deg (-30.);
+  speed_noise = 0.03;
+  drift = deg 1.0;
 }
+
+let noiseless p = { p with speed_noise = 0.; drift = 0. }

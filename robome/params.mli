@@ -61,10 +61,20 @@ type t = {
   camera_latency : float;  (** s; from the frame to the decoded text (0.05) *)
   head_up_angle : float;  (** rad; camera pitch with the head tilted up (+20 deg) *)
   head_down_angle : float;  (** rad; camera pitch with the head tilted down (-30 deg) *)
+  speed_noise : float;
+      (** relative standard deviation of the actual wheel speed: each motion
+          command's speed (and a preset turn's rate) is the nominal one times
+          [1 + speed_noise * N(0,1)] (0.03; toy gear motors are imprecise) *)
+  drift : float;
+      (** rad/s; standard deviation of the heading drift while driving
+          (unequal wheels), drawn per motion command (1 deg/s) *)
 }
 
 val default : t
 (** The values listed above. *)
+
+val noiseless : t -> t
+(** The same parameters without motion noise (for closed-form tests). *)
 
 val deg : float -> float
 (** Degrees to radians. *)

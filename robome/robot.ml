@@ -25,10 +25,11 @@ type t = {
   mutable fallen : bool;
   mutable odometer : float;
   mutable hooks : (t -> unit) list;
+  rng : Random.State.t;
 }
 
-let create ?(step = 0.01) p w pose =
-  { p; w; step; time = 0.; pose; motion = Halted; waiting = []; head = Neutral;
+let create ?(step = 0.01) ?(rng = Random.State.make [| 0 |]) p w pose =
+  { rng; p; w; step; time = 0.; pose; motion = Halted; waiting = []; head = Neutral;
     contact = false; tipping = false; fallen = false; odometer = 0.; hooks = [] }
 
 let params r = r.p
@@ -60,21 +61,37 @@ let leading_point r (q : Kinematics.pose) =
 
 let level a s = a.(s - 1)
 
+let gaussian st =
+  let u1 = Float.max 1e-300 (Random.State.float st 1.0) and u2 = Random.State.float st 1.0 in
+  sqrt (-2. *. log u1) *. cos (2. *. Float.pi *. u2)
+
+(* The actual speed factor and drift of one motion command. *)
+let noise r =
+  if r.p.speed_noise = 0. && r.p.drift = 0. then (1., 0.)
+  else
+    let a = gaussian r.rng in
+    let b = gaussian r.rng in
+    (Float.max 0. (1. +. r.p.speed_noise *. a), r.p.drift *. b)
+
 (* Act on a motion command (never during a manoeuvre). *)
 let start r (c : Command.t) =
   let p = r.p in
+  let drive v omega =
+    let (k, d) = noise r in
+    r.motion <- Drive { v = k *. v; omega = (if v <> 0. then omega +. d else k *. omega) } in
+  let manoeuvre sign d =
+    let (k, _) = noise r in
+    (* the firmware times the turn for the nominal rate: the angle is off by k *)
+    r.motion <- Manoeuvre { omega = sign *. k *. p.angle_turn_rate;
+                            until = r.time +. Params.deg (float_of_int d) /. p.angle_turn_rate } in
   match c with
   | Stop -> r.motion <- Halted
-  | Forward s -> r.motion <- Drive { v = level p.forward_speeds s; omega = 0. }
-  | Backward s -> r.motion <- Drive { v = -.level p.backward_speeds s; omega = 0. }
-  | Turn_left (Speed s) -> r.motion <- Drive { v = 0.; omega = level p.turn_rates s }
-  | Turn_right (Speed s) -> r.motion <- Drive { v = 0.; omega = -.level p.turn_rates s }
-  | Turn_left (Degrees d) ->
-    r.motion <- Manoeuvre { omega = p.angle_turn_rate;
-                            until = r.time +. Params.deg (float_of_int d) /. p.angle_turn_rate }
-  | Turn_right (Degrees d) ->
-    r.motion <- Manoeuvre { omega = -.p.angle_turn_rate;
-                            until = r.time +. Params.deg (float_of_int d) /. p.angle_turn_rate }
+  | Forward s -> drive (level p.forward_speeds s) 0.
+  | Backward s -> drive (-.level p.backward_speeds s) 0.
+  | Turn_left (Speed s) -> drive 0. (level p.turn_rates s)
+  | Turn_right (Speed s) -> drive 0. (-.level p.turn_rates s)
+  | Turn_left (Degrees d) -> manoeuvre 1. d
+  | Turn_right (Degrees d) -> manoeuvre (-1.) d
   | Head_up | Head_down | Head_reset -> ()
 
 (* Motion commands that waited for a manoeuvre act in order, at once: the
@@ -113,7 +130,8 @@ let physics_step r dt events =
     if not r.contact then events := Collision q :: !events;
     r.contact <- true
   end else begin
-    if v <> 0. then r.contact <- false;
+    (* the contact ends once the body is clear by a centimetre *)
+    if r.contact && not (World.disc_collides r.w q.x q.y (rad +. 0.01)) then r.contact <- false;
     r.odometer <- r.odometer +. Kinematics.arc_length ~v ~dt
   end;
   r.pose <- q;

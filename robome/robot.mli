@@ -13,8 +13,9 @@
     {b Contact.} The body is a disc. Motion is integrated exactly
     ({!Kinematics.integrate}) over physics steps of at most [step] seconds;
     a step whose end position would overlap a wall or a cube keeps the
-    position (the robot's wheels spin) and takes only the rotation. Each new
-    contact counts as one collision.
+    position (the robot's wheels spin) and takes only the rotation. A new
+    contact counts as one collision; a contact ends when the body is clear
+    of every obstacle by 1 cm.
 
     {b Falling.} When the leading point of the body (its front when moving
     forward or turning, its back when moving backward) is over a drop-off,
@@ -37,8 +38,10 @@ type event =
 
 type t
 
-val create : ?step:float -> Params.t -> World.t -> Kinematics.pose -> t
-(** A halted robot at time 0 ([step], the physics step, defaults to 0.01 s). *)
+val create : ?step:float -> ?rng:Random.State.t -> Params.t -> World.t -> Kinematics.pose -> t
+(** A halted robot at time 0 ([step], the physics step, defaults to 0.01 s).
+    Motion noise ({!Params.t.speed_noise}, {!Params.t.drift}) is drawn from
+    [rng] (default: a fixed seed), once per motion command. *)
 
 val params : t -> Params.t
 val world : t -> World.t
@@ -65,6 +68,9 @@ val apply : t -> Command.t -> unit
 val on_step : t -> (t -> unit) -> unit
 (** Register a function called after every physics step while the robot
     moves (the simulation records the trajectory and the coverage with it). *)
+
+val gaussian : Random.State.t -> float
+(** A standard normal sample (Box-Muller). *)
 
 val head_pitch : t -> float
 (** The camera's pitch for the current head position (rad). *)

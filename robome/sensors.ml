@@ -21,9 +21,7 @@ let edge_ahead r =
   let d = p.body_radius +. p.edge_lookahead in
   World.over_dropoff (Robot.world r) (q.x +. d *. cos q.theta) (q.y +. d *. sin q.theta)
 
-let gaussian st =
-  let u1 = Float.max 1e-300 (Random.State.float st 1.0) and u2 = Random.State.float st 1.0 in
-  sqrt (-2. *. log u1) *. cos (2. *. Float.pi *. u2)
+let gaussian = Robot.gaussian
 
 let uwb st ~sigma r =
   let q = Robot.pose r in

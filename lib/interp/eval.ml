@@ -26,6 +26,17 @@ type beh = {
   action : Ast.block option;
 }
 
+(* Local variables: few per frame, so an association list of cells is
+   cheaper than a hash table (frames are made for every guard evaluated). *)
+type locals = { mutable vars : (string * V.t ref) list }
+
+let new_locals () = { vars = [] }
+let local_find l x = match List.assoc_opt x l.vars with Some r -> Some !r | None -> None
+let local_mem l x = List.mem_assoc x l.vars
+let local_set l x v = match List.assoc_opt x l.vars with
+  | Some r -> r := v
+  | None -> l.vars <- (x, ref v) :: l.vars
+
 let beh_type b = b.btype.b_name
 
 type agent = {
@@ -37,7 +48,7 @@ type agent = {
   mutable events : event list;
   mutable effects : beh Semantics.Machine.effect list;
   mutable fuel_limit : int;
-  mutable pending : (int * int * (string, V.t) Hashtbl.t) option;
+  mutable pending : (int * int * locals) option;
   mutable last_action_effects : string list option;
   mutable last_handler : int option;
   mutable last_effects : string list;
@@ -55,13 +66,14 @@ let err at fmt = Printf.ksprintf (fun s -> raise (Runtime_error (at, s))) fmt
 
 let uids = ref 0
 
+
 (* ------------------------------------------------------------ frames *)
 
 type frame = {
   ag : agent;
   beh : beh option;          (* the behaviour whose code runs, if any *)
   id : int;                  (* its machine instance id (0 in agent code) *)
-  locals : (string, V.t) Hashtbl.t;
+  locals : locals;
   content : V.t option;
   message : message option;
   fuel : int ref;
@@ -100,7 +112,7 @@ let agent_prop_type (f : frame) x =
   match T.agent_property f.ag.env f.ag.atype.a_name x with Some p -> Some p.p_type | None -> None
 
 let lookup (f : frame) at x =
-  match Hashtbl.find_opt f.locals x with
+  match local_find f.locals x with
   | Some v -> v
   | None ->
     match (match f.beh with Some b -> Hashtbl.find_opt b.bprops x | None -> None) with
@@ -114,13 +126,13 @@ let lookup (f : frame) at x =
         | _ -> err at "unknown name %s" x
 
 let assign_name (f : frame) x v =
-  if Hashtbl.mem f.locals x then Hashtbl.replace f.locals x v
+  if local_mem f.locals x then local_set f.locals x v
   else match f.beh with
     | Some b when Hashtbl.mem b.bprops x ->
       Hashtbl.replace b.bprops x (match behaviour_prop_type f x with Some t -> coerce t v | None -> v)
     | _ when Hashtbl.mem f.ag.props x ->
       Hashtbl.replace f.ag.props x (match agent_prop_type f x with Some t -> coerce t v | None -> v)
-    | _ -> Hashtbl.replace f.locals x v
+    | _ -> local_set f.locals x v
 
 (* ------------------------------------------------------- schemas *)
 
@@ -195,7 +207,7 @@ let rec pattern (f : frame) binds (p : Ast.pattern) (v : V.t) : bool =
   | PName x, _ ->
     (match T.schema f.ag.env x with
      | Some _ -> (match v with V.Schema s -> T.subschema f.ag.env s.sname x | _ -> false)
-     | None -> Hashtbl.replace binds x v; true)
+     | None -> binds := (x, v) :: !binds; true)
   | PCons (c, ps), V.Schema s ->
     T.subschema f.ag.env s.sname c.it
     && (match T.schema f.ag.env c.it with
@@ -245,8 +257,8 @@ let rec expr (f : frame) (e : Ast.expr) : V.t =
   | Of (p, x) -> of_ f e.at p.it (expr f x)
   | Matches (x, p) ->
     let v = expr f x in
-    let binds = Hashtbl.create 4 in
-    if pattern f binds p v then (Hashtbl.iter (Hashtbl.replace f.locals) binds; V.Bool true)
+    let binds = ref [] in
+    if pattern f binds p v then (List.iter (fun (x, v) -> local_set f.locals x v) (List.rev !binds); V.Bool true)
     else V.Bool false
   | Unop (Not, x) -> (match expr f x with V.Bool b -> V.Bool (not b) | v -> err e.at "not needs a boolean, not a %s" (V.type_name v))
   | Unop (Neg, x) ->
@@ -305,16 +317,16 @@ and call (f : frame) at g args =
 
 and run_routine (f : frame) at (r : T.routine) beh args : V.t option =
   tick f at;
-  let locals = Hashtbl.create 8 in
+  let locals = new_locals () in
   (match args with
    | `Positional vs ->
      if List.length vs <> List.length r.r_params then
        err at "%s takes %d arguments, not %d" r.r_name (List.length r.r_params) (List.length vs);
-     List.iter2 (fun (n, ty) v -> Hashtbl.replace locals n (coerce ty v)) r.r_params vs
+     List.iter2 (fun (n, ty) v -> local_set locals n (coerce ty v)) r.r_params vs
    | `Named kvs ->
      List.iter (fun (n, ty) ->
          match List.assoc_opt n kvs with
-         | Some v -> Hashtbl.replace locals n (coerce ty v)
+         | Some v -> local_set locals n (coerce ty v)
          | None -> err at "missing argument %s" n) r.r_params);
   let f' = { f with beh; locals; content = None; message = None;
                     id = (match beh with Some _ -> f.id | None -> 0) } in
@@ -349,7 +361,7 @@ and stmt (f : frame) (s : Ast.stmt) =
     let v = expr f e in
     let v = match ty.it with
       | TName ("float") -> coerce Ty.Float v | TName "double" -> coerce Ty.Double v | _ -> v in
-    Hashtbl.replace f.locals x.it v
+    local_set f.locals x.it v
   | Do (p, args) ->
     let r = match f.beh with
       | Some b -> (match T.behaviour_procedure f.ag.env b.btype.b_name p.it with
@@ -408,7 +420,7 @@ and stmt (f : frame) (s : Ast.stmt) =
       | V.Text t -> List.init (String.length t) (fun i -> V.Text (String.make 1 t.[i]))
       | v -> err e.at "cannot iterate over a %s" (V.type_name v) in
     (try List.iter (fun v ->
-         Hashtbl.replace f.locals x.it v;
+         local_set f.locals x.it v;
          tick f s.at;
          match block f b with () -> () | exception Continue -> ()) items
      with Break -> ())
@@ -450,7 +462,7 @@ and activate (f : frame) at name kvs =
               phandlers = Array.of_list (List.filter (fun (h : T.handler) -> h.h_kind = T.On_percept) handlers);
               mhandlers = Array.of_list (List.filter (fun (h : T.handler) -> h.h_kind <> T.On_percept) handlers);
               action = T.behaviour_action f.ag.env name } in
-    let bf = { f with beh = Some b; id = 0; locals = Hashtbl.create 4; content = None; message = None } in
+    let bf = { f with beh = Some b; id = 0; locals = new_locals (); content = None; message = None } in
     List.iter (fun (p : T.property) ->
         let v = match p.p_init with Some e -> coerce p.p_type (expr bf e) | None -> default_value p.p_type in
         Hashtbl.replace b.bprops p.p_name v) (T.behaviour_properties f.ag.env name);
@@ -469,7 +481,7 @@ and default_value (ty : Ty.t) = match Ty.repr ty with
 (* -------------------------------------------------------- running *)
 
 let frame ag ?beh ?(id = 0) ?content ?message () =
-  { ag; beh; id; locals = Hashtbl.create 8; content; message; fuel = ref ag.fuel_limit }
+  { ag; beh; id; locals = new_locals (); content; message; fuel = ref ag.fuel_limit }
 
 (* Run a body: a run-time error stops it and is recorded (R7). *)
 let protect (a : agent) body =
@@ -586,7 +598,7 @@ module Bodies = struct
   let run_percept_handler a ~id b h p =
     let locals = match a.pending with
       | Some (i, j, l) when i = id && j = h -> l
-      | _ -> Hashtbl.create 4 in
+      | _ -> new_locals () in
     a.pending <- None;
     let f = { (frame a ~beh:b ~id ~content:p ()) with locals } in
     a.last_behaviour <- b.btype.b_name;

@@ -30,6 +30,9 @@ type event =
 type beh
 (** A behaviour instance: its type and its properties. *)
 
+type locals
+(** The local variables of a running body. *)
+
 val beh_type : beh -> string
 
 type agent = {
@@ -41,7 +44,7 @@ type agent = {
   mutable events : event list;                  (** newest first *)
   mutable effects : beh Semantics.Machine.effect list;  (** newest first *)
   mutable fuel_limit : int;
-  mutable pending : (int * int * (string, Value.t) Hashtbl.t) option;
+  mutable pending : (int * int * locals) option;
       (** the bindings of the last applicable percept guard (instance, handler) *)
   mutable last_action_effects : string list option;
       (** the effects of the action block in the last behaviour step

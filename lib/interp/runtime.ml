@@ -280,3 +280,9 @@ let steps t = t.steps
 let agent_state t name = Option.map (fun i -> world t i) (find t name)
 let platform t = t.platform
 let env t = t.env
+
+(* A run allocates many short-lived values (configurations, frames): a larger
+   minor heap keeps them out of the major heap, and a larger space overhead
+   makes major collections rarer. *)
+let tune_gc () =
+  Gc.set { (Gc.get ()) with Gc.minor_heap_size = 4 * 1024 * 1024; space_overhead = 200 }

@@ -45,3 +45,7 @@ val steps : t -> int
 val agent_state : t -> string -> Eval.agent option
 val platform : t -> P.t
 val env : t -> Typing.Tenv.t
+
+val tune_gc : unit -> unit
+(** The garbage-collector settings for runs: a 32 MB minor heap and a space
+    overhead of 200 (runs allocate many short-lived values). *)

@@ -17,7 +17,8 @@ let pop q =
   | x :: rest -> Some (x, { q with front = rest; len = q.len - 1 })
   | [] -> None
 
-let to_list q = q.front @ List.rev q.back
+(* Tail-recursive: queues hold millions of entries under a flood. *)
+let to_list q = List.rev_append (List.rev q.front) (List.rev q.back)
 let of_list l = { front = l; back = []; len = List.length l }
 
 let partition f q =

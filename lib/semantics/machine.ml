@@ -265,7 +265,7 @@ module Make (B : BODIES) = struct
          | None -> ([], c.o2a))
       | Some O2a_not_drained -> (moving, c.o2a)   (* mutant: O2A keeps them *)
       | _ -> (moving, rest) in
-    let entries = List.map (function O_percept e -> e | O_object _ -> assert false) moving in
+    let entries = List.rev (List.rev_map (function O_percept e -> e | O_object _ -> assert false) moving) in
     let n = List.length entries in
     let c' =
       if p.variant = Native then
@@ -304,7 +304,18 @@ module Make (B : BODIES) = struct
         List.init (B.percept_handlers a.beh) (fun j -> (a.id, j + 1))) c.active
 
   (* Dequeue (R3b, R4a, R4b). *)
+  let dequeue_entry p (c : t) e pq : lbl * t =
+    let l = Dequeue e in
+    (l, { c with pq; cur = Some { e; todo = handlers_of c; applied = false };
+                 waits = bump_waits p c e; phase = Handle_phase;
+                 dispatched = c.dispatched + 1; last = l })
+
   let dequeue p (c : t) : (lbl * t) list =
+    match p.tie, p.flood, p.mutant, Pqueue.pop c.pq with
+    | Stable, false, None, Some (e, pq) ->
+      (* Seqs are unique: the top is the one candidate (R3b); one pop. *)
+      [ dequeue_entry p c e pq ]
+    | _ ->
     let cands = Pqueue.candidates ~stable:(p.tie = Stable) c.pq in
     let cands = match p.mutant with
       | Some Ties_to_largest_seq ->
@@ -313,16 +324,11 @@ module Make (B : BODIES) = struct
         let m = List.fold_left (fun m e -> max m e.seq) min_int top in
         List.filter (fun e -> e.seq = m) top
       | _ -> cands in
-    List.map (fun e ->
-        let l = Dequeue e in
-        (l, { c with pq = Pqueue.remove e c.pq;
-                     cur = Some { e; todo = handlers_of c; applied = false };
-                     waits = bump_waits p c e; phase = Handle_phase;
-                     dispatched = c.dispatched + 1; last = l })) cands
+    List.map (fun e -> dequeue_entry p c e (Pqueue.remove e c.pq)) cands
 
   (* Applicable: the instance is still active (R4b) and the handler applies. *)
   let applicable (c : t) (id, h) e =
-    if not (is_active_in (bs_of c) id) then (c.world, false)
+    if not (List.exists (fun (a : B.beh instance) -> a.id = id) c.active) then (c.world, false)
     else B.percept_applicable c.world ~id (beh_of c id) h e.p
 
   (* Handle: run the next handler of the snapshot. *)

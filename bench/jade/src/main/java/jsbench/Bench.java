@@ -41,6 +41,7 @@ public final class Bench {
     static PerceptAgent agent;
     static String put = "controller";
     static String tag = "JADE";
+    static String name = null; // overrides the scenario word of the result line
     static long seq; // per-agent arrival counter (R2b), host side
 
     public static void main(String[] argv) throws Exception {
@@ -48,9 +49,11 @@ public final class Bench {
         List<String> args = new ArrayList<>();
         for (String a : argv) {
             if (a.startsWith("put=")) put = a.substring(4);
+            else if (a.startsWith("name=")) name = a.substring(5);
             else args.add(a);
         }
         if (put.equals("control")) tag = "CONTROL";
+        if (args.get(0).equals("listcost")) { listCost(); return; }
         quietLogging();
         probe = new Probe(put.equals("control"));
         boot();
@@ -91,6 +94,10 @@ public final class Bench {
         // interface (LOCAL_HOST alone only sets the advertised address).
         p.setParameter("jade_imtp_leap_JICP_JICPServer_acceptlocalhostonly", "true");
         p.setParameter(Profile.PLATFORM_ID, "jsbench");
+        // JADE writes APDescription.txt at boot; keep it out of the source tree.
+        java.io.File dir = new java.io.File(System.getProperty("jsbench.filedir", "target/jade-files"));
+        dir.mkdirs();
+        p.setParameter(Profile.FILE_DIR, dir.getPath() + java.io.File.separator);
         ContainerController cc = rt.createMainContainer(p);
         controller = cc.createNewAgent("percepts", PerceptAgent.class.getName(), new Object[] { probe });
         controller.start();
@@ -112,8 +119,12 @@ public final class Bench {
         }
     }
 
+    /** Spin briefly, then yield: on a loaded 2-core machine a pure spin steals the agent's core. */
     static void awaitHandled(long target) {
-        while (probe.handled.get() < target) Thread.onSpinWait();
+        int spins = 0;
+        while (probe.handled.get() < target) {
+            if (++spins < 2_000) Thread.onSpinWait(); else Thread.yield();
+        }
     }
 
     // ---------------------------------------------------------------- steady
@@ -143,8 +154,8 @@ public final class Bench {
         System.out.printf("# steady: %d percepts in batches of %d (host notifies a batch, waits until handled), "
                 + "%d loop-behaviour steps (%.1f percepts per step)%n", handled, batch, loops, (double) handled / loops);
         System.out.printf("# steady: peak live heap after GC %.1f MB; %s%n", Mem.peakLiveMb(), Mem.gcSummary());
-        System.out.printf("%s steady percepts_per_second=%.1f handled=%d seconds=%.3f peak_mb=%.1f%n",
-                tag, handled / s, handled, s, Mem.peakMb());
+        System.out.printf("%s %s percepts_per_second=%.1f handled=%d seconds=%.3f peak_mb=%.1f%n",
+                tag, name == null ? "steady" : name, handled / s, handled, s, Mem.peakMb());
     }
 
     // ----------------------------------------------------------------- flood
@@ -211,8 +222,8 @@ public final class Bench {
         System.out.printf("# flood (%s): transfer (O2A -> priority queue) rate per %d-percept window: %s%n", mode, window, tw);
         System.out.printf("# flood (%s): handled rate per %d-percept window (from the first notify): %s%n", mode, window, hw);
         if (capped) System.out.println("# flood: the last window is partial (cap reached)");
-        System.out.printf("%s flood percepts_per_second=%.1f handled=%d seconds=%.3f peak_mb=%.1f windows=%s%n",
-                tag, handled / s, handled, s, Mem.peakMb(), hw);
+        System.out.printf("%s %s percepts_per_second=%.1f handled=%d seconds=%.3f peak_mb=%.1f windows=%s%n",
+                tag, name == null ? "flood" : name, handled / s, handled, s, Mem.peakMb(), hw);
     }
 
     /** Rates (percepts/s) of successive windows; the last one partial if count is not a multiple. */
@@ -256,6 +267,31 @@ public final class Bench {
             System.out.printf("# sweep backlog=%d notify_s=%.3f drain_s=%.3f drain_rate=%.0f/s drain_ns_per_percept=%.0f ns_per_element_shifted=%.3f%n",
                     n, (t1 - t0) / 1e9, drain, n / drain, drain * 1e9 / n, drain * 1e9 / (n * (n - 1) / 2.0));
             System.out.printf("%s sweep backlog=%d drain_seconds=%.3f%n", tag, n, drain);
+        }
+    }
+
+    // -------------------------------------------------------------- listcost
+
+    /**
+     * JADE's o2aQueue is a jade.util.leap.ArrayList over a java.util.ArrayList and
+     * getO2AObject() calls remove(0) on it. This times that call alone (no JADE)
+     * at several sizes: the cost of shifting the whole backing array by one slot.
+     */
+    static void listCost() {
+        Object x = new Object();
+        for (int size : new int[] { 1_024, 100_000, 1_000_000, 10_000_000 }) {
+            java.util.ArrayList<Object> list = new java.util.ArrayList<>(size + 1);
+            for (int k = 0; k < size; k++) list.add(x);
+            int reps = size >= 1_000_000 ? 300 : 20_000;
+            long best = Long.MAX_VALUE;
+            for (int round = 0; round < 5; round++) {
+                long t0 = System.nanoTime();
+                for (int r = 0; r < reps; r++) { list.remove(0); list.add(x); }
+                best = Math.min(best, System.nanoTime() - t0);
+            }
+            double ns = (double) best / reps;
+            System.out.printf("# listcost: java.util.ArrayList.remove(0) with %,d elements: %.1f us per call (%.2f ns per element shifted) -> at most %.0f dequeues/s%n",
+                    size, ns / 1e3, ns / size, 1e9 / ns);
         }
     }
 

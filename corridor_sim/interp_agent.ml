@@ -1,0 +1,112 @@
+module V = Interp.Value
+module Mc = Semantics.Machine
+module M = Interp.Runtime.P.M
+
+let program () =
+  let rec up d =
+    let p = Filename.concat d "examples/robome/robome.jade" in
+    if Sys.file_exists p then p
+    else let u = Filename.dirname d in
+      if u = d then failwith "examples/robome/robome.jade not found" else up u in
+  up (Sys.getcwd ())
+
+let load path =
+  let r = match Syntax.Parse.file path with
+    | r -> r
+    | exception Syntax.Diag.Failed d -> failwith (Syntax.Diag.to_string d) in
+  let env, diags = Typing.check [ r ] in
+  if Typing.has_errors diags then
+    failwith (String.concat "\n" (List.map Syntax.Diag.to_string
+                                   (List.filter (fun d -> d.Syntax.Diag.severity = Syntax.Diag.Error) diags)));
+  env
+
+let value_of_percept (p : Agent.percept) =
+  match p with
+  | Agent.Falling -> V.Schema { sname = "falling"; slots = [||] }
+  | Agent.Obstacle -> V.Schema { sname = "obstacle"; slots = [||] }
+  | Agent.Qr_code_read s -> V.Schema { sname = "qrCodeRead"; slots = [| ("qrCode", ref (V.Text s)) |] }
+  | Agent.Position (x, y) -> V.Schema { sname = "position"; slots = [| ("x", ref (V.Double x)); ("y", ref (V.Double y)) |] }
+
+let num = function V.Double f | V.Float f -> f | V.Int i -> float_of_int i | _ -> nan
+
+let percept_of_value (v : V.t) : Agent.percept =
+  match v with
+  | V.Schema { sname = "falling"; _ } -> Agent.Falling
+  | V.Schema { sname = "obstacle"; _ } -> Agent.Obstacle
+  | V.Schema { sname = "qrCodeRead"; slots } -> Agent.Qr_code_read (V.to_text !(snd slots.(0)))
+  | V.Schema { sname = "position"; slots } -> Agent.Position (num !(snd slots.(0)), num !(snd slots.(1)))
+  | _ -> Agent.Obstacle
+
+let make ?program:(path = program ()) () : (module Agent.AGENT) =
+  let env = load path in
+  (module struct
+    type t = { params : Mc.params; mutable c : M.t }
+
+    let name = "jadescript"
+
+    let create (loop : Agent.loop) (host : Agent.host) =
+      let params = { Mc.variant = loop.variant; tie = Mc.Stable; budget = loop.budget;
+                     max_active = None; o2a_capacity = loop.o2a_capacity; flood = false;
+                     ghosts = false; mutant = None } in
+      let native = V.Native {
+          nid = 1; cls = "RoboMe";
+          methods = List.map (fun (m, _) -> (m, fun _ ->
+              match Robome.Host.call host m with
+              | Ok () -> V.Unit
+              | Error e -> failwith e)) host } in
+      let (a, behs) = Interp.Eval.create_agent env ~name:"robome" ~atype:"RoboMe" ~args:[ native ] ~fuel:100_000 in
+      ignore (Interp.Eval.take_events a);
+      { params; c = M.init params ~world:a behs }
+
+    let notify t p ~priority =
+      match priority with
+      | Some k when k < 0 -> Error (Printf.sprintf "priority %d is not a natural number (R2a)" k)
+      | _ ->
+        if not (M.o2a_has_room t.params t.c) then Error "the O2A queue is full (R2d)"
+        else begin
+          let v = value_of_percept p in
+          t.c <- (match priority with
+              | None -> M.notify t.params t.c v (Agent.default_priority p)
+              | Some k -> M.notify_with t.params t.c v k);
+          Ok t.c.next_seq
+        end
+
+    let take t =
+      match M.step t.params t.c with
+      | [] -> None
+      | (l, c) :: _ ->
+        t.c <- c;
+        ignore (Interp.Eval.take_events c.world);
+        c.world.outbox <- [];
+        Some l
+
+    let step t : Agent.work option =
+      match take t with
+      | None -> None
+      | Some l ->
+        match l with
+        | Mc.Transfer n -> Some (Agent.Transfer { moved = n; o2a_calls = 1 })
+        | Mc.Transfer_one _ -> Some (Agent.Transfer { moved = 1; o2a_calls = 1 })
+        | Mc.Transfer_spin _ -> Some (Agent.Transfer { moved = 0; o2a_calls = 1 })
+        | Mc.Transfer_end -> Some (Agent.Loop { o2a_calls = 1 })
+        | Mc.Dequeue e ->
+          let rec finish handlers =
+            match take t with
+            | Some (Mc.Handle _) -> finish (handlers + 1)
+            | Some (Mc.Skip _) -> finish handlers
+            | Some (Mc.End_dispatch _) | None -> handlers
+            | Some _ -> handlers in
+          let handlers_run = finish 0 in
+          Some (Agent.Dispatch { percept = percept_of_value e.p; priority = e.prio; seq = e.seq; handlers_run })
+        | Mc.Behaviour_step _ -> Some Agent.Behaviour_step
+        | _ -> Some (Agent.Loop { o2a_calls = 0 })
+
+    let world_map t =
+      match Hashtbl.find_opt t.c.world.props "worldMap" with
+      | Some (V.Map m) ->
+        List.filter_map (fun (k, v) -> match k with
+            | V.Schema { sname = "position"; slots } when Array.length slots = 2 ->
+              Some (num !(snd slots.(0)), num !(snd slots.(1)), V.to_text v)
+            | _ -> None) (V.map_bindings m)
+      | _ -> []
+  end)

@@ -1,0 +1,31 @@
+(** The [sim] command's logic, as library functions: one run with its
+    outputs, a batch of seeds with a table, and the benchmark. The agent is
+    a parameter (default: {!Reference_controller}). *)
+
+type outcome = { result : Sim.result; metrics : Metrics.t }
+
+val run : ?agent:(module Agent.AGENT) -> ?trace:bool -> Scenario.t -> seed:int -> out_dir:string option -> outcome
+(** Simulate the scenario with this seed. With [Some dir] (created if
+    needed), write [dir/report.json], [dir/map.svg], [dir/timeline.svg] and,
+    if [trace] (default true when writing), [dir/trace.txt]. *)
+
+type stats = { name : string; mean : float; min : float; max : float; n : int }
+
+val batch : ?agent:(module Agent.AGENT) -> ?progress:bool -> Scenario.t -> first_seed:int -> runs:int -> stats list * outcome list
+(** Run the seeds [first_seed .. first_seed + runs - 1]; with [progress]
+    (default true) draw a progress bar on stderr. The statistics cover
+    {!Metrics.summary_fields} (nan values left out; [n] counts the rest). *)
+
+val table : Scenario.t -> first_seed:int -> runs:int -> stats list -> string
+(** The statistics as a text table (metric, mean, min, max). *)
+
+val bench : ?scenario:string -> ?position_rate:float -> unit -> float * float
+(** Run the paper scenario ([scenarios/paper.json], found from the current
+    directory upwards, unless [scenario] is given) with [position_rate]
+    position percepts per second (default 50) and the reference controller;
+    return (simulated seconds, wall-clock seconds). *)
+
+val find_scenario : string -> string
+(** [find_scenario "paper"]: the path of [scenarios/paper.json] from the
+    current directory or one of its parents; a path that exists is returned
+    unchanged. @raise Scenario.Error if there is none. *)

@@ -1,0 +1,295 @@
+(* Tests of the corridor simulation: scenario files, the agenda, the
+   reference controller's loop (R2, R3), command latency, determinism per
+   seed, the starvation of the printed loop under a flood, the outputs, and
+   TLC's validation of the traces of short runs. *)
+
+open Corridor_sim
+
+let qtest ?(count = 200) name gen prop =
+  Alcotest.test_case name `Quick (fun () ->
+      QCheck.Test.check_exn ~rand:(Random.State.make [| 42 |]) (QCheck.Test.make ~count ~name gen prop))
+
+let scenario name = Scenario.load (Run.find_scenario name)
+let short name d = { (scenario name) with Scenario.duration = d }
+
+let all_scenarios = [ "paper"; "dense"; "narrow"; "long"; "noisy_uwb"; "flood_printed"; "flood_reference"; "dropoff" ]
+
+(* ------------------------------------------------------------- scenarios *)
+
+let test_load_all () =
+  List.iter (fun n ->
+      let sc = scenario n in
+      Alcotest.(check string) "name" n sc.name;
+      ignore (Scenario.world sc ~seed:1)) all_scenarios
+
+let rejects msg json =
+  match Scenario.of_json (Yojson.Safe.from_string json) with
+  | _ -> Alcotest.failf "%s: accepted" msg
+  | exception Scenario.Error _ -> ()
+
+let test_bad_files () =
+  let base = {|"name": "x", "duration_s": 10, "corridor": {"length_m": 5, "width_m": 2}, "start": {"x": 1, "y": 1}|} in
+  ignore (Scenario.of_json (Yojson.Safe.from_string ("{" ^ base ^ "}")));
+  rejects "unknown field" ("{" ^ base ^ {|, "durration": 3}|});
+  rejects "missing duration" {|{"name": "x", "corridor": {"length_m": 5, "width_m": 2}, "start": {"x": 1, "y": 1}}|};
+  rejects "start outside" {|{"name": "x", "duration_s": 10, "corridor": {"length_m": 5, "width_m": 2}, "start": {"x": 9, "y": 1}}|};
+  rejects "three faces" ("{" ^ base ^ {|, "cubes": [{"id": "a", "x": 2, "y": 1, "faces": ["1", "2", "3"]}]}|});
+  rejects "bad loop" ("{" ^ base ^ {|, "agent": {"loop": "fast"}}|});
+  rejects "bad percept override" ("{" ^ base ^ {|, "sensors": {"priority_overrides": {"bump": 3}}}|})
+
+let test_random_cubes () =
+  let sc = scenario "dense" in
+  let w1 = Scenario.world sc ~seed:1 and w1' = Scenario.world sc ~seed:1 and w2 = Scenario.world sc ~seed:2 in
+  Alcotest.(check int) "fourteen cubes" 14 (Array.length w1.cubes);
+  Alcotest.(check bool) "same seed, same cubes" true (w1.cubes = w1'.cubes);
+  Alcotest.(check bool) "another seed, other cubes" true (w1.cubes <> w2.cubes);
+  Array.iteri (fun i (a : Robome.World.cube) ->
+      Array.iteri (fun j (b : Robome.World.cube) ->
+          if i < j then Alcotest.(check bool) "apart" true (Float.hypot (a.cx -. b.cx) (a.cy -. b.cy) > 0.28)) w1.cubes) w1.cubes
+
+(* ---------------------------------------------------------------- agenda *)
+
+let prop_agenda =
+  qtest "the agenda pops by time, ties in scheduling order"
+    QCheck.(list (int_range 0 20))
+    (fun times ->
+       let q = Event_queue.create () in
+       List.iteri (fun i t -> Event_queue.add q (float_of_int t) i) times;
+       let rec drain acc = match Event_queue.pop q with Some (t, i) -> drain ((t, i) :: acc) | None -> List.rev acc in
+       let got = drain [] in
+       let expected = List.stable_sort (fun (a, _) (b, _) -> compare a b) (List.mapi (fun i t -> (float_of_int t, i)) times) in
+       got = expected)
+
+(* ------------------------------------------------------------ controller *)
+
+let quiet_host () =
+  let cmds = ref [] in
+  (Robome.Host.make Robome.Host.default_mapping ~enqueue:(fun c -> cmds := c :: !cmds) ~start_listening:(fun () -> ()), cmds)
+
+let rec drain a acc =
+  match Reference_controller.step a with
+  | None -> List.rev acc
+  | Some w -> drain a (w :: acc)
+
+let dispatched works = List.filter_map (function Agent.Dispatch d -> Some (d.percept, d.priority, d.seq) | _ -> None) works
+
+let test_priorities () =
+  let (h, cmds) = quiet_host () in
+  let a = Reference_controller.create Agent.default_loop h in
+  Alcotest.(check (list string)) "on create: moveForward" [ "forward(3)" ] (List.map Robome.Command.to_string !cmds);
+  cmds := [];
+  let n p = match Reference_controller.notify a p ~priority:None with Ok s -> s | Error e -> Alcotest.fail e in
+  let s1 = n (Position (1., 2.)) in
+  let s2 = n (Qr_code_read "A") in
+  let s3 = n Obstacle in
+  let s4 = n Falling in
+  let s5 = n (Position (3., 4.)) in
+  Alcotest.(check (list int)) "seqs from 1 (R2b)" [ 1; 2; 3; 4; 5 ] [ s1; s2; s3; s4; s5 ];
+  let ws = drain a [] in
+  Alcotest.(check (list (pair int int))) "highest priority first, ties by seq (R3b)"
+    [ (10, 4); (8, 3); (4, 2); (2, 1); (2, 5) ]
+    (List.map (fun (_, p, s) -> (p, s)) (dispatched ws));
+  Alcotest.(check (list string)) "falling then obstacle handlers' commands"
+    [ "stop"; "backward(3)"; "head_down"; "stop"; "turn_left(90deg)"; "forward(3)" ]
+    (List.rev_map Robome.Command.to_string !cmds);
+  (* the qrCodeRead was mapped at position(0, 0): it came before both positions *)
+  Alcotest.(check (list (triple (float 0.) (float 0.) string))) "worldMap" [ (0., 0., "A") ] (Reference_controller.world_map a);
+  Alcotest.(check (pair (float 0.) (float 0.))) "current position" (3., 4.) (Reference_controller.current_position a);
+  Alcotest.(check bool) "idle" true (Reference_controller.step a = None)
+
+let test_override_and_refusals () =
+  let (h, _) = quiet_host () in
+  let a = Reference_controller.create { Agent.default_loop with o2a_capacity = Some 2 } h in
+  ignore (drain a []);
+  ignore (Reference_controller.notify a (Position (1., 1.)) ~priority:(Some 9));
+  ignore (Reference_controller.notify a Obstacle ~priority:None);
+  Alcotest.(check bool) "O2A full (R2d)" true (Result.is_error (Reference_controller.notify a Falling ~priority:None));
+  Alcotest.(check bool) "negative priority (R2a)" true
+    (Result.is_error (Reference_controller.notify a Falling ~priority:(Some (-1))));
+  Alcotest.(check (list int)) "the override wins over obstacle's 8" [ 9; 8 ]
+    (List.map (fun (_, p, _) -> p) (dispatched (drain a [])))
+
+let test_budgeted () =
+  let (h, _) = quiet_host () in
+  let a = Reference_controller.create { Agent.default_loop with variant = Budgeted; budget = 2 } h in
+  ignore (drain a []);
+  List.iter (fun p -> ignore (Reference_controller.notify a p ~priority:None))
+    [ Agent.Position (0., 0.); Position (1., 1.); Position (2., 2.) ];
+  let ws = drain a [] in
+  let transfers = List.length (List.filter (function Agent.Transfer { moved; _ } -> moved > 0 | _ -> false) ws) in
+  Alcotest.(check int) "three dispatches" 3 (List.length (dispatched ws));
+  Alcotest.(check bool) "an iteration boundary between 2 and 3" true
+    (transfers = 1 && List.exists (function Agent.Loop _ | Agent.Transfer { moved = 0; _ } -> true | _ -> false) ws)
+
+(* ------------------------------------------------------------ simulation *)
+
+let test_determinism () =
+  let sc = short "paper" 40. in
+  let a = Sim.run ~trace:true (module Reference_controller) sc ~seed:7 in
+  let b = Sim.run ~trace:true (module Reference_controller) sc ~seed:7 in
+  let c = Sim.run ~trace:true (module Reference_controller) sc ~seed:8 in
+  Alcotest.(check bool) "a trace" true (String.length a.trace > 1000);
+  Alcotest.(check bool) "same seed, same trace byte for byte" true (String.equal a.trace b.trace);
+  Alcotest.(check string) "same report" (Report.to_string a (Metrics.of_result a)) (Report.to_string b (Metrics.of_result b));
+  Alcotest.(check bool) "another seed, another trace" false (String.equal a.trace c.trace)
+
+let test_command_latency () =
+  let r = Sim.run (module Reference_controller) (short "paper" 120.) ~seed:1 in
+  let p = r.scenario.params in
+  Alcotest.(check bool) "commands played" true (List.length r.commands > 4);
+  List.iter (fun (issued, at, _) ->
+      Alcotest.(check bool) "a command acts after its tone" true (at >= issued +. p.sound_duration -. 1e-9)) r.commands;
+  let rec gaps = function
+    | (_, a, _) :: ((_, b, _) :: _ as rest) ->
+      Alcotest.(check bool) "tones one after another, with the gap" true
+        (b -. a >= p.sound_duration +. p.sound_gap -. 1e-9);
+      gaps rest
+    | _ -> () in
+  gaps r.commands;
+  (* the obstacle handler's three commands: stop at +0.1 s, turn at +0.3 s, forward at +0.5 s *)
+  let rec find = function
+    | (i1, a1, Robome.Command.Stop) :: (i2, a2, Turn_left _) :: (i3, a3, Forward _) :: _ when i1 = i2 && i2 = i3 ->
+      Alcotest.(check (list (float 1e-9))) "0.1, 0.3, 0.5 s late" [ 0.1; 0.3; 0.5 ] [ a1 -. i1; a2 -. i1; a3 -. i1 ]
+    | _ :: rest -> find rest
+    | [] -> Alcotest.fail "no obstacle handled" in
+  find r.commands
+
+let test_latency_sane () =
+  let r = Sim.run (module Reference_controller) (short "paper" 60.) ~seed:3 in
+  let m = Metrics.of_result r in
+  List.iter (fun (h : Sim.handled) ->
+      Alcotest.(check bool) "dispatch after notify" true (h.dispatched >= h.notified)) r.handled;
+  Alcotest.(check bool) "positions at 10 Hz" true
+    (match List.find_opt (fun (l : Metrics.latency) -> l.priority = 2) m.latency with
+     | Some l -> l.count >= 590 && l.count <= 601 | None -> false);
+  Alcotest.(check bool) "latency under 5 ms" true (m.latency_max < 0.005)
+
+let test_flood_starvation () =
+  let printed = Metrics.of_result (Sim.run (module Reference_controller) (short "flood_printed" 12.) ~seed:1) in
+  let reference = Metrics.of_result (Sim.run (module Reference_controller) (short "flood_reference" 12.) ~seed:1) in
+  Alcotest.(check bool) "printed: the flood starves dispatch" true
+    (printed.unhandled > 30_000 && printed.unhandled_oldest > 6.);
+  Alcotest.(check bool) "reference: keeps up" true (reference.unhandled < 100 && reference.latency_max < 0.01)
+
+let test_falling_handled () =
+  let r = Sim.run (module Reference_controller) (scenario "dropoff") ~seed:1 in
+  let m = Metrics.of_result r in
+  Alcotest.(check bool) "falling percepts dispatched" true
+    (List.exists (fun (l : Metrics.latency) -> l.priority = 10 && l.count >= 1) m.latency);
+  Alcotest.(check int) "backed off in time: no fall" 0 m.falls;
+  Alcotest.(check bool) "after a near fall" true (m.near_falls >= 1);
+  Alcotest.(check bool) "head down" true
+    (List.exists (fun (_, _, c) -> c = Robome.Command.Head_down) r.commands)
+
+(* A tiny XML well-formedness check: balanced tags. *)
+let well_formed s =
+  let n = String.length s in
+  let stack = ref [] and ok = ref true and i = ref 0 in
+  while !ok && !i < n do
+    if s.[!i] = '<' then begin
+      let j = String.index_from s !i '>' in
+      let tag = String.sub s (!i + 1) (j - !i - 1) in
+      (if String.length tag > 0 && (tag.[0] = '?' || tag.[0] = '!') then ()
+       else if tag.[String.length tag - 1] = '/' then ()
+       else if tag.[0] = '/' then begin
+         let name = String.sub tag 1 (String.length tag - 1) in
+         match !stack with x :: rest when x = name -> stack := rest | _ -> ok := false
+       end else
+         let name = List.hd (String.split_on_char ' ' tag) in
+         stack := name :: !stack);
+      i := j + 1
+    end else incr i
+  done;
+  !ok && !stack = []
+
+let test_outputs () =
+  let dir = Filename.concat (Filename.get_temp_dir_name ()) (Printf.sprintf "jsref-sim-out-%d" (Unix.getpid ())) in
+  let o = Run.run (short "paper" 60.) ~seed:2 ~out_dir:(Some dir) in
+  let read f =
+    let ic = open_in_bin (Filename.concat dir f) in
+    let s = really_input_string ic (in_channel_length ic) in
+    close_in ic; s in
+  let j = Yojson.Safe.from_string (read "report.json") in
+  let open Yojson.Safe.Util in
+  Alcotest.(check int) "seed" 2 (j |> member "seed" |> to_int);
+  Alcotest.(check int) "cubes_total" 5 (j |> member "metrics" |> member "cubes_total" |> to_int);
+  Alcotest.(check int) "collisions" o.metrics.collisions (j |> member "metrics" |> member "collisions" |> to_int);
+  List.iter (fun f ->
+      let s = read f in
+      Alcotest.(check bool) (f ^ " is well-formed") true (well_formed s);
+      Alcotest.(check bool) (f ^ " is SVG") true
+        (String.length s > 100 && String.sub s 0 5 = "<?xml")) [ "map.svg"; "timeline.svg" ];
+  Alcotest.(check bool) "trace written" true (String.length (read "trace.txt") > 100)
+
+let test_batch () =
+  let (stats, outcomes) = Run.batch ~progress:false (short "paper" 30.) ~first_seed:1 ~runs:3 in
+  Alcotest.(check int) "three runs" 3 (List.length outcomes);
+  List.iter (fun (s : Run.stats) ->
+      if s.n > 0 then Alcotest.(check bool) s.name true (s.min <= s.mean +. 1e-9 && s.mean <= s.max +. 1e-9)) stats;
+  let t = Run.table (short "paper" 30.) ~first_seed:1 ~runs:3 stats in
+  Alcotest.(check bool) "table" true (String.length t > 200)
+
+(* -------------------------------------------------------- TLC validation *)
+
+let tlc_available () = match Explore.Tlc.jar () with _ -> true | exception _ -> false
+
+let validate name loop duration () =
+  if not (tlc_available ()) then print_endline "TLC not available: not validated" else
+  let sc = { (short name duration) with loop } in
+  let module S = Sim.Make (Reference_controller) in
+  let (_, agent) = S.run ~on_create:Reference_controller.enable_log sc ~seed:1 in
+  let log = Reference_controller.log agent in
+  Alcotest.(check bool) "a few dozen steps" true (List.length log > 20);
+  match Trace_check.check sc.loop log with
+  | Ok n -> Alcotest.(check int) "every state accepted" (List.length log + 1) n
+  | Error e -> Alcotest.fail e
+
+let test_replay_rejects () =
+  (* a run whose log is tampered with: the abstract machine cannot follow *)
+  let sc = short "paper" 0.5 in
+  let module S = Sim.Make (Reference_controller) in
+  let (_, agent) = S.run ~on_create:Reference_controller.enable_log sc ~seed:1 in
+  let log = Reference_controller.log agent in
+  let tampered = List.filter (function Semantics.Machine.Transfer _ -> false | _ -> true) log in
+  let m_dir = Filename.concat (Filename.get_temp_dir_name ()) (Printf.sprintf "jsref-sim-tamper-%d" (Unix.getpid ())) in
+  (try Unix.mkdir m_dir 0o700 with Unix.Unix_error (Unix.EEXIST, _, _) -> ());
+  let path = Explore.Random_model.write ~dir:m_dir ~name:"MCTamper" (Trace_check.model_constants sc.loop tampered) in
+  let m = Explore.Model.load path in
+  Alcotest.(check bool) "rejected" true (Result.is_error (Trace_check.replay m tampered));
+  Alcotest.(check bool) "the genuine log replays" true
+    (Result.is_ok (Trace_check.replay (Explore.Model.load (Explore.Random_model.write ~dir:m_dir ~name:"MCGenuine"
+                                                           (Trace_check.model_constants sc.loop log))) log))
+
+let test_bench () =
+  let (sim, wall) = Run.bench () in
+  Alcotest.(check (float 1e-9)) "the paper scenario's 300 s" 300. sim;
+  Alcotest.(check bool) "measured" true (wall > 0.)
+
+let () =
+  Alcotest.run "corridor" [
+    ("scenarios", [
+        Alcotest.test_case "every scenario file loads" `Quick test_load_all;
+        Alcotest.test_case "bad files are rejected" `Quick test_bad_files;
+        Alcotest.test_case "random cubes per seed" `Quick test_random_cubes ]);
+    ("agenda", [ prop_agenda ]);
+    ("controller", [
+        Alcotest.test_case "priorities, seqs and handlers (R2b, R3b)" `Quick test_priorities;
+        Alcotest.test_case "override and refusals (R2a, R2d)" `Quick test_override_and_refusals;
+        Alcotest.test_case "budgeted loop" `Quick test_budgeted ]);
+    ("simulation", [
+        Alcotest.test_case "determinism per seed" `Quick test_determinism;
+        Alcotest.test_case "command latency through the sound channel" `Quick test_command_latency;
+        Alcotest.test_case "percept latency" `Quick test_latency_sane;
+        Alcotest.test_case "flood: printed loop starves, reference copes" `Quick test_flood_starvation;
+        Alcotest.test_case "falling handled before the fall" `Quick test_falling_handled;
+        Alcotest.test_case "report, map, timeline, trace" `Quick test_outputs;
+        Alcotest.test_case "batch statistics" `Quick test_batch;
+        Alcotest.test_case "bench function" `Quick test_bench ]);
+    ("tlc", [
+        Alcotest.test_case "replay follows the run, not a tampered one" `Quick test_replay_rejects;
+        Alcotest.test_case "reference loop run validated by TLC" `Slow (validate "paper" Agent.default_loop 1.5);
+        Alcotest.test_case "printed loop run validated by TLC" `Slow
+          (validate "paper" { Agent.default_loop with variant = Printed } 0.01);
+        Alcotest.test_case "budgeted loop run under a flood validated by TLC" `Slow
+          (validate "flood_reference" { Agent.default_loop with variant = Budgeted; budget = 2 } 5.003) ]);
+  ]
