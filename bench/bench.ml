@@ -262,11 +262,26 @@ let interp_bench () =
      | None -> ());
     Printf.printf "  target: at least 3,000,000 percepts/s and 3x JADE, flat under the flood\n"
 
+(* ------------------------------------------------------ simulation *)
+
+let sim_bench () =
+  let (sim_s, wall_s) = Corridor_sim.Run.bench () in
+  Printf.printf "simulation: the paper scenario with 50 Hz position percepts, OCaml mirror of the agent\n";
+  Printf.printf "  %.0f simulated s in %.3f wall-clock s: %.0fx real time (target: at least 1000x)\n"
+    sim_s wall_s (sim_s /. wall_s);
+  (* The same with the paper's program on the interpreter. *)
+  let agent = Corridor_sim.Interp_agent.make () in
+  let (sim_j, wall_j) = Corridor_sim.Run.bench ~agent () in
+  Printf.printf "  examples/robome/robome.jade on the interpreter, same workload: %.0f simulated s in %.3f s: %.0fx real time\n"
+    sim_j wall_j (sim_j /. wall_j)
+
 let () =
   let what = if Array.length Sys.argv > 1 then Sys.argv.(1) else "all" in
   match what with
   | "parser" -> parser_bench ()
   | "explorer" -> explorer_bench ()
   | "interp" -> interp_bench ()
-  | "all" -> parser_bench (); print_newline (); explorer_bench (); print_newline (); interp_bench ()
-  | other -> Printf.eprintf "bench: unknown benchmark %s (known: parser, explorer, interp, all)\n" other; exit 2
+  | "sim" -> sim_bench ()
+  | "all" -> parser_bench (); print_newline (); explorer_bench (); print_newline (); interp_bench ();
+    print_newline (); sim_bench ()
+  | other -> Printf.eprintf "bench: unknown benchmark %s (known: parser, explorer, interp, sim, all)\n" other; exit 2

@@ -73,10 +73,10 @@ let find_scenario name =
     up (Sys.getcwd ()) 8
   end
 
-let bench ?scenario ?(position_rate = 50.) () =
+let bench ?agent ?scenario ?(position_rate = 50.) () =
   let path = match scenario with Some p -> p | None -> find_scenario "paper" in
   let sc = Scenario.with_position_rate (Scenario.load path) position_rate in
   let t0 = Unix.gettimeofday () in
-  let o = run ~trace:false sc ~seed:sc.seed ~out_dir:None in
+  let o = run ?agent ~trace:false sc ~seed:sc.seed ~out_dir:None in
   let t1 = Unix.gettimeofday () in
   (o.result.end_time, t1 -. t0)

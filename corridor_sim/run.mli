@@ -19,10 +19,11 @@ val batch : ?agent:(module Agent.AGENT) -> ?progress:bool -> Scenario.t -> first
 val table : Scenario.t -> first_seed:int -> runs:int -> stats list -> string
 (** The statistics as a text table (metric, mean, min, max). *)
 
-val bench : ?scenario:string -> ?position_rate:float -> unit -> float * float
+val bench : ?agent:(module Agent.AGENT) -> ?scenario:string -> ?position_rate:float -> unit -> float * float
 (** Run the paper scenario ([scenarios/paper.json], found from the current
     directory upwards, unless [scenario] is given) with [position_rate]
-    position percepts per second (default 50) and the reference controller;
+    position percepts per second (default 50) and the agent (default the
+    reference controller);
     return (simulated seconds, wall-clock seconds). *)
 
 val find_scenario : string -> string

@@ -11,9 +11,9 @@ let int i = Tla.Int i
 let read_lines path =
   let text = Tlc.read_file path in
   String.split_on_char '\n' text
-  |> List.mapi (fun i l -> (i + 1, String.trim l))
-  |> List.filter (fun (_, l) -> l <> "")
-  |> List.map (fun (n, l) ->
+  |> List.rev_map String.trim |> List.rev
+  |> List.fold_left (fun (n, acc) l -> (n + 1, if l = "" then acc else (n, l) :: acc)) (1, [])
+  |> snd |> List.rev_map (fun (n, l) ->
       match Yojson.Safe.from_string l with
       | `Assoc f -> (n, f)
       | _ -> failwith (Printf.sprintf "%s:%d:1: error: not a JSON object" path n)
@@ -59,9 +59,17 @@ let model_of_trace path ~agent =
     let initial = ref [] and activations = ref 0 in
     (* (behaviour, handler index) -> (value name, effects, line) list *)
     let ph = Hashtbl.create 8 and mh = Hashtbl.create 8 and action = Hashtbl.create 8 in
+    (* Skips by instances still active, to find handlers whose when differs
+       between instances of one type (a model cannot say that). *)
+    let skipped = Hashtbl.create 8 and deactivated = Hashtbl.create 8 in
+    let current = ref 0 in   (* the seq of the percept being dispatched *)
     let add tbl k v = Hashtbl.replace tbl k (v :: Option.value (Hashtbl.find_opt tbl k) ~default:[]) in
     let records = List.filter_map (fun (line, e) ->
         let ev = get_str "event" e in
+        (match ev with
+         | "deactivate" -> Hashtbl.replace deactivated (get_int "instance" e) ()
+         | "activate" -> Hashtbl.reset deactivated
+         | _ -> ());
         if not (List.mem ev machine_events) then None
         else
           let act = get_str "action" e in
@@ -90,7 +98,7 @@ let model_of_trace path ~agent =
           | "transfer_one" -> r (entry e)
           | "transfer_spin" -> r [ "obj", str "o1" ]
           | "transfer_end" | "next_iteration" | "idle" -> r []
-          | "dequeue" -> r [ "e", Tla.record (entry e) ]
+          | "dequeue" -> current := get_int "seq" e; r [ "e", Tla.record (entry e) ]
           | "handle" ->
             let effs = effects_of "effects" in
             activations := !activations + List.length effs;
@@ -98,7 +106,10 @@ let model_of_trace path ~agent =
               ("n" ^ string_of_int (get_int "seq" e), effs, line);
             r [ "id", int (get_int "instance" e); "h", int (get_int "handler" e);
                 "p", str ("n" ^ string_of_int (get_int "seq" e)); "seq", int (get_int "seq" e) ]
-          | "skip" -> r [ "id", int (get_int "instance" e); "h", int (get_int "handler" e) ]
+          | "skip" ->
+            if not (Hashtbl.mem deactivated (get_int "instance" e)) then
+              Hashtbl.replace skipped (get_str "behaviour" e, get_int "handler" e, "n" ^ string_of_int !current) line;
+            r [ "id", int (get_int "instance" e); "h", int (get_int "handler" e) ]
           | "discard" | "end_dispatch" ->
             r [ "seq", int (get_int "seq" e); "discarded", Tla.Bool (ev = "discard") ]
           | "behaviour_step" ->
@@ -126,6 +137,15 @@ let model_of_trace path ~agent =
             r [ "id", int (get_int "instance" e); "msg", msg ]
           | _ -> None) events in
     if records = [] then raise (Cannot_express (1, "the trace has no step of agent " ^ agent));
+    Hashtbl.iter (fun (b, h) uses ->
+        List.iter (fun (n, _, _) ->
+            match Hashtbl.find_opt skipped (b, h, n) with
+            | Some line ->
+              raise (Cannot_express (line, Printf.sprintf
+                                       "handler %d of %s applied to percept %s for one instance and not for another \
+                                        (its when depends on the instance); a model gives each handler of a behaviour \
+                                        type one set of accepted percepts" h b n))
+            | None -> ()) uses) ph;
     let names prefix n = if n = 0 then [ prefix ^ "0" ] else List.init n (fun i -> prefix ^ string_of_int (i + 1)) in
     let percepts = if !notified = [] then [ ("n0", 0) ]
       else List.sort compare (List.map (fun (s, d) -> ("n" ^ string_of_int s, d)) !notified) in
@@ -201,8 +221,8 @@ let agents_of path =
   match read_lines path with
   | (_, h) :: _ ->
     (match get "agents" h with
-     | Some (`List l) -> List.filter_map (function `Assoc a -> Some (get_str "name" a) | _ -> None) l
-     | _ -> [])
+     | Some (`List l) when l <> [] -> List.filter_map (function `Assoc a -> Some (get_str "name" a) | _ -> None) l
+     | _ -> failwith (Printf.sprintf "%s:1:1: error: the first line is not a trace header naming the agents" path))
   | [] -> failwith (Printf.sprintf "%s:1:1: error: the trace is empty" path)
 
 let trace ?keep path =

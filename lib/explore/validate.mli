@@ -13,8 +13,11 @@
     accepts the trace, or deadlocks at the first step the spec cannot take.
 
     Limits, checked and reported rather than guessed: an action block must have
-    the same effects in every step of its behaviour type; a message handler's
-    [when] must not reject a message in one step and accept it later. *)
+    the same effects in every step of its behaviour type; a percept handler's
+    [when] must not accept a percept for one instance of a behaviour type and
+    reject it for another; a message handler's [when] must not reject a
+    message in one step and accept it later (this last one is not detected: the
+    spec then rejects the step). *)
 
 type verdict =
   | Accepted of { agent : string; steps : int }

@@ -382,6 +382,9 @@ and stmt (f : frame) (s : Ast.stmt) =
     activate f s.at b.it kvs
   | Deactivate ->
     (match f.beh with
+     | Some _ when List.mem Semantics.Machine.Deactivate f.ag.effects ->
+       (* R5h: this body already deactivated its behaviour; doing it again does nothing *)
+       ()
      | Some _ ->
        f.ag.effects <- Semantics.Machine.Deactivate :: f.ag.effects;
        f.ag.events <- Deactivated f.id :: f.ag.events

@@ -36,9 +36,10 @@ let load root =
 let read_trace path =
   read_file path |> String.split_on_char '\n'
   |> List.filter (fun l -> String.trim l <> "")
-  |> List.map (fun l -> match Yojson.Safe.from_string l with
+  |> List.rev_map (fun l -> match Yojson.Safe.from_string l with
       | j -> j
       | exception Yojson.Json_error m -> failwith (path ^ ": " ^ m))
+  |> List.rev
   |> (function
       | `Assoc h :: rest when List.mem_assoc "trace" h -> rest
       | l -> l)

@@ -64,7 +64,7 @@ let label_fields (c : M.t) (l : M.lbl) : (string * Yojson.Safe.t) list =
   | Mc.Handle { id; h; p; seq } ->
     ev "handle" @ [ "instance", int id; "behaviour", str (behaviour_of c id); "handler", int h;
                     "percept", str (V.to_literal p); "seq", int seq ]
-  | Mc.Skip { id; h } -> ev "skip" @ [ "instance", int id; "handler", int h ]
+  | Mc.Skip { id; h } -> ev "skip" @ [ "instance", int id; "behaviour", str (behaviour_of c id); "handler", int h ]
   | Mc.End_dispatch { seq; discarded } ->
     ev (if discarded then "discard" else "end_dispatch") @ [ "seq", int seq ]
   | Mc.Behaviour_step { id; msg } ->
@@ -117,9 +117,9 @@ let on_event t (pl : P.t) (e : P.event) =
     let known id = Option.value (Hashtbl.find_opt t.types (name, id)) ~default:"?" in
     let fields = List.map (fun (k, v) ->
         if k <> "behaviour" then (k, v)
-        else if a.last_behaviour <> "" then (k, str a.last_behaviour)
+        else if a.last_behaviour <> "" && (match l with Mc.Skip _ -> false | _ -> true) then (k, str a.last_behaviour)
         else match l with
-          | Mc.Handle { id; _ } | Mc.Behaviour_step { id; _ } -> (k, str (known id))
+          | Mc.Handle { id; _ } | Mc.Behaviour_step { id; _ } | Mc.Skip { id; _ } -> (k, str (known id))
           | _ -> (k, v)) (label_fields pl.agents.(i).config l) in
     List.iter (fun (x : Eval.beh Mc.instance) -> Hashtbl.replace t.types (name, x.id) (Eval.beh_type x.beh))
       pl.agents.(i).config.active;

@@ -26,13 +26,15 @@ module Make (B : Machine.BODIES) = struct
     | None -> (t, Undeliverable { sender; receiver; message })
     | Some i -> (set t i (M.send p t.agents.(i).config message), Delivered { sender; receiver; message })
 
-  (* Deliver what agent i's bodies sent during its last step. *)
-  let flush p t i =
+  (* Deliver what agent i's bodies sent during its last step, in order; each
+     delivery is reported with the platform right after it. *)
+  let flush ?(on_event = fun _ _ -> ()) p t i =
     let c = t.agents.(i).config in
     let (world, out) = B.take_outbox c.world in
     let t = set t i { c with world } in
     List.fold_left (fun (t, evs) (receiver, m) ->
         let (t, ev) = deliver p t ~sender:t.agents.(i).name ~receiver m in
+        on_event t ev;
         (t, ev :: evs)) (t, []) out
     |> fun (t, evs) -> (t, List.rev evs)
 
@@ -51,8 +53,7 @@ module Make (B : Machine.BODIES) = struct
         | (l, c) :: _ ->
           let t = set t i c in
           on_event t (Step (name, l));
-          let (t, evs) = flush p t i in
-          List.iter (on_event t) evs;
+          let (t, evs) = flush ~on_event p t i in
           let acc = List.rev_append evs (Step (name, l) :: acc) in
           if ends_iteration l then (t, List.rev acc) else go t (n + 1) acc in
     go t 0 []
