@@ -240,6 +240,7 @@ let interp_bench () =
   Printf.printf "interpreter: percepts end to end (notify, transfer, dispatch to 4 handlers of 3 behaviours, map update)\n";
   let (rate_s, dt_s) = interp_steady env steady_n in
   Printf.printf "  %-46s %12.0f percepts/s  (%d in %.2f s)\n" "jadescript-ref, 1,024 in flight" rate_s steady_n dt_s;
+  if Sys.getenv_opt "JSREF_BENCH_STEADY_ONLY" = Some "1" then exit 0;
   Gc.compact ();
   let (rate_f, dt_f, t_notify, windows, handled) = interp_flood env flood_n in
   let peak = peak_rss_kb () in

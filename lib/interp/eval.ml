@@ -22,6 +22,9 @@ type beh = {
   btype : T.behaviour;
   bprops : (string, V.t) Hashtbl.t;
   phandlers : T.handler array;
+  prequired : (string * (string * bool) list ref) option array;
+      (* per percept handler: the schema its guard requires of content, and
+         which percept types were found to be (or not be) that schema *)
   mhandlers : T.handler array;
   action : Ast.block option;
 }
@@ -31,9 +34,12 @@ type beh = {
 type locals = { mutable vars : (string * V.t ref) list }
 
 let new_locals () = { vars = [] }
-let local_find l x = match List.assoc_opt x l.vars with Some r -> Some !r | None -> None
-let local_mem l x = List.mem_assoc x l.vars
-let local_set l x v = match List.assoc_opt x l.vars with
+let rec local_cell x = function
+  | [] -> None
+  | (y, r) :: rest -> if String.equal x y then Some r else local_cell x rest
+let local_find l x = match local_cell x l.vars with Some r -> Some !r | None -> None
+let local_mem l x = local_cell x l.vars <> None
+let local_set l x v = match local_cell x l.vars with
   | Some r -> r := v
   | None -> l.vars <- (x, ref v) :: l.vars
 
@@ -108,8 +114,16 @@ let behaviour_prop_type (f : frame) x = match f.beh with
   | Some b -> (match T.behaviour_property f.ag.env b.btype.b_name x with Some p -> Some p.p_type | None -> None)
   | None -> None
 
+let agent_prop_types : (string * string, Ty.t option) Hashtbl.t = Hashtbl.create 16
+
 let agent_prop_type (f : frame) x =
-  match T.agent_property f.ag.env f.ag.atype.a_name x with Some p -> Some p.p_type | None -> None
+  let key = (f.ag.atype.a_name, x) in
+  match Hashtbl.find_opt agent_prop_types key with
+  | Some t -> t
+  | None ->
+    let t = match T.agent_property f.ag.env f.ag.atype.a_name x with Some p -> Some p.p_type | None -> None in
+    Hashtbl.replace agent_prop_types key t;
+    t
 
 let lookup (f : frame) at x =
   match local_find f.locals x with
@@ -154,6 +168,14 @@ let slot at (s : V.schema_v) x =
   match Array.find_opt (fun (n, _) -> n = x) s.slots with
   | Some (_, r) -> r
   | None -> err at "%s has no slot %s" s.sname x
+
+(* The schema a guard requires of content, when its leftmost conjunct is
+   [content matches S] or [content matches S(...)]. *)
+let rec required_schema (e : Ast.expr) = match e.it with
+  | Matches ({ it = Content; _ }, { it = PCons (c, _); _ }) -> Some c.it
+  | Matches ({ it = Content; _ }, { it = PName x; _ }) -> Some x
+  | Binop (And, l, _) -> required_schema l
+  | _ -> None
 
 (* ------------------------------------------------------ arithmetic *)
 
@@ -204,10 +226,17 @@ let rec pattern (f : frame) binds (p : Ast.pattern) (v : V.t) : bool =
   match p.it, v with
   | PWild, _ -> true
   | PLit l, _ -> V.equal (literal l) v
+  | PName x, V.Schema s when String.equal s.sname x -> true   (* the value's own schema *)
   | PName x, _ ->
     (match T.schema f.ag.env x with
      | Some _ -> (match v with V.Schema s -> T.subschema f.ag.env s.sname x | _ -> false)
      | None -> binds := (x, v) :: !binds; true)
+  | PCons (c, ps), V.Schema s when String.equal s.sname c.it && List.length ps = Array.length s.slots ->
+    (* the value's own schema: its slots are the constructor's, in order *)
+    let rec all i = function
+      | [] -> true
+      | p :: rest -> pattern f binds p !(snd s.slots.(i)) && all (i + 1) rest in
+    all 0 ps
   | PCons (c, ps), V.Schema s ->
     T.subschema f.ag.env s.sname c.it
     && (match T.schema f.ag.env c.it with
@@ -461,8 +490,15 @@ and activate (f : frame) at name kvs =
   | Some bt ->
     incr uids;
     let handlers = T.behaviour_handlers f.ag.env name in
+    let phandlers = Array.of_list (List.filter (fun (h : T.handler) -> h.h_kind = T.On_percept) handlers) in
     let b = { uid = !uids; btype = bt; bprops = Hashtbl.create 8;
-              phandlers = Array.of_list (List.filter (fun (h : T.handler) -> h.h_kind = T.On_percept) handlers);
+              phandlers;
+              prequired = Array.map (fun (h : T.handler) ->
+                  match h.h_guard with
+                  | Some g -> (match required_schema g with
+                      | Some x when T.schema f.ag.env x <> None -> Some (x, ref [])
+                      | _ -> None)
+                  | None -> None) phandlers;
               mhandlers = Array.of_list (List.filter (fun (h : T.handler) -> h.h_kind <> T.On_percept) handlers);
               action = T.behaviour_action f.ag.env name } in
     let bf = { f with beh = Some b; id = 0; locals = new_locals (); content = None; message = None } in
@@ -588,10 +624,27 @@ module Bodies = struct
   let percept_handlers b = Array.length b.phandlers
   let message_handlers b = Array.length b.mhandlers
 
+  (* Can the guard of percept handler h hold for this percept at all? False
+     only when its leftmost conjunct is a [matches] of a schema that the
+     percept's type is not and does not extend: then the guard is false, with
+     no effect and no possible error, so evaluating it would change nothing. *)
+  let may_apply a b h (p : V.t) =
+    match b.prequired.(h - 1), p with
+    | Some (x, memo), V.Schema s ->
+      String.equal x s.sname
+      || (let rec find = function
+          | [] ->
+            let r = T.subschema a.env s.sname x in
+            memo := (s.sname, r) :: !memo; r
+          | (n, r) :: rest -> if String.equal n s.sname then r else find rest in
+          find !memo)
+    | _ -> true
+
   (* R3b: the pattern and the when are evaluated now; an error makes the
      handler not applicable, and is recorded. The bindings are kept for the
      body. *)
   let percept_applicable a ~id b h p =
+    if not (may_apply a b h p) then (a.pending <- None; (a, false)) else
     let f = frame a ~beh:b ~id ~content:p () in
     let ok = try guard_holds f b.phandlers.(h - 1)
       with Runtime_error (at, msg) -> a.events <- Error (at, msg) :: a.events; false in

@@ -1,3 +1,9 @@
+module Int_table = Hashtbl.Make (struct
+    type t = int
+    let equal (a : int) b = a = b
+    let hash (x : int) = x land max_int
+  end)
+
 type t =
   | Bool of bool
   | Int of int
@@ -14,7 +20,7 @@ type t =
   | Unit
 
 and list_v = { mutable items : t array; mutable len : int }
-and map_v = { table : (int, (t * t ref) list) Hashtbl.t; mutable order : t list; mutable size : int }
+and map_v = { table : (t * t ref) list Int_table.t; mutable order : t list; mutable size : int }
 and schema_v = { sname : string; slots : (string * t ref) array }
 and native = { nid : int; cls : string; methods : (string * (t list -> t)) list }
 
@@ -53,9 +59,11 @@ and map_bindings m =
   List.rev_map (fun k -> (k, match map_find m k with Some v -> v | None -> Unit)) m.order
 
 and hash v = match v with
-  | Bool b -> Hashtbl.hash b
-  | Int i -> Hashtbl.hash (float_of_int i)
-  | Float f | Double f -> Hashtbl.hash f
+  | Bool b -> if b then 1 else 0
+  | Int i -> i
+  | Float f | Double f ->
+    (* an integral value hashes as the integer it equals (1 = 1.0) *)
+    if Float.is_integer f && Float.abs f < 4e18 then int_of_float f else Hashtbl.hash f
   | Text s | Aid s | Agent_ref s -> Hashtbl.hash s
   | List l -> List.fold_left (fun h x -> (h * 31) + hash x) 7 (list_items l)
   | Map m -> List.fold_left (fun h (k, x) -> (h * 31) + (hash k * 17) + hash x) 11 (map_bindings m)
@@ -65,7 +73,7 @@ and hash v = match v with
   | Unit -> 0
 
 and map_find m k =
-  match Hashtbl.find_opt m.table (hash k land max_int) with
+  match Int_table.find_opt m.table (hash k land max_int) with
   | None -> None
   | Some bucket ->
     (match List.find_opt (fun (k', _) -> compare k k' = 0) bucket with
@@ -74,15 +82,15 @@ and map_find m k =
 
 let equal a b = compare a b = 0
 
-let map_empty () = Map { table = Hashtbl.create 8; order = []; size = 0 }
+let map_empty () = Map { table = Int_table.create 8; order = []; size = 0 }
 
 let map_set m k v =
   let h = hash k land max_int in
-  let bucket = Option.value (Hashtbl.find_opt m.table h) ~default:[] in
+  let bucket = Option.value (Int_table.find_opt m.table h) ~default:[] in
   match List.find_opt (fun (k', _) -> equal k k') bucket with
   | Some (_, r) -> r := v
   | None ->
-    Hashtbl.replace m.table h ((k, ref v) :: bucket);
+    Int_table.replace m.table h ((k, ref v) :: bucket);
     m.order <- k :: m.order;
     m.size <- m.size + 1
 

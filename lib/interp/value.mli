@@ -11,6 +11,9 @@
       records of slots, compared structurally;
     - [any] values are host objects with named methods (OCaml closures). *)
 
+module Int_table : Hashtbl.S with type key = int
+(** Hash tables keyed by the structural hash of a value. *)
+
 type t =
   | Bool of bool
   | Int of int               (** always within -2^31 .. 2^31-1 *)
@@ -30,7 +33,7 @@ type t =
 and list_v = { mutable items : t array; mutable len : int }
 
 and map_v = {
-  table : (int, (t * t ref) list) Hashtbl.t;   (** structural hash -> bindings *)
+  table : (t * t ref) list Int_table.t;        (** structural hash -> bindings *)
   mutable order : t list;                      (** keys, newest first *)
   mutable size : int;
 }

@@ -337,7 +337,7 @@ module Make (B : BODIES) = struct
     let (world, effs) = B.run_percept_handler world ~id (beh_of c id) h d.e.p in
     let s = apply_effects p (bs_of c) id effs reserved in
     let l = Handle { id; h; p = d.e.p; seq = d.e.seq } in
-    let rest = if p.mutant = Some First_handler_only then [] else rest in  (* mutant *)
+    let rest = match p.mutant with Some First_handler_only -> [] | _ -> rest in  (* mutant *)
     (l, with_bs { c with world; cur = Some { d with todo = rest; applied = true }; last = l } s)
 
   (* Skip: the next handler does not apply. *)
@@ -400,7 +400,8 @@ module Make (B : BODIES) = struct
           | _ -> assert false in
         (w, apply_effects p s1 id effs [id], msgq, Some x) in
     let s3 =
-      if not (B.cyclic b) && p.mutant <> Some Oneshot_not_removed then deactivate s2 id
+      if not (B.cyclic b) && (match p.mutant with Some Oneshot_not_removed -> false | _ -> true)
+      then deactivate s2 id
       else if not (B.has_action b) && taken = None && is_active_in s2 id then block s2 id
       else s2 in
     let (done_, waits) = match taken with
@@ -429,7 +430,8 @@ module Make (B : BODIES) = struct
        | Some (O_percept e, rest) -> [transfer_one p c e rest]
        | Some (O_object o, _) -> [transfer_spin c o])
     | Transfer_phase, _ -> [transfer p c]
-    | Dispatch_phase, _ when p.mutant = Some Step_before_dispatch && c.ready <> []
+    | Dispatch_phase, _ when (match p.mutant with Some Step_before_dispatch -> true | _ -> false)
+                             && c.ready <> []
                              && not (Pqueue.is_empty c.pq)
                              && (match c.last with Transfer _ | Transfer_end -> true | _ -> false) ->
       (* mutant: right after the transfer, a behaviour step runs before the dispatch *)
