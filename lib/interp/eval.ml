@@ -129,7 +129,9 @@ let lookup (f : frame) at x =
   match local_find f.locals x with
   | Some v -> v
   | None ->
-    match (match f.beh with Some b -> Hashtbl.find_opt b.bprops x | None -> None) with
+    match (match f.beh with
+        | Some b when Hashtbl.length b.bprops > 0 -> Hashtbl.find_opt b.bprops x
+        | _ -> None) with
     | Some v -> v
     | None ->
       match Hashtbl.find_opt f.ag.props x with
@@ -142,7 +144,7 @@ let lookup (f : frame) at x =
 let assign_name (f : frame) x v =
   if local_mem f.locals x then local_set f.locals x v
   else match f.beh with
-    | Some b when Hashtbl.mem b.bprops x ->
+    | Some b when Hashtbl.length b.bprops > 0 && Hashtbl.mem b.bprops x ->
       Hashtbl.replace b.bprops x (match behaviour_prop_type f x with Some t -> coerce t v | None -> v)
     | _ when Hashtbl.mem f.ag.props x ->
       Hashtbl.replace f.ag.props x (match agent_prop_type f x with Some t -> coerce t v | None -> v)
