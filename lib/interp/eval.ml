@@ -451,7 +451,6 @@ and stmt (f : frame) (s : Ast.stmt) =
     let items = match expr f e with
       | V.List l -> V.list_items l
       | V.Map m -> List.map fst (V.map_bindings m)
-      | V.Text t -> List.init (String.length t) (fun i -> V.Text (String.make 1 t.[i]))
       | v -> err e.at "cannot iterate over a %s" (V.type_name v) in
     (try List.iter (fun v ->
          local_set f.locals x.it v;

@@ -70,6 +70,15 @@ let maps_structural () =
   Alcotest.(check (list string)) "one key, widened, structural"
     [ "a: 1"; "a: B2"; "a: [position(1.0, 2.0)]" ] (logs_of text)
 
+(* D11: [priority of] a percept is its type's default priority (R1a), not a
+   host's override; D12: [for] goes over a map's keys in insertion order. *)
+let decisions_of_and_for () =
+  let text = "ontology O\n\tproposition base extends percept with priority = 5\n\tproposition sub extends base\n\n\
+              agent A uses ontology O\n\ton create do\n\t\tlog priority of sub\n\t\tm = {\"b\": 1, \"a\": 2}\n\
+              \t\tfor k in m do\n\t\t\tlog k\n" in
+  Alcotest.(check (list string)) "priority of, for over a map"
+    [ "a: 5"; "a: b"; "a: a" ] (logs_of text)
+
 let control () =
   check_logs "loops, break, continue, functions" "\t\ts = 0\n\t\tfor i in [1, 2, 3, 4, 5] do\n\t\t\tif i = 2 do\n\t\t\t\tcontinue\n\t\t\tif i = 5 do\n\t\t\t\tbreak\n\t\t\ts = s + i\n\t\tlog s\n\t\tn = 0\n\t\twhile n < 10 do\n\t\t\tn = n + 3\n\t\tlog n\n"
     [ "8"; "12" ]
@@ -255,7 +264,8 @@ let () =
         Alcotest.test_case "float is binary32" `Quick floats;
         Alcotest.test_case "texts and of" `Quick texts;
         Alcotest.test_case "R1c structural map keys" `Quick maps_structural;
-        Alcotest.test_case "loops and control" `Quick control ]);
+        Alcotest.test_case "loops and control" `Quick control;
+        Alcotest.test_case "D11 priority of, D12 for over a map" `Quick decisions_of_and_for ]);
     ("errors", [
         Alcotest.test_case "R7 errors located, agent carries on" `Quick runtime_errors_located;
         Alcotest.test_case "R7 step budget" `Quick fuel_exhausted ]);
