@@ -37,7 +37,35 @@ let percept_of_value (v : V.t) : Agent.percept =
   | V.Schema { sname = "position"; slots } -> Agent.Position (num !(snd slots.(0)), num !(snd slots.(1)))
   | _ -> Agent.Obstacle
 
-let make ?program:(path = program ()) () : (module Agent.AGENT) =
+let convert_entry (e : V.t Mc.entry) : Agent.percept Mc.entry =
+  { Mc.p = percept_of_value e.p; prio = e.prio; seq = e.seq }
+
+(* A label of the interpreter's machine in the simulation's terms (no
+   messages or objects occur in the simulation). *)
+let convert (l : (V.t, Interp.Eval.message, V.t) Mc.label) : Reference_controller.label =
+  match l with
+  | Mc.Init -> Mc.Init
+  | Mc.Notify e -> Mc.Notify (convert_entry e)
+  | Mc.Notify_with e -> Mc.Notify_with (convert_entry e)
+  | Mc.Put _ -> Mc.Put ()
+  | Mc.Send (_, s) -> Mc.Send ((), s)
+  | Mc.Transfer n -> Mc.Transfer n
+  | Mc.Transfer_one e -> Mc.Transfer_one (convert_entry e)
+  | Mc.Transfer_spin _ -> Mc.Transfer_spin ()
+  | Mc.Transfer_end -> Mc.Transfer_end
+  | Mc.Dequeue e -> Mc.Dequeue (convert_entry e)
+  | Mc.Handle { id; h; p; seq } -> Mc.Handle { id; h; p = percept_of_value p; seq }
+  | Mc.Skip { id; h } -> Mc.Skip { id; h }
+  | Mc.End_dispatch { seq; discarded } -> Mc.End_dispatch { seq; discarded }
+  | Mc.Behaviour_step { id; msg } ->
+    Mc.Behaviour_step { id; msg = (match msg with
+        | None -> None
+        | Some (Mc.M_percept e) -> Some (Mc.M_percept (convert_entry e))
+        | Some (Mc.M_message { mseq; _ }) -> Some (Mc.M_message { m = (); mseq })) }
+  | Mc.Next_iteration -> Mc.Next_iteration
+  | Mc.Idle -> Mc.Idle
+
+let make_with ?program:(path = program ()) ~record () : (module Agent.AGENT) =
   let env = load path in
   (module struct
     type t = { params : Mc.params; mutable c : M.t }
@@ -56,6 +84,7 @@ let make ?program:(path = program ()) () : (module Agent.AGENT) =
               | Error e -> failwith e)) host } in
       let (a, behs) = Interp.Eval.create_agent env ~name:"robome" ~atype:"RoboMe" ~args:[ native ] ~fuel:100_000 in
       ignore (Interp.Eval.take_events a);
+      record Mc.Init;
       { params; c = M.init params ~world:a behs }
 
     let notify t p ~priority =
@@ -68,6 +97,7 @@ let make ?program:(path = program ()) () : (module Agent.AGENT) =
           t.c <- (match priority with
               | None -> M.notify t.params t.c v (Agent.default_priority p)
               | Some k -> M.notify_with t.params t.c v k);
+          record t.c.last;
           Ok t.c.next_seq
         end
 
@@ -76,6 +106,7 @@ let make ?program:(path = program ()) () : (module Agent.AGENT) =
       | [] -> None
       | (l, c) :: _ ->
         t.c <- c;
+        record l;
         ignore (Interp.Eval.take_events c.world);
         c.world.outbox <- [];
         Some l
@@ -110,3 +141,10 @@ let make ?program:(path = program ()) () : (module Agent.AGENT) =
             | _ -> None) (V.map_bindings m)
       | _ -> []
   end)
+
+let make ?program () = make_with ?program ~record:(fun _ -> ()) ()
+
+let make_logged ?program () =
+  let log = ref [] in
+  let record l = match l with Mc.Init -> log := [] | _ -> log := convert l :: !log in
+  (make_with ?program ~record (), fun () -> List.rev !log)

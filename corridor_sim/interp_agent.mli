@@ -14,3 +14,9 @@ val make : ?program:string -> unit -> (module Agent.AGENT)
     RoboMeApplication percepts and an agent [RoboMe] whose [on create] takes
     the host object [as any]. Parsed and type-checked once.
     @raise Failure with the diagnostics when the program does not check. *)
+
+val make_logged : ?program:string -> unit -> (module Agent.AGENT) * (unit -> Reference_controller.label list)
+(** The same agent, recording its machine labels (host notifications and agent
+    steps) with the percepts in the simulation's terms: the second result
+    returns the labels of the last agent created, in order, for
+    {!Trace_check.check} (TLC validation of a simulation run). *)

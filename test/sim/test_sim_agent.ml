@@ -17,8 +17,24 @@ let same_run scenario seed () =
   Alcotest.(check string) (Printf.sprintf "%s seed %d: same metrics" scenario seed) (show b) (show a);
   Alcotest.(check bool) "the run did something" true (a.metrics.distance > 0.)
 
+(* A short run of the interpreted agent, in the paper's corridor and with the
+   printed and budgeted loops, is a behaviour of spec/AgentLoop.tla (TLC). *)
+let validated variant () =
+  let sc = Scenario.load (Run.find_scenario "paper") in
+  let loop = { sc.loop with Agent.variant } in
+  let sc = { sc with duration = 8.; loop } in
+  let (agent, log) = Interp_agent.make_logged () in
+  ignore (Run.run ~agent sc ~seed:3 ~out_dir:None);
+  let labels = log () in
+  Alcotest.(check bool) "a run of some length" true (List.length labels > 100);
+  match Trace_check.check loop labels with
+  | Ok n -> Alcotest.(check bool) "TLC accepts it" true (n > 100)
+  | Error e -> Alcotest.fail e
+
 let () =
   Alcotest.run "sim-agent" [
+    ("tlc", [ Alcotest.test_case "reference loop run validated" `Slow (validated Semantics.Machine.Reference);
+              Alcotest.test_case "budgeted loop run validated" `Slow (validated Semantics.Machine.Budgeted) ]);
     ("interpreter = mirror",
      List.concat_map (fun (sc, seeds) ->
          List.map (fun s -> Alcotest.test_case (Printf.sprintf "%s seed %d" sc s) `Quick (same_run sc s)) seeds)
