@@ -254,8 +254,18 @@ module Make (B : BODIES) = struct
 
   let is_o2a_percept = function O_percept _ -> true | O_object _ -> false
 
-  (* Transfer (R3a; native: into the message queue). *)
+  (* Transfer (R3a; native: into the message queue). One pass over O2A:
+     percepts go into the priority queue, objects stay in order. *)
+  let transfer_fast p (c : t) : lbl * t =
+    let (pq, n, rest) = Fqueue.fold (fun (pq, n, rest) x -> match x with
+        | O_percept e -> ((if p.flood && Pqueue.mem e pq then pq else Pqueue.insert e pq), n + 1, rest)
+        | O_object _ -> (pq, n, x :: rest)) (c.pq, 0, []) c.o2a in
+    let l = Transfer n in
+    (l, { c with pq; o2a = (if rest = [] then Fqueue.empty else Fqueue.of_list (List.rev rest));
+                 phase = Dispatch_phase; dispatched = 0; last = l })
+
   let transfer p (c : t) : lbl * t =
+    if p.variant <> Native && p.mutant = None then transfer_fast p c else
     let (moving, rest) = Fqueue.partition is_o2a_percept c.o2a in
     let (moving, rest) = match p.mutant with
       | Some Transfer_moves_one ->
@@ -298,10 +308,19 @@ module Make (B : BODIES) = struct
   let budget_spent p (c : t) = p.variant = Budgeted && c.dispatched >= p.budget
   let dispatch_over p (c : t) = Pqueue.is_empty c.pq || budget_spent p c
 
-  (* HandlersOf: the registered handlers (R4a). *)
+  (* HandlersOf: the registered handlers (R4a). The list depends only on the
+     active behaviours, an immutable list: it is remembered for the last one
+     seen (physically), which most dequeues share. *)
+  let handlers_cache : (B.beh instance list * (int * int) list) option ref = ref None
+
   let handlers_of (c : t) =
-    List.concat_map (fun (a : B.beh instance) ->
-        List.init (B.percept_handlers a.beh) (fun j -> (a.id, j + 1))) c.active
+    match !handlers_cache with
+    | Some (a, h) when a == c.active -> h
+    | _ ->
+      let h = List.concat_map (fun (a : B.beh instance) ->
+          List.init (B.percept_handlers a.beh) (fun j -> (a.id, j + 1))) c.active in
+      handlers_cache := Some (c.active, h);
+      h
 
   (* Dequeue (R3b, R4a, R4b). *)
   let dequeue_entry p (c : t) e pq : lbl * t =
