@@ -68,3 +68,22 @@ module type AGENT = sig
   val step : t -> work option
   val world_map : t -> (float * float * string) list
 end
+
+let work_of_step ~take ~percept (l : (_, _, _) Semantics.Machine.label) : work =
+  let open Semantics.Machine in
+  match l with
+  | Transfer n -> Transfer { moved = n; o2a_calls = 1 }
+  | Transfer_one _ -> Transfer { moved = 1; o2a_calls = 1 }
+  | Transfer_spin _ -> Transfer { moved = 0; o2a_calls = 1 }
+  | Transfer_end -> Loop { o2a_calls = 1 }
+  | Dequeue e ->
+    let rec finish handlers =
+      match take () with
+      | Some (Handle _) -> finish (handlers + 1)
+      | Some (Skip _) -> finish handlers
+      | Some _ | None -> handlers in
+    let handlers_run = finish 0 in
+    Dispatch { percept = percept e.p; priority = e.prio; seq = e.seq; handlers_run }
+  | Behaviour_step _ -> Behaviour_step
+  | Next_iteration | Idle | Init | Notify _ | Notify_with _ | Put _ | Send _ | Handle _ | Skip _
+  | End_dispatch _ -> Loop { o2a_calls = 0 }

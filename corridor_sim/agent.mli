@@ -61,6 +61,14 @@ type cost = {
   iteration : float;           (** the loop's bookkeeping per {!Loop} *)
 }
 
+val work_of_step :
+  take:(unit -> ('p, 'm, 'o) Semantics.Machine.label option) -> percept:('p -> percept) ->
+  ('p, 'm, 'o) Semantics.Machine.label -> work
+(** The unit of work that begins with this step of the machine: a [Dequeue]
+    takes the following steps ([take]) up to its [EndDispatch], counting the
+    handlers that ran; [percept] turns the machine's percepts into the
+    simulation's. Shared by every agent built on {!Semantics.Machine}. *)
+
 val default_cost : cost
 (** 0.2 ms per O2A access, 0.01 ms per percept moved, 0.05 ms per dispatch,
     0.1 ms per handler body, 0.05 ms per invoke, 0.1 ms per behaviour step,

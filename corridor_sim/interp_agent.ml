@@ -112,25 +112,7 @@ let make_with ?program:(path = program ()) ~record () : (module Agent.AGENT) =
         Some l
 
     let step t : Agent.work option =
-      match take t with
-      | None -> None
-      | Some l ->
-        match l with
-        | Mc.Transfer n -> Some (Agent.Transfer { moved = n; o2a_calls = 1 })
-        | Mc.Transfer_one _ -> Some (Agent.Transfer { moved = 1; o2a_calls = 1 })
-        | Mc.Transfer_spin _ -> Some (Agent.Transfer { moved = 0; o2a_calls = 1 })
-        | Mc.Transfer_end -> Some (Agent.Loop { o2a_calls = 1 })
-        | Mc.Dequeue e ->
-          let rec finish handlers =
-            match take t with
-            | Some (Mc.Handle _) -> finish (handlers + 1)
-            | Some (Mc.Skip _) -> finish handlers
-            | Some (Mc.End_dispatch _) | None -> handlers
-            | Some _ -> handlers in
-          let handlers_run = finish 0 in
-          Some (Agent.Dispatch { percept = percept_of_value e.p; priority = e.prio; seq = e.seq; handlers_run })
-        | Mc.Behaviour_step _ -> Some Agent.Behaviour_step
-        | _ -> Some (Agent.Loop { o2a_calls = 0 })
+      Option.map (Agent.work_of_step ~take:(fun () -> take t) ~percept:percept_of_value) (take t)
 
     let world_map t =
       match Hashtbl.find_opt t.c.world.props "worldMap" with

@@ -97,27 +97,7 @@ let take t =
   | (l, c) :: _ -> t.c <- c; record t l; Some l
 
 let step t : Agent.work option =
-  match take t with
-  | None -> None
-  | Some l ->
-    match l with
-    | Transfer n -> Some (Transfer { moved = n; o2a_calls = 1 })
-    | Transfer_one _ -> Some (Transfer { moved = 1; o2a_calls = 1 })
-    | Transfer_spin _ -> Some (Transfer { moved = 0; o2a_calls = 1 })
-    | Transfer_end -> Some (Loop { o2a_calls = 1 })
-    | Dequeue e ->
-      let rec finish handlers =
-        match take t with
-        | Some (Handle _) -> finish (handlers + 1)
-        | Some (Skip _) -> finish handlers
-        | Some (End_dispatch _) | None -> handlers
-        | Some _ -> handlers in
-      let handlers_run = finish 0 in
-      Some (Dispatch { percept = e.p; priority = e.prio; seq = e.seq; handlers_run })
-    | Behaviour_step _ -> Some Behaviour_step
-    | Next_iteration | Idle -> Some (Loop { o2a_calls = 0 })
-    | Init | Notify _ | Notify_with _ | Put _ | Send _ | Handle _ | Skip _ | End_dispatch _ ->
-      Some (Loop { o2a_calls = 0 })
+  Option.map (Agent.work_of_step ~take:(fun () -> take t) ~percept:Fun.id) (take t)
 
 let world_map t = List.map (fun ((x, y), s) -> (x, y, s)) t.c.world.map
 let current_position t = t.c.world.current
