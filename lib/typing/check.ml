@@ -799,6 +799,7 @@ and of_type st (p : name) (x : expr) t =
   | T.Map (k, _), "keys" -> T.List k
   | T.Map (_, v), "values" -> T.List v
   | T.Message _, "sender" -> T.Aid
+  | T.Message _, "performative" -> T.Text
   | T.Message c, "content" -> c
   | T.Schema s, "priority" when s = T.percept_root -> T.Integer
   | T.Schema s, f ->

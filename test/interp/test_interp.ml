@@ -79,6 +79,16 @@ let decisions_of_and_for () =
   Alcotest.(check (list string)) "priority of, for over a map"
     [ "a: 5"; "a: b"; "a: a" ] (logs_of text)
 
+(* A message handler reads its message's performative and sender. *)
+let message_fields () =
+  let text = "ontology O\n\tpredicate hello(who as text)\n\nagent A uses ontology O\n\ton create do\n\t\tactivate behaviour B\n\n\
+              cyclic behaviour B for agent A\n\ton message when content matches hello(w) do\n\
+              \t\tlog performative of message + \" \" + w + \" from \" + (sender of message)\n" in
+  let (logs, _) = run_program text [ ("a", "A", []) ]
+      ~events:(fun rt -> ignore (Interp.Runtime.message rt ~agent:"a" ~perf:"inform"
+                                   (V.Schema { sname = "hello"; slots = [| ("who", ref (V.Text "you")) |] }))) in
+  Alcotest.(check (list string)) "performative, content, sender" [ "a: inform you from aid(\"host\")" ] logs
+
 let control () =
   check_logs "loops, break, continue, functions" "\t\ts = 0\n\t\tfor i in [1, 2, 3, 4, 5] do\n\t\t\tif i = 2 do\n\t\t\t\tcontinue\n\t\t\tif i = 5 do\n\t\t\t\tbreak\n\t\t\ts = s + i\n\t\tlog s\n\t\tn = 0\n\t\twhile n < 10 do\n\t\t\tn = n + 3\n\t\tlog n\n"
     [ "8"; "12" ]
@@ -265,7 +275,8 @@ let () =
         Alcotest.test_case "texts and of" `Quick texts;
         Alcotest.test_case "R1c structural map keys" `Quick maps_structural;
         Alcotest.test_case "loops and control" `Quick control;
-        Alcotest.test_case "D11 priority of, D12 for over a map" `Quick decisions_of_and_for ]);
+        Alcotest.test_case "D11 priority of, D12 for over a map" `Quick decisions_of_and_for;
+        Alcotest.test_case "performative and sender of message" `Quick message_fields ]);
     ("errors", [
         Alcotest.test_case "R7 errors located, agent carries on" `Quick runtime_errors_located;
         Alcotest.test_case "R7 step budget" `Quick fuel_exhausted ]);
