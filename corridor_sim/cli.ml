@@ -31,6 +31,7 @@ let main ?(controller = "jadescript") ?program ~scenario ~seed ~out ~batch () =
     let has_location = match String.split_on_char ':' e with
       | _ :: l :: c :: _ -> int_of_string_opt l <> None && int_of_string_opt (String.trim c) <> None
       | _ -> false in
+    let e = String.concat " " (List.filter (( <> ) "") (List.map String.trim (String.split_on_char '\n' e))) in
     if has_location then e else Printf.sprintf "%s:1:1: error: %s" file e in
   match Scenario.load (Run.find_scenario scenario) with
   | exception Scenario.Error e -> prerr_endline (located scenario e); 1

@@ -7,7 +7,11 @@ let rec find_up dir rel =
   else let d = Filename.dirname dir in if d = dir then None else find_up d rel
 
 let repo_file rel =
-  let from_exe = Filename.dirname Sys.executable_name in
+  (* From the executable's folder, the source tree above _build, not its copy. *)
+  let rec outside_build d =
+    if Filename.basename d = "_build" then Filename.dirname d
+    else let u = Filename.dirname d in if u = d then Filename.dirname Sys.executable_name else outside_build u in
+  let from_exe = outside_build (Filename.dirname Sys.executable_name) in
   match find_up (Sys.getcwd ()) rel with
   | Some p -> Some p
   | None -> find_up (if Filename.is_relative from_exe then Filename.concat (Sys.getcwd ()) from_exe else from_exe) rel
