@@ -250,19 +250,27 @@ let cyclic find super start =
       | Some s -> if s = start then true else if List.mem s seen then false else go (s :: seen) s in
   go [start] start
 
+(* Rule Extends, for every kind of declaration: the chain of [extends] is
+   acyclic, and (check_super) the super exists. On an error the link is
+   dropped ([drop]), so that every chain below is finite. *)
+let check_acyclic st ~what ~find ~super ~drop name (n : Ast.name) s =
+  if cyclic find super name then begin
+    error st n.at "%s %s extends itself (through %s): extends chains must be acyclic" what name s;
+    drop ()
+  end
+
+let check_super st ~what ~find ~super ~drop name n s =
+  if find s = None then begin error st n.Source.at "unknown %s %s" what s; drop () end
+  else check_acyclic st ~what ~find ~super ~drop name n s
+
 (* Rule Ontology. *)
 let check_ontologies st =
   List.iter (fun (o : Tenv.ontology) ->
       let ext = o.o_decl.it.oextends in
       match o.o_super, ext with
       | Some s, Some n ->
-        if Tenv.ontology st.env s = None then begin
-          error st n.at "unknown ontology %s" s; o.o_super <- None
-        end else if cyclic (Tenv.ontology st.env) (fun o -> o.Tenv.o_super) o.o_name then begin
-          error st n.at "ontology %s extends itself (through %s): extends chains must be acyclic"
-            o.o_name s;
-          o.o_super <- None
-        end
+        check_super st ~what:"ontology" ~find:(Tenv.ontology st.env) ~super:(fun o -> o.Tenv.o_super)
+          ~drop:(fun () -> o.o_super <- None) o.o_name n s
       | _ -> ()) (Tenv.ontologies st.env)
 
 (* Rule Schema-Extends: the super of a schema is a visible schema of a
@@ -294,11 +302,9 @@ let check_schema_supers st =
               error st n.at "%s %s cannot extend %s %s" (T.kind_to_string s.s_kind) s.s_name
                 (T.kind_to_string p.s_kind) sup;
               s.s_super <- None
-            end else if cyclic (Tenv.schema st.env) (fun s -> s.Tenv.s_super) s.s_name then begin
-              error st n.at "schema %s extends itself (through %s): extends chains must be acyclic"
-                s.s_name sup;
-              s.s_super <- None
-            end
+            end else
+              check_acyclic st ~what:"schema" ~find:(Tenv.schema st.env) ~super:(fun s -> s.Tenv.s_super)
+                ~drop:(fun () -> s.s_super <- None) s.s_name n sup
         end
       | _ -> ()) (Tenv.schemas st.env)
 
@@ -361,13 +367,8 @@ let check_headers st =
       check_onts d.aontologies a.a_ontologies;
       match a.a_super, d.aextends with
       | Some s, Some n ->
-        if Tenv.agent st.env s = None then begin
-          error st n.at "unknown agent %s" s; a.a_super <- None
-        end else if cyclic (Tenv.agent st.env) (fun a -> a.Tenv.a_super) a.a_name then begin
-          error st n.at "agent %s extends itself (through %s): extends chains must be acyclic"
-            a.a_name s;
-          a.a_super <- None
-        end
+        check_super st ~what:"agent" ~find:(Tenv.agent st.env) ~super:(fun a -> a.Tenv.a_super)
+          ~drop:(fun () -> a.a_super <- None) a.a_name n s
       | _ -> ()) agents;
   List.iter (fun (a : Tenv.agent) ->
       let chain = Tenv.agent_chain st.env a.a_name in
@@ -378,13 +379,8 @@ let check_headers st =
       check_onts d.bontologies b.b_ontologies;
       (match b.b_super, d.bextends with
        | Some s, Some n ->
-         if Tenv.behaviour st.env s = None then begin
-           error st n.at "unknown behaviour %s" s; b.b_super <- None
-         end else if cyclic (Tenv.behaviour st.env) (fun b -> b.Tenv.b_super) b.b_name then begin
-           error st n.at "behaviour %s extends itself (through %s): extends chains must be acyclic"
-             b.b_name s;
-           b.b_super <- None
-         end
+         check_super st ~what:"behaviour" ~find:(Tenv.behaviour st.env) ~super:(fun b -> b.Tenv.b_super)
+           ~drop:(fun () -> b.b_super <- None) b.b_name n s
        | _ -> ());
       match b.b_for_agent, d.for_agent with
       | Some a, Some n when Tenv.agent st.env a = None ->
