@@ -145,13 +145,20 @@ let find_program name =
       if u = d then failwith ("bench/programs/" ^ name ^ " not found") else up u in
   up (Sys.getcwd ())
 
-let percept k =
-  (* the four types in turn: position most often, as the sensors would *)
-  match k land 7 with
-  | 0 -> (V.Schema { sname = "falling"; slots = [||] }, 10)
-  | 1 | 2 -> (V.Schema { sname = "obstacle"; slots = [| ("d", ref (V.Int (k land 1023))) |] }, 8)
-  | 3 -> (V.Schema { sname = "qrCodeRead"; slots = [| ("qrCode", ref (V.Text "A7")) |] }, 4)
-  | _ -> (V.Schema { sname = "position"; slots = [| ("k", ref (V.Int (k land 1023))) |] }, 2)
+(* The percepts a host would notify: values of the program's percept types,
+   named by the type environment as Eval.percept_value names them. *)
+let percept_maker env =
+  let name x = match Typing.Tenv.schema env x with
+    | Some s -> s.s_name | None -> failwith ("bench program lacks " ^ x) in
+  let falling = name "falling" and obstacle = name "obstacle"
+  and qr = name "qrCodeRead" and position = name "position" in
+  fun k ->
+    (* the four types in turn: position most often, as the sensors would *)
+    match k land 7 with
+    | 0 -> (V.Schema { sname = falling; slots = [||] }, 10)
+    | 1 | 2 -> (V.Schema { sname = obstacle; slots = [| ("d", ref (V.Int (k land 1023))) |] }, 8)
+    | 3 -> (V.Schema { sname = qr; slots = [| ("qrCode", ref (V.Text "A7")) |] }, 4)
+    | _ -> (V.Schema { sname = position; slots = [| ("k", ref (V.Int (k land 1023))) |] }, 2)
 
 let machine_params = { Semantics.Machine.variant = Semantics.Machine.Reference; tie = Semantics.Machine.Stable;
                        budget = 1; max_active = None; o2a_capacity = None; flood = false; ghosts = false;
@@ -177,6 +184,7 @@ let drain ?(every = 0) ?(window = fun _ -> ()) c =
   (c, !handled)
 
 let interp_steady env total =
+  let percept = percept_maker env in
   let c = ref (new_agent env) and k = ref 0 in
   let t0 = Unix.gettimeofday () in
   while !k < total do
@@ -191,6 +199,7 @@ let interp_steady env total =
   (float_of_int total /. dt, dt)
 
 let interp_flood env total =
+  let percept = percept_maker env in
   let c = ref (new_agent env) in
   Gc.compact ();
   let t0 = Unix.gettimeofday () in

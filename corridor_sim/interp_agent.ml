@@ -115,7 +115,7 @@ let make_with ?program:(path = program ()) ~record () : (module Agent.AGENT) =
       Option.map (Agent.work_of_step ~take:(fun () -> take t) ~percept:percept_of_value) (take t)
 
     let world_map t =
-      match Hashtbl.find_opt t.c.world.props "worldMap" with
+      match Interp.Eval.property t.c.world "worldMap" with
       | Some (V.Map m) ->
         List.filter_map (fun (k, v) -> match k with
             | V.Schema { sname = "position"; slots } when Array.length slots = 2 ->

@@ -17,10 +17,16 @@ type event =
   | Deactivated of int
   | Error of Source.region * string
 
+(* A property: its value and its declared type, to which assignments convert
+   (integer to float or double). *)
+type cell = { mutable v : V.t; ty : Ty.t }
+
+module Names = Syntax.Strtbl
+
 type beh = {
   uid : int;
   btype : T.behaviour;
-  bprops : (string, V.t) Hashtbl.t;
+  bprops : cell Names.t;
   phandlers : T.handler array;
   prequired : (string * (string * bool) list ref) option array;
       (* per percept handler: the schema its guard requires of content, and
@@ -33,12 +39,16 @@ type beh = {
    cheaper than a hash table (frames are made for every guard evaluated). *)
 type locals = { mutable vars : (string * V.t ref) list }
 
+(* Names are interned by the lexer (Syntax.Lexer): equal names are usually
+   the same string. *)
+let same_name (x : string) y =
+  x == y || (String.length x = String.length y && String.equal x y)
+
 let new_locals () = { vars = [] }
 let rec local_cell x = function
   | [] -> None
-  | (y, r) :: rest -> if String.equal x y then Some r else local_cell x rest
+  | (y, r) :: rest -> if same_name x y then Some r else local_cell x rest
 let local_find l x = match local_cell x l.vars with Some r -> Some !r | None -> None
-let local_mem l x = local_cell x l.vars <> None
 let local_set l x v = match local_cell x l.vars with
   | Some r -> r := v
   | None -> l.vars <- (x, ref v) :: l.vars
@@ -49,7 +59,7 @@ type agent = {
   env : T.t;
   name : string;
   atype : T.agent;
-  props : (string, V.t) Hashtbl.t;
+  props : cell Names.t;
   mutable outbox : (string * message) list;
   mutable events : event list;
   mutable effects : beh Semantics.Machine.effect list;
@@ -60,6 +70,8 @@ type agent = {
   mutable last_effects : string list;
   mutable last_behaviour : string;
 }
+
+let property a x = match Names.find_opt a.props x with Some c -> Some c.v | None -> None
 
 let take_events a = let e = List.rev a.events in a.events <- []; e
 
@@ -110,45 +122,36 @@ and coerce ty v = match coerce_param ty v with Some v -> v | None -> v
 
 (* ------------------------------------------------------- names *)
 
-let behaviour_prop_type (f : frame) x = match f.beh with
-  | Some b -> (match T.behaviour_property f.ag.env b.btype.b_name x with Some p -> Some p.p_type | None -> None)
-  | None -> None
-
-let agent_prop_types : (string * string, Ty.t option) Hashtbl.t = Hashtbl.create 16
-
-let agent_prop_type (f : frame) x =
-  let key = (f.ag.atype.a_name, x) in
-  match Hashtbl.find_opt agent_prop_types key with
-  | Some t -> t
-  | None ->
-    let t = match T.agent_property f.ag.env f.ag.atype.a_name x with Some p -> Some p.p_type | None -> None in
-    Hashtbl.replace agent_prop_types key t;
-    t
-
 let lookup (f : frame) at x =
   match local_find f.locals x with
   | Some v -> v
   | None ->
     match (match f.beh with
-        | Some b when Hashtbl.length b.bprops > 0 -> Hashtbl.find_opt b.bprops x
+        | Some b when Names.length b.bprops > 0 -> Names.find_opt b.bprops x
         | _ -> None) with
-    | Some v -> v
+    | Some c -> c.v
     | None ->
-      match Hashtbl.find_opt f.ag.props x with
-      | Some v -> v
+      match Names.find_opt f.ag.props x with
+      | Some c -> c.v
       | None ->
         match T.schema f.ag.env x with
         | Some s when s.s_slots = [] -> V.Schema { sname = s.s_name; slots = [||] }
         | _ -> err at "unknown name %s" x
 
+let set_cell c v = c.v <- coerce c.ty v
+
 let assign_name (f : frame) x v =
-  if local_mem f.locals x then local_set f.locals x v
-  else match f.beh with
-    | Some b when Hashtbl.length b.bprops > 0 && Hashtbl.mem b.bprops x ->
-      Hashtbl.replace b.bprops x (match behaviour_prop_type f x with Some t -> coerce t v | None -> v)
-    | _ when Hashtbl.mem f.ag.props x ->
-      Hashtbl.replace f.ag.props x (match agent_prop_type f x with Some t -> coerce t v | None -> v)
-    | _ -> local_set f.locals x v
+  match local_cell x f.locals.vars with
+  | Some r -> r := v
+  | None ->
+    match (match f.beh with
+        | Some b when Names.length b.bprops > 0 -> Names.find_opt b.bprops x
+        | _ -> None) with
+    | Some c -> set_cell c v
+    | None ->
+      match Names.find_opt f.ag.props x with
+      | Some c -> set_cell c v
+      | None -> local_set f.locals x v
 
 (* ------------------------------------------------------- schemas *)
 
@@ -228,12 +231,12 @@ let rec pattern (f : frame) binds (p : Ast.pattern) (v : V.t) : bool =
   match p.it, v with
   | PWild, _ -> true
   | PLit l, _ -> V.equal (literal l) v
-  | PName x, V.Schema s when String.equal s.sname x -> true   (* the value's own schema *)
+  | PName x, V.Schema s when same_name s.sname x -> true   (* the value's own schema *)
   | PName x, _ ->
     (match T.schema f.ag.env x with
      | Some _ -> (match v with V.Schema s -> T.subschema f.ag.env s.sname x | _ -> false)
      | None -> binds := (x, v) :: !binds; true)
-  | PCons (c, ps), V.Schema s when String.equal s.sname c.it && List.length ps = Array.length s.slots ->
+  | PCons (c, ps), V.Schema s when same_name s.sname c.it && List.length ps = Array.length s.slots ->
     (* the value's own schema: its slots are the constructor's, in order *)
     let rec all i = function
       | [] -> true
@@ -324,11 +327,11 @@ and of_ (f : frame) at p v =
      | _ -> err at "%s has no priority" s.sname)
   | _, V.Schema s -> !(slot at s p)
   | _, V.Agent_ref _ ->
-    (match Hashtbl.find_opt f.ag.props p with Some v -> v | None -> err at "the agent has no property %s" p)
+    (match Names.find_opt f.ag.props p with Some c -> c.v | None -> err at "the agent has no property %s" p)
   | _, V.Behaviour_ref u ->
     (match f.beh with
-     | Some b when b.uid = u -> (match Hashtbl.find_opt b.bprops p with
-         | Some v -> v | None -> err at "the behaviour has no property %s" p)
+     | Some b when b.uid = u -> (match Names.find_opt b.bprops p with
+         | Some c -> c.v | None -> err at "the behaviour has no property %s" p)
      | _ -> err at "no such behaviour property %s" p)
   | _ -> err at "a %s has no property %s" (V.type_name v) p
 
@@ -475,11 +478,10 @@ and assign (f : frame) (lv : Ast.lvalue) v =
   | LOf (p, e) ->
     (match expr f e with
      | V.Schema s -> (slot lv.at s p.it) := v
-     | V.Agent_ref _ when Hashtbl.mem f.ag.props p.it ->
-       Hashtbl.replace f.ag.props p.it (match agent_prop_type f p.it with Some t -> coerce t v | None -> v)
+     | V.Agent_ref _ when Names.mem f.ag.props p.it -> set_cell (Names.find f.ag.props p.it) v
      | V.Behaviour_ref u ->
        (match f.beh with
-        | Some b when b.uid = u -> Hashtbl.replace b.bprops p.it (match behaviour_prop_type f p.it with Some t -> coerce t v | None -> v)
+        | Some b when b.uid = u && Names.mem b.bprops p.it -> set_cell (Names.find b.bprops p.it) v
         | _ -> err lv.at "no such behaviour property %s" p.it)
      | o -> err lv.at "cannot set %s of a %s" p.it (V.type_name o))
 
@@ -492,7 +494,7 @@ and activate (f : frame) at name kvs =
     incr uids;
     let handlers = T.behaviour_handlers f.ag.env name in
     let phandlers = Array.of_list (List.filter (fun (h : T.handler) -> h.h_kind = T.On_percept) handlers) in
-    let b = { uid = !uids; btype = bt; bprops = Hashtbl.create 8;
+    let b = { uid = !uids; btype = bt; bprops = Names.create 8;
               phandlers;
               prequired = Array.map (fun (h : T.handler) ->
                   match h.h_guard with
@@ -505,7 +507,7 @@ and activate (f : frame) at name kvs =
     let bf = { f with beh = Some b; id = 0; locals = new_locals (); content = None; message = None } in
     List.iter (fun (p : T.property) ->
         let v = match p.p_init with Some e -> coerce p.p_type (expr bf e) | None -> default_value p.p_type in
-        Hashtbl.replace b.bprops p.p_name v) (T.behaviour_properties f.ag.env name);
+        Names.replace b.bprops p.p_name { v; ty = p.p_type }) (T.behaviour_properties f.ag.env name);
     (match T.behaviour_create f.ag.env name with
      | Some r -> ignore (run_routine bf at r (Some b) (`Named kvs))
      | None -> ());
@@ -537,10 +539,13 @@ let describe_effect = function
 (* The effects of the body that just ran, for the machine; remembered for the
    trace. *)
 let take_effects a =
-  let e = List.rev a.effects in
-  a.effects <- [];
-  a.last_effects <- List.map describe_effect e;
-  e
+  match a.effects with
+  | [] -> (match a.last_effects with [] -> () | _ -> a.last_effects <- []); []
+  | effs ->
+    let e = List.rev effs in
+    a.effects <- [];
+    a.last_effects <- List.map describe_effect e;
+    e
 
 let guard_holds (f : frame) (h : T.handler) =
   match h.h_guard with
@@ -554,7 +559,7 @@ let create_agent env ~name ~atype ~args ~fuel =
   match T.agent env atype with
   | None -> raise (Runtime_error (Source.no_region, Printf.sprintf "unknown agent type %s" atype))
   | Some at ->
-    let a = { env; name; atype = at; props = Hashtbl.create 16; outbox = []; events = [];
+    let a = { env; name; atype = at; props = Names.create 16; outbox = []; events = [];
               effects = []; fuel_limit = fuel; pending = None; last_action_effects = None;
               last_handler = None; last_effects = []; last_behaviour = "" } in
     let f = frame a () in
@@ -570,7 +575,7 @@ let create_agent env ~name ~atype ~args ~fuel =
     protect a (fun () ->
         List.iter (fun (p : T.property) ->
             let v = match p.p_init with Some e -> coerce p.p_type (expr f e) | None -> default_value p.p_type in
-            Hashtbl.replace a.props p.p_name v) (T.agent_properties env atype);
+            Names.replace a.props p.p_name { v; ty = p.p_type }) (T.agent_properties env atype);
         match T.agent_create env atype with
         | Some r -> ignore (run_routine f Source.no_region r None (`Positional args))
         | None -> ());
@@ -632,12 +637,12 @@ module Bodies = struct
   let may_apply a b h (p : V.t) =
     match b.prequired.(h - 1), p with
     | Some (x, memo), V.Schema s ->
-      String.equal x s.sname
+      same_name x s.sname
       || (let rec find = function
           | [] ->
             let r = T.subschema a.env s.sname x in
             memo := (s.sname, r) :: !memo; r
-          | (n, r) :: rest -> if String.equal n s.sname then r else find rest in
+          | (n, r) :: rest -> if same_name n s.sname then r else find rest in
           find !memo)
     | _ -> true
 
@@ -645,7 +650,10 @@ module Bodies = struct
      handler not applicable, and is recorded. The bindings are kept for the
      body. *)
   let percept_applicable a ~id b h p =
-    if not (may_apply a b h p) then (a.pending <- None; (a, false)) else
+    if not (may_apply a b h p) then begin
+      (match a.pending with None -> () | Some _ -> a.pending <- None);
+      (a, false)
+    end else
     let f = frame a ~beh:b ~id ~content:p () in
     let ok = try guard_holds f b.phandlers.(h - 1)
       with Runtime_error (at, msg) -> a.events <- Error (at, msg) :: a.events; false in
@@ -654,11 +662,11 @@ module Bodies = struct
 
   let run_percept_handler a ~id b h p =
     let locals = match a.pending with
-      | Some (i, j, l) when i = id && j = h -> l
-      | _ -> new_locals () in
-    a.pending <- None;
-    let f = { (frame a ~beh:b ~id ~content:p ()) with locals } in
-    a.last_behaviour <- b.btype.b_name;
+      | Some (i, j, l) when i = id && j = h -> a.pending <- None; l
+      | Some _ -> a.pending <- None; new_locals ()
+      | None -> new_locals () in
+    let f = { ag = a; beh = Some b; id; locals; content = Some p; message = None; fuel = ref a.fuel_limit } in
+    if a.last_behaviour != b.btype.b_name then a.last_behaviour <- b.btype.b_name;
     protect a (fun () -> block f b.phandlers.(h - 1).h_body);
     a.last_handler <- Some h;
     (a, take_effects a)

@@ -35,11 +35,15 @@ type locals
 
 val beh_type : beh -> string
 
+type cell = { mutable v : Value.t; ty : Typing.Types.t }
+(** A property of an agent or a behaviour: its value, and its declared type,
+    to which every assignment converts (an integer to float or double). *)
+
 type agent = {
   env : Typing.Tenv.t;
   name : string;
   atype : Typing.Tenv.agent;
-  props : (string, Value.t) Hashtbl.t;
+  props : cell Syntax.Strtbl.t;   (** the agent's properties, by name *)
   mutable outbox : (string * message) list;     (** newest first *)
   mutable events : event list;                  (** newest first *)
   mutable effects : beh Semantics.Machine.effect list;  (** newest first *)
@@ -56,6 +60,9 @@ type agent = {
   mutable last_behaviour : string;
       (** the behaviour type of the last body that ran (for the trace) *)
 }
+
+val property : agent -> string -> Value.t option
+(** The current value of an agent property. *)
 
 val take_events : agent -> event list
 (** The events since the last call, oldest first. *)

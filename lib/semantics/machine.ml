@@ -345,19 +345,29 @@ module Make (B : BODIES) = struct
       | _ -> cands in
     List.map (fun e -> dequeue_entry p c e (Pqueue.remove e c.pq)) cands
 
-  (* Applicable: the instance is still active (R4b) and the handler applies. *)
-  let applicable (c : t) (id, h) e =
-    if not (List.exists (fun (a : B.beh instance) -> a.id = id) c.active) then (c.world, false)
-    else B.percept_applicable c.world ~id (beh_of c id) h e.p
+  let rec find_instance id = function
+    | [] -> None
+    | (a : B.beh instance) :: rest -> if a.id = id then Some a.beh else find_instance id rest
 
-  (* Handle: run the next handler of the snapshot. *)
-  let handle p (c : t) d (id, h) rest world : lbl * t =
-    let reserved = List.map fst d.todo in
-    let (world, effs) = B.run_percept_handler world ~id (beh_of c id) h d.e.p in
-    let s = apply_effects p (bs_of c) id effs reserved in
+  (* Applicable: the instance is still active (R4b) and the handler applies.
+     Gives the instance's behaviour, for Handle. *)
+  let applicable (c : t) (id, h) e =
+    match find_instance id c.active with
+    | None -> (c.world, None)
+    | Some b ->
+      let (w, ok) = B.percept_applicable c.world ~id b h e.p in
+      (w, if ok then Some b else None)
+
+  (* Handle: run the next handler of the snapshot. The ids still to try are
+     reserved: an instance activated now does not take one (D2). *)
+  let handle p (c : t) d (id, h) b rest world : lbl * t =
+    let (world, effs) = B.run_percept_handler world ~id b h d.e.p in
     let l = Handle { id; h; p = d.e.p; seq = d.e.seq } in
     let rest = match p.mutant with Some First_handler_only -> [] | _ -> rest in  (* mutant *)
-    (l, with_bs { c with world; cur = Some { d with todo = rest; applied = true }; last = l } s)
+    let c' = { c with world; cur = Some { d with todo = rest; applied = true }; last = l } in
+    match effs with
+    | [] -> (l, c')
+    | _ -> (l, with_bs c' (apply_effects p (bs_of c) id effs (List.map fst d.todo)))
 
   (* Skip: the next handler does not apply. *)
   let skip (c : t) d (id, h) rest world : lbl * t =
@@ -464,8 +474,9 @@ module Make (B : BODIES) = struct
       (match d.todo with
        | [] -> [end_dispatch p c d]
        | t :: rest ->
-         let (world, ok) = applicable c t d.e in
-         if ok then [handle p c d t rest world] else [skip c d t rest world])
+         match applicable c t d.e with
+         | (world, Some b) -> [handle p c d t b rest world]
+         | (world, None) -> [skip c d t rest world])
     | Handle_phase, None -> invalid_arg "Machine.step: phase Handle without a dispatch"
     | Idle_phase, _ -> []
 

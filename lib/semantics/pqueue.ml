@@ -1,42 +1,71 @@
 type 'p entry = { p : 'p; prio : int; seq : int }
 
-(* A pairing heap: a root and its sub-heaps. *)
-type 'p heap = Empty | Node of 'p entry * 'p heap list
+(* A bucket queue. Percept priorities are few (one per percept type, plus the
+   ones hosts pass to notifyEvent), so the queue keeps one FIFO bucket per
+   priority present, in a map, and the highest bucket apart. Within a bucket
+   the entries are in seq order: seqs grow with every notify and the transfer
+   moves percepts in notify order, so an insert almost always goes at the back
+   ([last] tells); the rare other insert is placed by a scan. *)
 
-type 'p t = { heap : 'p heap; size : int }
+module Prio_map = Map.Make (Int)
 
-(* [before a b]: a leaves the queue before b. *)
-let before a b = a.prio > b.prio || (a.prio = b.prio && a.seq < b.seq)
+type 'p bucket = { q : 'p entry Fqueue.t; last : int (* the largest seq in q *) }
 
-let meld h1 h2 = match h1, h2 with
-  | Empty, h | h, Empty -> h
-  | Node (a, ka), Node (b, kb) ->
-    if before b a then Node (b, h1 :: kb) else Node (a, h2 :: ka)
+type 'p t = {
+  hi : int;                      (* the highest priority present *)
+  top : 'p bucket;               (* its entries; empty only if size = 0 *)
+  rest : 'p bucket Prio_map.t;   (* the other priorities (all below hi), non-empty *)
+  size : int;
+}
 
-(* Two-pass pairing, written with an explicit accumulator so that a long
-   list of sub-heaps (after 10^7 inserts) cannot overflow the stack. *)
-let merge_pairs hs =
-  let rec pairs acc = function
-    | [] -> acc
-    | [h] -> h :: acc
-    | a :: b :: rest -> pairs (meld a b :: acc) rest in
-  List.fold_left meld Empty (pairs [] hs)
+let single e = { q = Fqueue.push e Fqueue.empty; last = e.seq }
 
-let empty = { heap = Empty; size = 0 }
+(* [e] after every entry of seq <= e.seq: stable among equal seqs (which only
+   the flood abstraction's seq 0 produces). *)
+let bucket_add e b =
+  if e.seq >= b.last then { q = Fqueue.push e b.q; last = e.seq }
+  else
+    let rec place = function
+      | x :: rest when x.seq <= e.seq -> x :: place rest
+      | l -> e :: l in
+    { b with q = Fqueue.of_list (place (Fqueue.to_list b.q)) }
+
+let no_bucket = { q = Fqueue.empty; last = min_int }
+let empty = { hi = min_int; top = no_bucket; rest = Prio_map.empty; size = 0 }
 let is_empty q = q.size = 0
 let size q = q.size
-let insert e q = { heap = meld (Node (e, [])) q.heap; size = q.size + 1 }
-let top q = match q.heap with Node (e, _) -> Some e | Empty -> None
 
-let pop q = match q.heap with
-  | Empty -> None
-  | Node (e, subs) -> Some (e, { heap = merge_pairs subs; size = q.size - 1 })
+let insert e q =
+  if q.size = 0 then { hi = e.prio; top = single e; rest = Prio_map.empty; size = 1 }
+  else if e.prio = q.hi then { q with top = bucket_add e q.top; size = q.size + 1 }
+  else if e.prio > q.hi then
+    { hi = e.prio; top = single e; rest = Prio_map.add q.hi q.top q.rest; size = q.size + 1 }
+  else
+    let rest = Prio_map.update e.prio (function
+        | None -> Some (single e)
+        | Some b -> Some (bucket_add e b)) q.rest in
+    { q with rest; size = q.size + 1 }
 
-let rec iter_heap f = function
-  | Empty -> ()
-  | Node (e, subs) -> f e; List.iter (iter_heap f) subs
+(* The queue whose top bucket became [b]: the next bucket moves up if empty. *)
+let with_top q b size =
+  if not (Fqueue.is_empty b.q) then { q with top = b; size }
+  else match Prio_map.max_binding_opt q.rest with
+    | None -> empty
+    | Some (hi, top) -> { hi; top; rest = Prio_map.remove hi q.rest; size }
 
-let iter f q = iter_heap f q.heap
+let top q = Fqueue.peek q.top.q
+
+let pop q = match Fqueue.pop q.top.q with
+  | None -> None
+  | Some (e, rest) -> Some (e, with_top q { q.top with q = rest } (q.size - 1))
+
+let iter f q =
+  if q.size > 0 then begin
+    Fqueue.fold (fun () e -> f e) () q.top.q;
+    Prio_map.iter (fun _ b -> Fqueue.fold (fun () e -> f e) () b.q) q.rest
+  end
+
+let before a b = a.prio > b.prio || (a.prio = b.prio && a.seq < b.seq)
 
 let to_sorted_list q =
   let l = ref [] in
@@ -44,27 +73,32 @@ let to_sorted_list q =
   List.sort (fun a b ->
       if before a b then -1 else if before b a then 1 else compare a.p b.p) !l
 
-let mem e q =
-  let found = ref false in
-  iter (fun x -> if x = e then found := true) q;
-  !found
+let bucket_of e q =
+  if q.size = 0 then None
+  else if e.prio = q.hi then Some q.top
+  else Prio_map.find_opt e.prio q.rest
+
+let mem e q = match bucket_of e q with
+  | Some b -> Fqueue.exists (fun x -> x = e) b.q
+  | None -> false
 
 let candidates ~stable q =
-  match top q with
-  | None -> []
-  | Some t ->
-    (* Pop while the entries tie with the top. *)
-    let same e = e.prio = t.prio && (not stable || e.seq = t.seq) in
-    let rec go acc q = match pop q with
-      | Some (e, q') when same e -> go (e :: acc) q'
-      | _ -> List.rev acc in
-    go [] q
+  if q.size = 0 then []
+  else
+    let all = Fqueue.to_list q.top.q in
+    if not stable then all
+    else
+      let s = (List.hd all).seq in
+      let rec same = function x :: rest when x.seq = s -> x :: same rest | _ -> [] in
+      same all
 
-let remove e q =
-  (* Pop until e is found, then put the others back. Entries ahead of e are
-     those before it in the order, so this costs the rank of e. *)
-  let rec go popped q = match pop q with
-    | None -> List.fold_left (fun q x -> insert x q) q popped
-    | Some (x, q') when x = e -> List.fold_left (fun q x -> insert x q) q' popped
-    | Some (x, q') -> go (x :: popped) q' in
-  go [] q
+let remove e q = match bucket_of e q with
+  | None -> q
+  | Some b ->
+    match Fqueue.remove_first (fun x -> x = e) b.q with
+    | None -> q
+    | Some (_, rest) ->
+      let b = { b with q = rest } in
+      if e.prio = q.hi then with_top q b (q.size - 1)
+      else if Fqueue.is_empty rest then { q with rest = Prio_map.remove e.prio q.rest; size = q.size - 1 }
+      else { q with rest = Prio_map.add e.prio b q.rest; size = q.size - 1 }

@@ -1,12 +1,16 @@
-(** The priority queue of percepts: a persistent pairing heap of entries
+(** The priority queue of percepts: a persistent bucket queue of entries
     ([percept], effective priority, seq), as [PerceptPriority.tla] specifies.
 
-    The heap is ordered by priority, highest first, then by seq, smallest first
+    Entries leave by priority, highest first, then by seq, smallest first
     (R3b: among equal priorities the first notified is the first handled).
-    [insert] is O(1), [pop] O(log n) amortised. The state of the queue is the set
-    of its entries: {!to_sorted_list} gives that set in one canonical order, so
-    two heaps with the same entries but different shapes project onto the same
-    TLA+ value. *)
+    There is one first-in first-out bucket per priority present. With [k]
+    distinct priorities in the queue, [insert] is O(log k) when the entry's seq
+    is the largest of its priority (always so in the agent loop, whose seqs
+    grow with every notify), O(bucket) otherwise; [pop] is O(log k)
+    amortised. The cost per entry does not depend on how many entries wait.
+    The state of the queue is the set of its entries: {!to_sorted_list} gives
+    that set in one canonical order, so two queues with the same entries built
+    in different orders project onto the same TLA+ value. *)
 
 type 'p entry = { p : 'p; prio : int; seq : int }
 
@@ -34,7 +38,7 @@ val remove : 'p entry -> 'p t -> 'p t
 (** The queue without one occurrence of that entry (structurally equal). *)
 
 val mem : 'p entry -> 'p t -> bool
-(** O(n). *)
+(** O(size of the entry's bucket). *)
 
 val to_sorted_list : 'p t -> 'p entry list
 (** Every entry, in dequeue order (priority descending, seq ascending, then by

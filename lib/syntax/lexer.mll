@@ -12,6 +12,13 @@ let region lexbuf =
 
 let error lexbuf fmt = Diag.errorf Diag.Syntax (region lexbuf) fmt
 
+(* Every occurrence of a name is one string: the interpreter then compares
+   names by address first (schema names of values against patterns, say). *)
+let names = Strtbl.create 256
+let intern id = match Strtbl.find_opt names id with
+  | Some s -> s
+  | None -> Strtbl.add names id id; id
+
 let keywords = [
   "module", MODULE; "ontology", ONTOLOGY; "ontologies", ONTOLOGIES;
   "extends", EXTENDS; "concept", CONCEPT; "predicate", PREDICATE;
@@ -84,7 +91,7 @@ rule token st = parse
           Tok (TEXT s) }
   | '_' { Tok UNDERSCORE }
   | ident as id
-      { match keyword_of_string id with Some k -> Tok k | None -> Tok (IDENT id) }
+      { match keyword_of_string id with Some k -> Tok k | None -> Tok (IDENT (intern id)) }
   | "!=" { Tok NEQ } | "<=" { Tok LE } | ">=" { Tok GE }
   | "==" { error lexbuf "'==' is not Jadescript: equality is written '='" }
   | '<' { Tok LT } | '>' { Tok GT } | '=' { Tok EQ }

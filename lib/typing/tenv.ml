@@ -83,14 +83,14 @@ type behaviour = {
 }
 
 (* A table that remembers insertion order. *)
-type 'a table = { tbl : (string, 'a) Hashtbl.t; mutable order : 'a list }
+type 'a table = { tbl : 'a Syntax.Strtbl.t; mutable order : 'a list }
 
-let table () = { tbl = Hashtbl.create 16; order = [] }
+let table () = { tbl = Syntax.Strtbl.create 16; order = [] }
 let add t k v =
-  if not (Hashtbl.mem t.tbl k) then begin
-    Hashtbl.replace t.tbl k v; t.order <- v :: t.order
+  if not (Syntax.Strtbl.mem t.tbl k) then begin
+    Syntax.Strtbl.replace t.tbl k v; t.order <- v :: t.order
   end
-let find t k = Hashtbl.find_opt t.tbl k
+let find t k = Syntax.Strtbl.find_opt t.tbl k
 let items t = List.rev t.order
 
 type t = {

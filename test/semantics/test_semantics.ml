@@ -43,6 +43,50 @@ let pqueue_candidates ops =
     && List.for_all (fun e -> not (Pqueue.mem e (Pqueue.remove e q))
                               && Pqueue.size (Pqueue.remove e q) = Pqueue.size q - 1) all
 
+(* Any inserts, not only growing seqs (duplicates and smaller seqs take the
+   bucket queue's slow path), mixed with pops and removals; every version is
+   also checked again after later versions were built from it (persistence). *)
+type pq_op = Ins of int * int | Pop | Rm of int
+
+let pq_any_ops =
+  let open QCheck in
+  let op = Gen.(frequency [ 5, map2 (fun p s -> Ins (p, s)) (int_bound 4) (int_bound 12);
+                            3, return Pop; 1, map (fun i -> Rm i) (int_bound 20) ]) in
+  make ~print:(fun l -> String.concat "; " (List.map (function
+      | Ins (p, s) -> Printf.sprintf "ins %d/%d" p s | Pop -> "pop" | Rm i -> Printf.sprintf "rm %d" i) l))
+    Gen.(list_size (int_bound 60) op)
+
+let pqueue_any_order ops =
+  let key (e : int Pqueue.entry) = (- e.prio, e.seq) in
+  let sorted m = List.sort (fun a b -> compare (key a, a.p) (key b, b.p)) m in
+  let rec drop x = function [] -> [] | y :: r -> if y = x then r else y :: drop x r in
+  let agrees q m =
+    Pqueue.size q = List.length m
+    && Pqueue.to_sorted_list q = sorted m
+    && (match sorted m with
+        | [] -> Pqueue.top q = None && Pqueue.candidates ~stable:true q = []
+        | best :: _ ->
+          let same_top (e : int Pqueue.entry) = e.prio = best.prio in
+          (match Pqueue.top q with Some t -> key t = key best | None -> false)
+          && List.sort compare (Pqueue.candidates ~stable:true q)
+             = List.sort compare (List.filter (fun e -> same_top e && e.seq = best.seq) m)
+          && List.sort compare (Pqueue.candidates ~stable:false q)
+             = List.sort compare (List.filter same_top m)) in
+  let versions = ref [] and n = ref 0 in
+  let (q, m) = List.fold_left (fun (q, m) op ->
+      versions := (q, m) :: !versions;
+      match op with
+      | Ins (prio, seq) -> incr n; let e = { Pqueue.p = !n; prio; seq } in (Pqueue.insert e q, e :: m)
+      | Pop -> (match Pqueue.pop q with
+          | None -> if m <> [] then failwith "pop of a non-empty queue gave nothing"; (q, m)
+          | Some (e, q') ->
+            if not (List.mem e m) || key e <> key (List.hd (sorted m)) then failwith "popped a wrong entry";
+            (q', drop e m))
+      | Rm i -> (match List.nth_opt (sorted m) i with
+          | Some e -> if not (Pqueue.mem e q) then failwith "mem"; (Pqueue.remove e q, drop e m)
+          | None -> (q, m))) (Pqueue.empty, []) ops in
+  agrees q m && List.for_all (fun (q, m) -> agrees q m) !versions
+
 let fqueue_is_a_queue l =
   let q = List.fold_left (fun q x -> Fqueue.push x q) Fqueue.empty l in
   let rec drain q acc = match Fqueue.pop q with None -> List.rev acc | Some (x, q) -> drain q (x :: acc) in
@@ -370,6 +414,7 @@ let () =
     ("queues", [
         qcheck ~count:500 "priority queue pops by priority then seq" pq_ops pqueue_pops_in_order;
         qcheck ~count:300 "candidates and remove" pq_ops pqueue_candidates;
+        qcheck ~count:500 "priority queue under any inserts, pops and removals" pq_any_ops pqueue_any_order;
         qcheck ~count:300 "fqueue is a FIFO" QCheck.(list_of_size Gen.(int_bound 80) small_int) fqueue_is_a_queue ]);
     ("rulings", [
         Alcotest.test_case "R3b ties in seq order" `Quick ties_in_seq_order;
