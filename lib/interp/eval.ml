@@ -41,7 +41,7 @@ type locals = { mutable vars : (string * V.t ref) list }
 
 (* Names are interned by the lexer (Syntax.Lexer): equal names are usually
    the same string. *)
-let same_name (x : string) y =
+let[@inline] same_name (x : string) y =
   x == y || (String.length x = String.length y && String.equal x y)
 
 let new_locals () = { vars = [] }
@@ -637,13 +637,19 @@ module Bodies = struct
   let may_apply a b h (p : V.t) =
     match b.prequired.(h - 1), p with
     | Some (x, memo), V.Schema s ->
-      same_name x s.sname
-      || (let rec find = function
+      let n = s.sname in
+      x == n
+      || (* the memo, by address (names are interned), then by content *)
+      (let rec by_address = function
+          | (m, r) :: rest -> if m == n then r else by_address rest
           | [] ->
-            let r = T.subschema a.env s.sname x in
-            memo := (s.sname, r) :: !memo; r
-          | (n, r) :: rest -> if same_name n s.sname then r else find rest in
-          find !memo)
+            let rec by_content = function
+              | (m, r) :: rest -> if String.equal m n then r else by_content rest
+              | [] ->
+                let r = same_name x n || T.subschema a.env n x in
+                memo := (n, r) :: !memo; r in
+            by_content !memo in
+        by_address !memo)
     | _ -> true
 
   (* R3b: the pattern and the when are evaluated now; an error makes the

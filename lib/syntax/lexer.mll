@@ -17,7 +17,7 @@ let error lexbuf fmt = Diag.errorf Diag.Syntax (region lexbuf) fmt
 let names = Strtbl.create 256
 let intern id = match Strtbl.find_opt names id with
   | Some s -> s
-  | None -> Strtbl.add names id id; id
+  | None -> Strtbl.replace names id id; id
 
 let keywords = [
   "module", MODULE; "ontology", ONTOLOGY; "ontologies", ONTOLOGIES;
