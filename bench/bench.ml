@@ -198,6 +198,41 @@ let interp_steady env total =
   let dt = Unix.gettimeofday () -. t0 in
   (float_of_int total /. dt, dt)
 
+(* Where the time goes, from a second steady run: the host's notifies and the
+   agent's loop are timed apart (per batch of 1,024), and the loop's steps are
+   counted by rule. *)
+let interp_where env total =
+  let percept = percept_maker env in
+  let c = ref (new_agent env) and k = ref 0 in
+  let names = [| "Transfer"; "Dequeue"; "Handle"; "Skip"; "EndDispatch"; "other" |] in
+  let counts = Array.make (Array.length names) 0 and steps = ref 0 in
+  let rule : M.lbl -> int = function
+    | Semantics.Machine.Transfer _ -> 0 | Dequeue _ -> 1 | Handle _ -> 2 | Skip _ -> 3
+    | End_dispatch _ -> 4 | _ -> 5 in
+  let t_notify = ref 0. and t_loop = ref 0. in
+  let rec go c = match M.step machine_params c with
+    | [] -> c
+    | (l, c') :: _ -> incr steps; let i = rule l in counts.(i) <- counts.(i) + 1; go c' in
+  while !k < total do
+    let t0 = Unix.gettimeofday () in
+    for _ = 1 to 1024 do
+      let (p, d) = percept !k in
+      c := M.notify machine_params !c p d; incr k
+    done;
+    let t1 = Unix.gettimeofday () in
+    c := go !c;
+    let t2 = Unix.gettimeofday () in
+    t_notify := !t_notify +. (t1 -. t0); t_loop := !t_loop +. (t2 -. t1)
+  done;
+  let n = float_of_int total in
+  let per x = x *. 1e9 /. n and total_t = !t_notify +. !t_loop in
+  Printf.printf "  where the time goes (%d percepts): the host's notify %.0f ns/percept (%.0f%%), the agent loop %.0f ns/percept (%.0f%%)\n"
+    total (per !t_notify) (100. *. !t_notify /. total_t) (per !t_loop) (100. *. !t_loop /. total_t);
+  let by_rule = List.filter (fun (_, k) -> k > 0) (Array.to_list (Array.mapi (fun i k -> (names.(i), k)) counts)) in
+  Printf.printf "    loop steps per percept: %s (%.2f in all, %.0f ns per step)\n%!"
+    (String.concat ", " (List.map (fun (a, k) -> Printf.sprintf "%s %.3g" a (float_of_int k /. n)) by_rule))
+    (float_of_int !steps /. n) (!t_loop *. 1e9 /. float_of_int !steps)
+
 let interp_flood env total =
   let percept = percept_maker env in
   let c = ref (new_agent env) in
@@ -249,14 +284,18 @@ let interp_bench () =
   Printf.printf "interpreter: percepts end to end (notify, transfer, dispatch to 4 handlers of 3 behaviours, map update)\n";
   let (rate_s, dt_s) = interp_steady env steady_n in
   Printf.printf "  %-46s %12.0f percepts/s  (%d in %.2f s)\n" "jadescript-ref, 1,024 in flight" rate_s steady_n dt_s;
+  flush stdout;
+  interp_where env (if quick then 100_000 else 1_000_000);
   if Sys.getenv_opt "JSREF_BENCH_STEADY_ONLY" = Some "1" then exit 0;
   Gc.compact ();
   let (rate_f, dt_f, t_notify, windows, handled) = interp_flood env flood_n in
   let peak = peak_rss_kb () in
   Printf.printf "  %-46s %12.0f percepts/s  (%d in %.2f s, of which notify %.2f s; peak RSS %d MB)\n"
     (Printf.sprintf "jadescript-ref, flood of %d" flood_n) rate_f handled dt_f t_notify (peak / 1024);
-  Printf.printf "  per-million dispatch rates in the flood (flat = constant per-percept cost): %s\n"
+  Printf.printf "  per-million dispatch rates in the flood (flat = constant per-percept cost): %s\n%!"
     (String.concat ", " (List.map (fun r -> Printf.sprintf "%.2fM" (r /. 1e6)) windows));
+  (* JSREF_BENCH_NO_JADE=1 leaves the JADE baseline out (while developing) *)
+  if Sys.getenv_opt "JSREF_BENCH_NO_JADE" = Some "1" then () else
   match jade_results quick with
   | [] -> Printf.printf "  JADE baseline: not run (bench/jade/run.sh missing or failed)\n"
   | res ->

@@ -349,15 +349,6 @@ module Make (B : BODIES) = struct
     | [] -> None
     | (a : B.beh instance) :: rest -> if a.id = id then Some a.beh else find_instance id rest
 
-  (* Applicable: the instance is still active (R4b) and the handler applies.
-     Gives the instance's behaviour, for Handle. *)
-  let applicable (c : t) (id, h) e =
-    match find_instance id c.active with
-    | None -> (c.world, None)
-    | Some b ->
-      let (w, ok) = B.percept_applicable c.world ~id b h e.p in
-      (w, if ok then Some b else None)
-
   (* Handle: run the next handler of the snapshot. The ids still to try are
      reserved: an instance activated now does not take one (D2). *)
   let handle p (c : t) d (id, h) b rest world : lbl * t =
@@ -473,10 +464,14 @@ module Make (B : BODIES) = struct
     | Handle_phase, Some d ->
       (match d.todo with
        | [] -> [end_dispatch p c d]
-       | t :: rest ->
-         match applicable c t d.e with
-         | (world, Some b) -> [handle p c d t b rest world]
-         | (world, None) -> [skip c d t rest world])
+       | ((id, h) as t) :: rest ->
+         (* Applicable: the instance is still active (R4b) and the handler
+            applies; then Handle, else Skip. *)
+         match find_instance id c.active with
+         | None -> [skip c d t rest c.world]
+         | Some b ->
+           let (world, ok) = B.percept_applicable c.world ~id b h d.e.p in
+           if ok then [handle p c d t b rest world] else [skip c d t rest world])
     | Handle_phase, None -> invalid_arg "Machine.step: phase Handle without a dispatch"
     | Idle_phase, _ -> []
 

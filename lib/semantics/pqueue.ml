@@ -7,7 +7,74 @@ type 'p entry = { p : 'p; prio : int; seq : int }
    moves percepts in notify order, so an insert almost always goes at the back
    ([last] tells); the rare other insert is placed by a scan. *)
 
-module Prio_map = Map.Make (Int)
+(* The buckets below the highest, by priority: an AVL tree on int keys
+   (Stdlib's Map reaches its comparison through a closure on every node, which
+   cost more than the rest of an insert). Only what the queue needs. *)
+module Prio_map = struct
+  type 'a t = Leaf | Node of { l : 'a t; k : int; v : 'a; r : 'a t; h : int }
+
+  let empty = Leaf
+  let height = function Leaf -> 0 | Node n -> n.h
+  let node l k v r =
+    let hl = height l and hr = height r in
+    Node { l; k; v; r; h = (if hl >= hr then hl + 1 else hr + 1) }
+
+  let bal l k v r =
+    let hl = height l and hr = height r in
+    if hl > hr + 1 then
+      match l with
+      | Node { l = ll; k = lk; v = lv; r = lr; _ } when height ll >= height lr -> node ll lk lv (node lr k v r)
+      | Node { l = ll; k = lk; v = lv; r = Node lr; _ } ->
+        node (node ll lk lv lr.l) lr.k lr.v (node lr.r k v r)
+      | _ -> node l k v r
+    else if hr > hl + 1 then
+      match r with
+      | Node { l = rl; k = rk; v = rv; r = rr; _ } when height rr >= height rl -> node (node l k v rl) rk rv rr
+      | Node { l = Node rl; k = rk; v = rv; r = rr; _ } ->
+        node (node l k v rl.l) rl.k rl.v (node rl.r rk rv rr)
+      | _ -> node l k v r
+    else node l k v r
+
+  let rec find_opt x = function
+    | Leaf -> None
+    | Node n -> if x = n.k then Some n.v else find_opt x (if x < n.k then n.l else n.r)
+
+  (* [add x v m] binds x to v; [update x f m] binds x to [f] of its binding. *)
+  let rec update x f = function
+    | Leaf -> Node { l = Leaf; k = x; v = f None; r = Leaf; h = 1 }
+    | Node n ->
+      if x = n.k then Node { n with v = f (Some n.v) }
+      else if x < n.k then bal (update x f n.l) n.k n.v n.r
+      else bal n.l n.k n.v (update x f n.r)
+
+  let add x v m = update x (fun _ -> v) m
+
+  let rec remove_max = function
+    | Leaf -> Leaf
+    | Node { l; r = Leaf; _ } -> l
+    | Node n -> bal n.l n.k n.v (remove_max n.r)
+
+  let rec max_binding_opt = function
+    | Leaf -> None
+    | Node { k; v; r = Leaf; _ } -> Some (k, v)
+    | Node n -> max_binding_opt n.r
+
+  let rec remove x = function
+    | Leaf -> Leaf
+    | Node n ->
+      if x < n.k then bal (remove x n.l) n.k n.v n.r
+      else if x > n.k then bal n.l n.k n.v (remove x n.r)
+      else match n.l, n.r with
+        | Leaf, r -> r
+        | l, Leaf -> l
+        | l, r -> (match max_binding_opt l with
+            | Some (k, v) -> bal (remove_max l) k v r
+            | None -> r)
+
+  let rec iter f = function
+    | Leaf -> ()
+    | Node n -> iter f n.l; f n.k n.v; iter f n.r
+end
 
 type 'p bucket = { q : 'p entry Fqueue.t; last : int (* the largest seq in q *) }
 
@@ -42,8 +109,8 @@ let insert e q =
     { hi = e.prio; top = single e; rest = Prio_map.add q.hi q.top q.rest; size = q.size + 1 }
   else
     let rest = Prio_map.update e.prio (function
-        | None -> Some (single e)
-        | Some b -> Some (bucket_add e b)) q.rest in
+        | None -> single e
+        | Some b -> bucket_add e b) q.rest in
     { q with rest; size = q.size + 1 }
 
 (* The queue whose top bucket became [b]: the next bucket moves up if empty. *)
@@ -51,7 +118,7 @@ let with_top q b size =
   if not (Fqueue.is_empty b.q) then { q with top = b; size }
   else match Prio_map.max_binding_opt q.rest with
     | None -> empty
-    | Some (hi, top) -> { hi; top; rest = Prio_map.remove hi q.rest; size }
+    | Some (hi, top) -> { hi; top; rest = Prio_map.remove_max q.rest; size }
 
 let top q = Fqueue.peek q.top.q
 

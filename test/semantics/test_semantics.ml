@@ -50,7 +50,8 @@ type pq_op = Ins of int * int | Pop | Rm of int
 
 let pq_any_ops =
   let open QCheck in
-  let op = Gen.(frequency [ 5, map2 (fun p s -> Ins (p, s)) (int_bound 4) (int_bound 12);
+  let op = Gen.(frequency [ 3, map2 (fun p s -> Ins (p, s)) (int_bound 4) (int_bound 12);
+                            2, map2 (fun p s -> Ins (p, s)) (int_bound 300) (int_bound 12);
                             3, return Pop; 1, map (fun i -> Rm i) (int_bound 20) ]) in
   make ~print:(fun l -> String.concat "; " (List.map (function
       | Ins (p, s) -> Printf.sprintf "ins %d/%d" p s | Pop -> "pop" | Rm i -> Printf.sprintf "rm %d" i) l))
