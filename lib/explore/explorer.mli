@@ -24,8 +24,8 @@ val key : Model.M.t -> string
 
 val show : Model.t -> Model.M.t -> string
 (** A configuration in OCaml notation, one line: the phase, the queues, the
-    behaviours and the last rule, as the machine's record holds them (the pairing
-    heap shown in dequeue order). *)
+    behaviours and the last rule, as the machine's record holds them (the
+    priority queue shown in dequeue order). *)
 
 val explore : ?max_states:int -> Model.t -> graph
 (** @raise Failure when more than [max_states] (default 5,000,000) states are found. *)
