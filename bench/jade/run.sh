@@ -7,18 +7,19 @@
 # Every other line is commentary (starts with '#') or a supplementary result
 # (JADE flood_concurrent, JADE sweep, CONTROL ...).
 #
-# Usage: bench/jade/run.sh [--quick]
+# Usage: bench/jade/run.sh [--quick] [--steady-only]
 #   FLOOD_CAP=<seconds>  stop a flood that has not drained after this long (default 60; --quick 10)
 #   STEADY_N=<n>         percepts of the steady scenario (default 15000000; --quick 200000)
 #   HEAP=<size>          -Xmx (default 8g)
 set -euo pipefail
 cd "$(dirname "$0")"
 
-quick=0
+quick=0; steady_only=0
 for a in "$@"; do
   case "$a" in
     --quick) quick=1 ;;
-    *) echo "usage: $0 [--quick]" >&2; exit 2 ;;
+    --steady-only) steady_only=1 ;;
+    *) echo "usage: $0 [--quick] [--steady-only]" >&2; exit 2 ;;
   esac
 done
 
@@ -44,6 +45,8 @@ echo "#           a loop behaviour (drain O2A -> PriorityQueue, dispatch all) + 
 
 echo "# --- steady state: $steady_n percepts, 1,024 in flight (host notifies a batch of 1,024, waits until handled)"
 bench steady "$steady_n" 1024 | grep -v '^# JADE JADE' || true
+# --steady-only: the steady scenario alone (make bench interleaves such runs with its own)
+[ "$steady_only" = 1 ] && exit 0
 echo "# --- flood: $flood_n percepts notified by the host as fast as it can, agent transfer held until all are in"
 echo "#     the O2A queue, then drained (stops after ${cap}s if not drained; windows of $window percepts)"
 bench flood "$flood_n" before "$cap" "$window" | grep -v '^# flood t=.*[1-46-9]\.0s '
