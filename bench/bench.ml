@@ -183,15 +183,21 @@ let drain ?(every = 0) ?(window = fun _ -> ()) c =
   let c = go c in
   (c, !handled)
 
+(* The host notifies percepts k, ..., k + 1023. *)
+let notify_batch percept c k =
+  let c = ref c in
+  for i = k to k + 1023 do
+    let (p, d) = percept i in
+    c := M.notify machine_params !c p d
+  done;
+  !c
+
 let interp_steady env total =
   let percept = percept_maker env in
   let c = ref (new_agent env) and k = ref 0 in
   let t0 = Unix.gettimeofday () in
   while !k < total do
-    for _ = 1 to 1024 do
-      let (p, d) = percept !k in
-      c := M.notify machine_params !c p d; incr k
-    done;
+    c := notify_batch percept !c !k; k := !k + 1024;
     let (c', _) = drain !c in
     c := c'
   done;
@@ -215,10 +221,7 @@ let interp_where env total =
     | (l, c') :: _ -> incr steps; let i = rule l in counts.(i) <- counts.(i) + 1; go c' in
   while !k < total do
     let t0 = Unix.gettimeofday () in
-    for _ = 1 to 1024 do
-      let (p, d) = percept !k in
-      c := M.notify machine_params !c p d; incr k
-    done;
+    c := notify_batch percept !c !k; k := !k + 1024;
     let t1 = Unix.gettimeofday () in
     c := go !c;
     let t2 = Unix.gettimeofday () in

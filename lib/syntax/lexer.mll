@@ -13,11 +13,16 @@ let region lexbuf =
 let error lexbuf fmt = Diag.errorf Diag.Syntax (region lexbuf) fmt
 
 (* Every occurrence of a name is one string: the interpreter then compares
-   names by address first (schema names of values against patterns, say). *)
-let names = Strtbl.create 256
-let intern id = match Strtbl.find_opt names id with
-  | Some s -> s
-  | None -> Strtbl.replace names id id; id
+   names by address first (schema names of values against patterns, say).
+   The table holds its names weakly, so a long-lived host that parses many
+   programs does not keep every name it ever saw. *)
+module Names = Weak.Make (struct
+    type t = string
+    let equal = String.equal
+    let hash = Strtbl.hash
+  end)
+let names = Names.create 256
+let intern id = Names.merge names id
 
 let keywords = [
   "module", MODULE; "ontology", ONTOLOGY; "ontologies", ONTOLOGIES;
