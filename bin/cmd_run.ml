@@ -153,8 +153,20 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
     Interp.Runtime.tune_gc ();
     let params = { Mc.variant; tie = Mc.Stable; budget = 1; max_active = None;
                    o2a_capacity = capacity; flood = false; ghosts = false; mutant = None } in
+    (* R7: a run-time error is recorded and the run carries on; it is also
+       reported here, one line each, and makes the exit status 1. An error
+       with no place in the program (recursion too deep) is put at the start
+       of the first file. *)
+    let run_errors = ref 0 in
+    let on_error (at : Syntax.Source.region) msg =
+      incr run_errors;
+      let (file, line, col) =
+        if at.left.line = 0 then (List.hd files, 1, 1) else (at.left.file, at.left.line, at.left.column) in
+      flush stdout;
+      report_at file line col msg in
     let opts = { Interp.Runtime.params; seed; fuel; max_steps; trace;
-                 on_log = (fun a s -> print_string (a ^ ": " ^ s ^ "\n")) } in
+                 on_log = (fun a s -> print_string (a ^ ": " ^ s ^ "\n"));
+                 on_error } in
     let rt = match Interp.Runtime.create env opts specs with
       | rt -> rt
       | exception Interp.Eval.Runtime_error (_, m) -> prerr_endline ("error: " ^ m); raise (Stop 1) in
@@ -171,8 +183,8 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
     Interp.Runtime.run_until_idle rt;
     Interp.Runtime.finish rt;
     Option.iter close_out trace;
-    ignore !host_error;
-    0
+    ignore !host_error;   (* a refused notify (R2d) is the host's answer, not an error *)
+    if !run_errors > 0 then 1 else 0
   with
   | code -> code
   | exception Stop code -> code
@@ -201,5 +213,5 @@ let cmd =
                      events of $(b,--events) in order, then runs until every agent is idle \
                      (or $(b,--max-steps)). $(i,log e) prints $(i,NAME: text) on standard \
                      output. $(b,--trace) writes every observable step (R8) as JSON lines; \
-                     docs/trace-format.md defines the format."])
+                     docs/trace-format.md defines the format. A run-time error (R7) stops                      its handler or step and the run carries on; it is reported on standard                      error as $(i,FILE:LINE:COL: error: message) when it happens, and the exit                      status is then 1. A program, agent or events-file error stops before                      anything runs, with exit status 1."])
     Term.(const run $ files $ agents $ events $ trace $ seed $ max_steps $ variant $ fuel $ capacity)

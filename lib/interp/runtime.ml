@@ -11,6 +11,7 @@ type options = {
   max_steps : int;
   trace : out_channel option;
   on_log : string -> string -> unit;
+  on_error : Syntax.Source.region -> string -> unit;
 }
 
 type t = {
@@ -91,6 +92,7 @@ let body_event t agent action (e : Eval.event) =
   | Eval.Activated b -> write t (base "activate" @ [ "behaviour", str b ])
   | Eval.Deactivated id -> write t (base "deactivate" @ [ "instance", int id ])
   | Eval.Error (at, msg) ->
+    t.opts.on_error at msg;
     write t (base "error" @ [ "at", str (Syntax.Source.string_of_region at); "message", str msg ])
 
 let find t name = P.find t.platform name

@@ -14,6 +14,9 @@ type options = {
   max_steps : int;            (** agent steps in the whole run *)
   trace : out_channel option;
   on_log : string -> string -> unit;   (** agent name, text: [log e] *)
+  on_error : Syntax.Source.region -> string -> unit;
+      (** a run-time error (R7), as it is recorded: where, and the message;
+          the run carries on *)
 }
 
 val create :

@@ -22,7 +22,7 @@ let run_program ?(variant = Mc.Reference) ?(fuel = 10_000) ?(events = fun _ -> (
   let params = { Mc.variant; tie = Mc.Stable; budget = 1; max_active = None; o2a_capacity = None;
                  flood = false; ghosts = false; mutant = None } in
   let opts = { Interp.Runtime.params; seed = None; fuel; max_steps = 100_000; trace = Some oc;
-               on_log = (fun a s -> logs := (a ^ ": " ^ s) :: !logs) } in
+               on_log = (fun a s -> logs := (a ^ ": " ^ s) :: !logs); on_error = (fun _ _ -> ()) } in
   let rt = Interp.Runtime.create env opts agents in
   events rt;
   Interp.Runtime.run_until_idle rt;
@@ -159,6 +159,23 @@ let cli_bad_program () =
   Alcotest.(check bool) ("one line, no backtrace: " ^ err) true
     (List.length (List.filter (( <> ) "") (String.split_on_char '\n' err)) = 1)
 
+(* D15: a run-time error is reported as it happens, the run carries on
+   (the later log line is printed), and the exit status is 1. *)
+let cli_runtime_error () =
+  let prog = "ontology O\n\tproposition tick extends percept\n\
+              agent A uses ontology O\n\tproperty n as integer = 0\n\
+              \ton create do\n\t\tactivate behaviour B\n\
+              cyclic behaviour B for agent A\n\
+              \ton percept when content matches tick do\n\t\tn = n + 1\n\t\tlog 10 / (2 - n)\n" in
+  with_file "jsref_rt.jade" prog (fun p ->
+      with_file "jsref_rt.jsonl" "{\"agent\": \"a\", \"notify\": \"tick\"}\n{\"run\": \"idle\"}\n\
+                                 {\"agent\": \"a\", \"notify\": \"tick\"}\n{\"run\": \"idle\"}\n\
+                                 {\"agent\": \"a\", \"notify\": \"tick\"}\n" (fun ev ->
+          let (status, out, err) = run_command (Printf.sprintf "%s run %s --agent a:A --events %s" exe p ev) in
+          Alcotest.(check int) "exit 1" 1 status;
+          Alcotest.(check string) "the other handlers ran" "a: 10\na: -10\n" out;
+          Alcotest.(check string) "one located line" (p ^ ":10:7: error: division by zero\n")  (* the division, 10 / (2 - n) *) err))
+
 let cli_logs () =
   with_file "jsref_ev.jsonl" "{\"agent\": \"r\", \"notify\": \"falling\"}\n" (fun ev ->
       let (status, out, _) = run_command (Printf.sprintf "%s run %s --agent r:RoboMe:@robome --events %s" exe robome ev) in
@@ -283,7 +300,8 @@ let () =
     ("cli", [
         Alcotest.test_case "bad events lines, each located, nothing runs" `Quick cli_bad_events;
         Alcotest.test_case "bad programs and agents" `Quick cli_bad_program;
-        Alcotest.test_case "log prints NAME: text" `Quick cli_logs ]);
+        Alcotest.test_case "log prints NAME: text" `Quick cli_logs;
+        Alcotest.test_case "D15 run-time errors on stderr, exit 1" `Quick cli_runtime_error ]);
     ("tlc", [
         Alcotest.test_case "paper runs validated; tampering rejected" `Slow paper_run_validated;
         Alcotest.test_case "conformance vectors' traces validated" `Slow vectors_validated;
