@@ -122,21 +122,25 @@ and coerce ty v = match coerce_param ty v with Some v -> v | None -> v
 
 (* ------------------------------------------------------- names *)
 
+(* The property a name denotes where no local has it: the running
+   behaviour's, else the agent's. *)
+let prop_cell (f : frame) x =
+  match (match f.beh with
+      | Some b when Names.length b.bprops > 0 -> Names.find_opt b.bprops x
+      | _ -> None) with
+  | Some _ as c -> c
+  | None -> Names.find_opt f.ag.props x
+
 let lookup (f : frame) at x =
   match local_find f.locals x with
   | Some v -> v
   | None ->
-    match (match f.beh with
-        | Some b when Names.length b.bprops > 0 -> Names.find_opt b.bprops x
-        | _ -> None) with
+    match prop_cell f x with
     | Some c -> c.v
     | None ->
-      match Names.find_opt f.ag.props x with
-      | Some c -> c.v
-      | None ->
-        match T.schema f.ag.env x with
-        | Some s when s.s_slots = [] -> V.Schema { sname = s.s_name; slots = [||] }
-        | _ -> err at "unknown name %s" x
+      match T.schema f.ag.env x with
+      | Some s when s.s_slots = [] -> V.Schema { sname = s.s_name; slots = [||] }
+      | _ -> err at "unknown name %s" x
 
 let set_cell c v = c.v <- coerce c.ty v
 
@@ -144,14 +148,9 @@ let assign_name (f : frame) x v =
   match local_cell x f.locals.vars with
   | Some r -> r := v
   | None ->
-    match (match f.beh with
-        | Some b when Names.length b.bprops > 0 -> Names.find_opt b.bprops x
-        | _ -> None) with
+    match prop_cell f x with
     | Some c -> set_cell c v
-    | None ->
-      match Names.find_opt f.ag.props x with
-      | Some c -> set_cell c v
-      | None -> local_set f.locals x v
+    | None -> local_set f.locals x v
 
 (* ------------------------------------------------------- schemas *)
 
@@ -478,10 +477,16 @@ and assign (f : frame) (lv : Ast.lvalue) v =
   | LOf (p, e) ->
     (match expr f e with
      | V.Schema s -> (slot lv.at s p.it) := v
-     | V.Agent_ref _ when Names.mem f.ag.props p.it -> set_cell (Names.find f.ag.props p.it) v
+     | V.Agent_ref _ as o ->
+       (match Names.find_opt f.ag.props p.it with
+        | Some c -> set_cell c v
+        | None -> err lv.at "cannot set %s of a %s" p.it (V.type_name o))
      | V.Behaviour_ref u ->
        (match f.beh with
-        | Some b when b.uid = u && Names.mem b.bprops p.it -> set_cell (Names.find b.bprops p.it) v
+        | Some b when b.uid = u ->
+          (match Names.find_opt b.bprops p.it with
+           | Some c -> set_cell c v
+           | None -> err lv.at "no such behaviour property %s" p.it)
         | _ -> err lv.at "no such behaviour property %s" p.it)
      | o -> err lv.at "cannot set %s of a %s" p.it (V.type_name o))
 
