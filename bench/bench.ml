@@ -168,18 +168,22 @@ let new_agent env =
   let (a, behs) = Interp.Eval.create_agent env ~name:"l" ~atype:"Loader" ~args:[] ~fuel:1000 in
   M.init machine_params ~world:a behs
 
-(* Run the agent until idle; count the percepts that left (EndDispatch) and
-   call [window] every [every] of them. *)
+(* Run the agent until idle, as the machine's rules, one [M.step] at a time
+   except that each percept's dispatch (Dequeue, Handle or Skip per handler,
+   EndDispatch) is taken as the derived rule [M.dispatch]; count the percepts
+   that left and call [window] every [every] of them. *)
 let drain ?(every = 0) ?(window = fun _ -> ()) c =
   let handled = ref 0 in
-  let rec go c =
-    match M.step machine_params c with
-    | [] -> c
-    | (Semantics.Machine.End_dispatch _, c') :: _ ->
+  let rec go (c : M.t) =
+    match M.dispatch machine_params c with
+    | Some c' ->
       incr handled;
       if every > 0 && !handled mod every = 0 then window !handled;
       go c'
-    | (_, c') :: _ -> go c' in
+    | None ->
+      match M.step machine_params c with
+      | [] -> c
+      | (_, c') :: _ -> go c' in
   let c = go c in
   (c, !handled)
 
@@ -216,9 +220,13 @@ let interp_where env total =
     | Semantics.Machine.Transfer _ -> 0 | Dequeue _ -> 1 | Handle _ -> 2 | Skip _ -> 3
     | End_dispatch _ -> 4 | _ -> 5 in
   let t_notify = ref 0. and t_loop = ref 0. in
-  let rec go c = match M.step machine_params c with
-    | [] -> c
-    | (l, c') :: _ -> incr steps; let i = rule l in counts.(i) <- counts.(i) + 1; go c' in
+  let words0 = Gc.minor_words () and minors0 = (Gc.quick_stat ()).minor_collections in
+  let count l = incr steps; let i = rule l in counts.(i) <- counts.(i) + 1 in
+  let rec go (c : M.t) = match M.dispatch ~observe:count machine_params c with
+    | Some c' -> go c'
+    | None -> match M.step machine_params c with
+      | [] -> c
+      | (l, c') :: _ -> count l; go c' in
   while !k < total do
     let t0 = Unix.gettimeofday () in
     c := notify_batch percept !c !k; k := !k + 1024;
@@ -228,13 +236,16 @@ let interp_where env total =
     t_notify := !t_notify +. (t1 -. t0); t_loop := !t_loop +. (t2 -. t1)
   done;
   let n = float_of_int total in
+  let words = Gc.minor_words () -. words0 and minors = (Gc.quick_stat ()).minor_collections - minors0 in
   let per x = x *. 1e9 /. n and total_t = !t_notify +. !t_loop in
   Printf.printf "  where the time goes (%d percepts): the host's notify %.0f ns/percept (%.0f%%), the agent loop %.0f ns/percept (%.0f%%)\n"
     total (per !t_notify) (100. *. !t_notify /. total_t) (per !t_loop) (100. *. !t_loop /. total_t);
   let by_rule = List.filter (fun (_, k) -> k > 0) (Array.to_list (Array.mapi (fun i k -> (names.(i), k)) counts)) in
   Printf.printf "    loop steps per percept: %s (%.2f in all, %.0f ns per step)\n%!"
     (String.concat ", " (List.map (fun (a, k) -> Printf.sprintf "%s %.3g" a (float_of_int k /. n)) by_rule))
-    (float_of_int !steps /. n) (!t_loop *. 1e9 /. float_of_int !steps)
+    (float_of_int !steps /. n) (!t_loop *. 1e9 /. float_of_int !steps);
+  Printf.printf "    memory: %.0f words allocated per percept (notify and loop), %d minor collections\n%!"
+    (words /. n) minors
 
 let interp_flood env total =
   let percept = percept_maker env in
@@ -283,6 +294,7 @@ let jade_results ?(steady_only = false) ?(env = "") quick =
 let interp_bench () =
   (* The same GC settings as jadescript-ref run (Interp.Runtime.tune_gc). *)
   Interp.Runtime.tune_gc ();
+  (match Sys.getenv_opt "JSREF_MINOR" with Some k -> Gc.set { (Gc.get ()) with Gc.minor_heap_size = int_of_string k } | None -> ());
   let quick = Sys.getenv_opt "JSREF_BENCH_QUICK" = Some "1" in
   let env = load_program (find_program "percepts.jade") in
   let steady_n = if quick then 200_000 else 3_000_000 and flood_n = if quick then 1_000_000 else 10_000_000 in

@@ -23,11 +23,22 @@ type cell = { mutable v : V.t; ty : Ty.t }
 
 module Names = Syntax.Strtbl
 
+(* A percept guard of the shape [content matches S(x1, ..., xn)], possibly
+   followed by [and rest], resolved when the behaviour is activated: S's name
+   as the type environment spells it, and per slot the variable it binds
+   ([None] for [_]). Evaluating it on a value of schema S itself is what the
+   general rules do on that shape (pattern PCons, positional slots), without
+   looking names up; any other value takes the general rules. *)
+type fast_guard = { fschema : string; fvars : string option array; frest : Ast.expr option }
+
 type beh = {
   uid : int;
   btype : T.behaviour;
   bprops : cell Names.t;
+  mutable bcache : (string * cell option) list;
+      (* properties found by name from this behaviour's code, by address *)
   phandlers : T.handler array;
+  pfast : fast_guard option array;   (* per percept handler *)
   prequired : (string * (string * bool) list ref) option array;
       (* per percept handler: the schema its guard requires of content, and
          which percept types were found to be (or not be) that schema *)
@@ -45,13 +56,15 @@ let[@inline] same_name (x : string) y =
   x == y || (String.length x = String.length y && String.equal x y)
 
 let new_locals () = { vars = [] }
+(* [no_local]: what [local_cell] answers for a name no local has (compared
+   by address; never written), so that a lookup allocates nothing. *)
+let no_local : V.t ref = ref V.Unit
 let rec local_cell x = function
-  | [] -> None
-  | (y, r) :: rest -> if same_name x y then Some r else local_cell x rest
-let local_find l x = match local_cell x l.vars with Some r -> Some !r | None -> None
-let local_set l x v = match local_cell x l.vars with
-  | Some r -> r := v
-  | None -> l.vars <- (x, ref v) :: l.vars
+  | [] -> no_local
+  | (y, r) :: rest -> if same_name x y then r else local_cell x rest
+let local_set l x v =
+  let r = local_cell x l.vars in
+  if r != no_local then r := v else l.vars <- (x, ref v) :: l.vars
 
 let beh_type b = b.btype.b_name
 
@@ -60,15 +73,28 @@ type agent = {
   name : string;
   atype : T.agent;
   props : cell Names.t;
+  mutable acache : (string * cell option) list;
+      (* properties found by name from the agent's own code, by address *)
   mutable outbox : (string * message) list;
   mutable events : event list;
   mutable effects : beh Semantics.Machine.effect list;
   mutable fuel_limit : int;
-  mutable pending : (int * int * locals) option;
+  mutable pending : (int * int * frame) option;
   mutable last_action_effects : string list option;
   mutable last_handler : int option;
   mutable last_effects : string list;
   mutable last_behaviour : string;
+}
+
+(* What a running body sees. *)
+and frame = {
+  ag : agent;
+  beh : beh option;          (* the behaviour whose code runs, if any *)
+  id : int;                  (* its machine instance id (0 in agent code) *)
+  locals : locals;
+  content : V.t option;
+  message : message option;
+  fuel : int ref;
 }
 
 let property a x = match Names.find_opt a.props x with Some c -> Some c.v | None -> None
@@ -87,15 +113,6 @@ let uids = ref 0
 
 (* ------------------------------------------------------------ frames *)
 
-type frame = {
-  ag : agent;
-  beh : beh option;          (* the behaviour whose code runs, if any *)
-  id : int;                  (* its machine instance id (0 in agent code) *)
-  locals : locals;
-  content : V.t option;
-  message : message option;
-  fuel : int ref;
-}
 
 let tick (f : frame) at =
   decr f.fuel;
@@ -124,17 +141,42 @@ and coerce ty v = match coerce_param ty v with Some v -> v | None -> v
 
 (* The property a name denotes where no local has it: the running
    behaviour's, else the agent's. *)
-let prop_cell (f : frame) x =
+let prop_cell_slow (f : frame) x =
   match (match f.beh with
       | Some b when Names.length b.bprops > 0 -> Names.find_opt b.bprops x
       | _ -> None) with
   | Some _ as c -> c
   | None -> Names.find_opt f.ag.props x
 
-let lookup (f : frame) at x =
-  match local_find f.locals x with
-  | Some v -> v
+(* The same, remembered per behaviour instance (or for the agent's code) by
+   the name's address: the lexer interns names, so a name of the program is
+   found by one comparison. Only properties found are remembered, at most
+   [cache_size] names, after which the tables answer. A table is complete
+   once its initialisers have run; what they remembered is forgotten then
+   (a later property of the same name may have replaced a cell). *)
+let cache_size = 8
+
+let rec cached x = function
+  | [] -> None
+  | (y, c) :: rest -> if x == y then c else cached x rest
+
+let prop_cell (f : frame) x =
+  let cache = match f.beh with Some b -> b.bcache | None -> f.ag.acache in
+  match cached x cache with
+  | Some _ as c -> c
   | None ->
+    let r = prop_cell_slow f x in
+    (match r with
+     | Some _ when List.length cache < cache_size ->
+       (match f.beh with
+        | Some b -> b.bcache <- (x, r) :: b.bcache
+        | None -> f.ag.acache <- (x, r) :: f.ag.acache)
+     | _ -> ());
+    r
+
+let lookup (f : frame) at x =
+  let r = local_cell x f.locals.vars in
+  if r != no_local then !r else
     match prop_cell f x with
     | Some c -> c.v
     | None ->
@@ -145,9 +187,8 @@ let lookup (f : frame) at x =
 let set_cell c v = c.v <- coerce c.ty v
 
 let assign_name (f : frame) x v =
-  match local_cell x f.locals.vars with
-  | Some r -> r := v
-  | None ->
+  let r = local_cell x f.locals.vars in
+  if r != no_local then r := v else
     match prop_cell f x with
     | Some c -> set_cell c v
     | None -> local_set f.locals x v
@@ -180,6 +221,27 @@ let rec required_schema (e : Ast.expr) = match e.it with
   | Matches ({ it = Content; _ }, { it = PName x; _ }) -> Some x
   | Binop (And, l, _) -> required_schema l
   | _ -> None
+
+(* The guard's fast form, when it has the shape [content matches S(p1, ...,
+   pn)] or [content matches S(p1, ..., pn) and rest], S a schema with n
+   slots, and each pi a [_] or a name that is not a schema (a variable). *)
+let fast_guard env (g : Ast.expr) =
+  let form (m : Ast.expr) rest = match m.it with
+    | Matches ({ it = Content; _ }, { it = PCons (c, ps); _ }) ->
+      (match T.schema env c.it with
+       | Some sc when List.length sc.s_slots = List.length ps ->
+         let var (p : Ast.pattern) = match p.it with
+           | PWild -> Some None
+           | PName x when T.schema env x = None -> Some (Some x)
+           | _ -> None in
+         let vars = List.map var ps in
+         if List.mem None vars then None
+         else Some { fschema = sc.s_name; fvars = Array.of_list (List.map Option.get vars); frest = rest }
+       | _ -> None)
+    | _ -> None in
+  match g.it with
+  | Binop (And, l, r) -> form l (Some r)
+  | _ -> form g None
 
 (* ------------------------------------------------------ arithmetic *)
 
@@ -499,8 +561,9 @@ and activate (f : frame) at name kvs =
     incr uids;
     let handlers = T.behaviour_handlers f.ag.env name in
     let phandlers = Array.of_list (List.filter (fun (h : T.handler) -> h.h_kind = T.On_percept) handlers) in
-    let b = { uid = !uids; btype = bt; bprops = Names.create 8;
+    let b = { uid = !uids; btype = bt; bprops = Names.create 8; bcache = [];
               phandlers;
+              pfast = Array.map (fun (h : T.handler) -> Option.bind h.h_guard (fast_guard f.ag.env)) phandlers;
               prequired = Array.map (fun (h : T.handler) ->
                   match h.h_guard with
                   | Some g -> (match required_schema g with
@@ -513,6 +576,7 @@ and activate (f : frame) at name kvs =
     List.iter (fun (p : T.property) ->
         let v = match p.p_init with Some e -> coerce p.p_type (expr bf e) | None -> default_value p.p_type in
         Names.replace b.bprops p.p_name { v; ty = p.p_type }) (T.behaviour_properties f.ag.env name);
+    b.bcache <- [];
     (match T.behaviour_create f.ag.env name with
      | Some r -> ignore (run_routine bf at r (Some b) (`Named kvs))
      | None -> ());
@@ -537,6 +601,13 @@ let protect (a : agent) body =
   | Return _ | Break | Continue -> ()
   | Stack_overflow -> a.events <- Error (Source.no_region, "recursion too deep") :: a.events
 
+(* The same for a block, without a closure. *)
+let protect_block (a : agent) f b =
+  try block f b with
+  | Runtime_error (at, msg) -> a.events <- Error (at, msg) :: a.events
+  | Return _ | Break | Continue -> ()
+  | Stack_overflow -> a.events <- Error (Source.no_region, "recursion too deep") :: a.events
+
 let describe_effect = function
   | Semantics.Machine.Activate b -> "activate " ^ b.btype.b_name
   | Semantics.Machine.Deactivate -> "deactivate"
@@ -552,19 +623,38 @@ let take_effects a =
     a.last_effects <- List.map describe_effect e;
     e
 
+(* The value of a when condition [g] (or of its last conjunct). *)
+let condition_value (g : Ast.expr) = function
+  | V.Bool b -> b
+  | v -> err g.at "a when condition is a boolean, not a %s" (V.type_name v)
+
+let condition (f : frame) (g : Ast.expr) = condition_value g (expr f g)
+
 let guard_holds (f : frame) (h : T.handler) =
   match h.h_guard with
   | None -> true
-  | Some g ->
-    (match expr f g with
-     | V.Bool b -> b
-     | v -> err g.at "a when condition is a boolean, not a %s" (V.type_name v))
+  | Some g -> condition f g
+
+(* A percept guard: its fast form when it has one and the percept is of the
+   pattern's own schema (the positional case of [pattern]); the bindings are
+   made in the same order. Otherwise the general rules. *)
+let percept_guard_holds (f : frame) (h : T.handler) fast (p : V.t) =
+  match fast, p, h.h_guard with
+  | Some { fschema; fvars; frest }, V.Schema s, Some g
+    when same_name s.sname fschema && Array.length s.slots = Array.length fvars ->
+    Array.iteri (fun i x -> match x with
+        | Some x -> local_set f.locals x !(snd s.slots.(i))
+        | None -> ()) fvars;
+    (match frest with
+     | None -> true
+     | Some r -> condition_value g (expr f r))
+  | _ -> guard_holds f h
 
 let create_agent env ~name ~atype ~args ~fuel =
   match T.agent env atype with
   | None -> raise (Runtime_error (Source.no_region, Printf.sprintf "unknown agent type %s" atype))
   | Some at ->
-    let a = { env; name; atype = at; props = Names.create 16; outbox = []; events = [];
+    let a = { env; name; atype = at; props = Names.create 16; acache = []; outbox = []; events = [];
               effects = []; fuel_limit = fuel; pending = None; last_action_effects = None;
               last_handler = None; last_effects = []; last_behaviour = "" } in
     let f = frame a () in
@@ -581,6 +671,7 @@ let create_agent env ~name ~atype ~args ~fuel =
         List.iter (fun (p : T.property) ->
             let v = match p.p_init with Some e -> coerce p.p_type (expr f e) | None -> default_value p.p_type in
             Names.replace a.props p.p_name { v; ty = p.p_type }) (T.agent_properties env atype);
+        a.acache <- [];
         match T.agent_create env atype with
         | Some r -> ignore (run_routine f Source.no_region r None (`Positional args))
         | None -> ());
@@ -661,25 +752,30 @@ module Bodies = struct
      handler not applicable, and is recorded. The bindings are kept for the
      body. *)
   let percept_applicable a ~id b h p =
-    if not (may_apply a b h p) then begin
+    let own_schema = match b.pfast.(h - 1), p with
+      | Some fg, V.Schema s -> s.sname == fg.fschema
+      | _ -> false in
+    if not (own_schema || may_apply a b h p) then begin
       (match a.pending with None -> () | Some _ -> a.pending <- None);
       (a, false)
     end else
     let f = frame a ~beh:b ~id ~content:p () in
-    let ok = try guard_holds f b.phandlers.(h - 1)
+    let ok = try percept_guard_holds f b.phandlers.(h - 1) b.pfast.(h - 1) p
       with Runtime_error (at, msg) -> a.events <- Error (at, msg) :: a.events; false in
-    a.pending <- (if ok then Some (id, h, f.locals) else None);
+    a.pending <- (if ok then Some (id, h, f) else None);
     (a, ok)
 
+  (* The body runs in the frame its guard was evaluated in (for the
+     bindings), with a fresh step budget. *)
   let run_percept_handler a ~id b h p =
-    let locals = match a.pending with
-      | Some (i, j, l) when i = id && j = h -> a.pending <- None; l
-      | Some _ -> a.pending <- None; new_locals ()
-      | None -> new_locals () in
-    let f = { ag = a; beh = Some b; id; locals; content = Some p; message = None; fuel = ref a.fuel_limit } in
+    let f = match a.pending with
+      | Some (i, j, f) when i = id && j = h && (match f.content with Some q -> q == p | None -> false) ->
+        a.pending <- None; f.fuel := a.fuel_limit; f
+      | Some _ -> a.pending <- None; frame a ~beh:b ~id ~content:p ()
+      | None -> frame a ~beh:b ~id ~content:p () in
     if a.last_behaviour != b.btype.b_name then a.last_behaviour <- b.btype.b_name;
-    protect a (fun () -> block f b.phandlers.(h - 1).h_body);
-    a.last_handler <- Some h;
+    protect_block a f b.phandlers.(h - 1).h_body;
+    (match a.last_handler with Some k when k = h -> () | _ -> a.last_handler <- Some h);
     (a, take_effects a)
 
   let run_action a ~id b =

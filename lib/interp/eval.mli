@@ -30,8 +30,9 @@ type event =
 type beh
 (** A behaviour instance: its type and its properties. *)
 
-type locals
-(** The local variables of a running body. *)
+type frame
+(** What a running body sees: its agent, behaviour, locals, content or
+    message, and step budget. *)
 
 val beh_type : beh -> string
 
@@ -44,12 +45,16 @@ type agent = {
   name : string;
   atype : Typing.Tenv.agent;
   props : cell Syntax.Strtbl.t;   (** the agent's properties, by name *)
+  mutable acache : (string * cell option) list;
+      (** properties the agent's own code found by name, remembered by the
+          name's address (names are interned by the lexer) *)
   mutable outbox : (string * message) list;     (** newest first *)
   mutable events : event list;                  (** newest first *)
   mutable effects : beh Semantics.Machine.effect list;  (** newest first *)
   mutable fuel_limit : int;
-  mutable pending : (int * int * locals) option;
-      (** the bindings of the last applicable percept guard (instance, handler) *)
+  mutable pending : (int * int * frame) option;
+      (** the frame of the last applicable percept guard (instance, handler):
+          its body runs in it, with the guard's bindings *)
   mutable last_action_effects : string list option;
       (** the effects of the action block in the last behaviour step
           (["activate B"], ["deactivate"]), if it had one *)

@@ -86,13 +86,14 @@ let map_empty () = Map { table = Int_table.create 8; order = []; size = 0 }
 
 let map_set m k v =
   let h = hash k land max_int in
-  let bucket = Option.value (Int_table.find_opt m.table h) ~default:[] in
-  match List.find_opt (fun (k', _) -> equal k k') bucket with
-  | Some (_, r) -> r := v
-  | None ->
-    Int_table.replace m.table h ((k, ref v) :: bucket);
-    m.order <- k :: m.order;
-    m.size <- m.size + 1
+  let bucket = match Int_table.find m.table h with b -> b | exception Not_found -> [] in
+  let rec find = function
+    | [] ->
+      Int_table.replace m.table h ((k, ref v) :: bucket);
+      m.order <- k :: m.order;
+      m.size <- m.size + 1
+    | (k', r) :: rest -> if equal k k' then r := v else find rest in
+  find bucket
 
 (* Java's Double.toString / Float.toString: the shortest digits that read
    back as the same value; plain notation for 10^-3 <= |x| < 10^7, otherwise

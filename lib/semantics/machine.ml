@@ -476,4 +476,67 @@ module Make (B : BODIES) = struct
     | Idle_phase, _ -> []
 
   let is_idle (c : t) = c.phase = Idle_phase
+
+  (* ------------------------------------------------ derived rule *)
+
+  (* Dispatch: [step] taken from a Dequeue (when it is the one rule enabled)
+     or from the Handle phase, through the Handle arm until the snapshot is
+     empty, then EndDispatch; on local variables instead of a configuration
+     per rule. Each branch below is the branch of [step], [dequeue_entry],
+     [handle], [skip] or [end_dispatch] whose name it carries; what they
+     would have written in the configuration (world, todo, applied, the
+     behaviour part) is kept here and written once, at the end. *)
+  (* The Handle arm over the snapshot [todo] of the dispatch of [e], from
+     configuration [c] (whose behaviour part is [bs] once a handler had
+     effects). No closure is allocated: this runs once per percept. *)
+  let rec dispatch_handlers observe p (c : t) e world applied bs todo =
+    match todo with
+    | [] -> (world, applied, bs)
+    | (id, h) :: rest ->
+      let active = match bs with Some s -> s.active | None -> c.active in
+      match find_instance id active with
+      | None ->                                                              (* skip *)
+        (match observe with Some f -> f (Skip { id; h }) | None -> ());
+        dispatch_handlers observe p c e world applied bs rest
+      | Some b ->
+        let (world, ok) = B.percept_applicable world ~id b h e.p in
+        if not ok then begin                                                 (* skip *)
+          (match observe with Some f -> f (Skip { id; h }) | None -> ());
+          dispatch_handlers observe p c e world applied bs rest
+        end else begin                                                       (* handle *)
+          let (world, effs) = B.run_percept_handler world ~id b h e.p in
+          let bs = match effs with
+            | [] -> bs
+            | _ ->
+              let s = match bs with Some s -> s | None -> bs_of c in
+              Some (apply_effects p s id effs (List.map fst todo)) in
+          (match observe with Some f -> f (Handle { id; h; p = e.p; seq = e.seq }) | None -> ());
+          dispatch_handlers observe p c e world true bs
+            (match p.mutant with Some First_handler_only -> [] | _ -> rest)  (* mutant *)
+        end
+
+  (* The configuration after the handlers and EndDispatch; [pq], [waits]
+     and [dispatched] are [c]'s, or what Dequeue made of them. *)
+  let dispatch_end observe p (c : t) e ~pq ~waits ~dispatched (world, applied, bs) =
+    let l = End_dispatch { seq = e.seq; discarded = not applied } in        (* end_dispatch *)
+    (match observe with Some f -> f l | None -> ());
+    let c' = { c with pq; waits; dispatched; world; done_ = add_done p c e.seq; cur = None;
+                      phase = Dispatch_phase; last = l } in
+    match bs with Some s -> with_bs c' s | None -> c'
+
+  let dispatch ?observe p (c : t) : t option =
+    match c.phase, c.cur with
+    | Handle_phase, Some d ->
+      Some (dispatch_end observe p c d.e ~pq:c.pq ~waits:c.waits ~dispatched:c.dispatched
+              (dispatch_handlers observe p c d.e c.world d.applied None d.todo))
+    | Dispatch_phase, _ when p.mutant = None && p.variant <> Native && p.tie = Stable && not p.flood
+                             && not (dispatch_over p c) ->
+      (match Pqueue.pop c.pq with                                            (* dequeue_entry *)
+       | Some (e, pq) ->
+         (match observe with Some f -> f (Dequeue e) | None -> ());
+         let todo = handlers_of c in
+         Some (dispatch_end observe p c e ~pq ~waits:(bump_waits p c e) ~dispatched:(c.dispatched + 1)
+                 (dispatch_handlers observe p c e c.world false None todo))
+       | None -> None)
+    | _ -> None
 end

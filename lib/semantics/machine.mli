@@ -208,6 +208,21 @@ module Make (B : BODIES) : sig
 
   val is_idle : t -> bool
 
+  (** {2 Derived rule} *)
+
+  val dispatch : ?observe:(lbl -> unit) -> params -> t -> t option
+  (** One percept's whole dispatch in one call, when the configuration is in
+      phase Handle (the rest of the dispatch in progress) or in phase
+      Dispatch with Dequeue the one rule enabled (stable ties, no flood
+      abstraction, no mutant): Dequeue, then Handle or Skip for each handler
+      of the snapshot, then EndDispatch. The result is the configuration that
+      {!step} reaches by applying those rules one at a time (each is then the
+      only rule enabled), without building the configurations in between;
+      [observe] sees their labels in order. [None] in any other
+      configuration. docs/semantics.md, "A derived rule"; tested against
+      {!step} on every reachable configuration of the models and on the
+      interpreter's runs. *)
+
   (** {2 Conditions the spec names} *)
 
   val idle_condition : t -> bool

@@ -110,6 +110,32 @@ let runtime_errors_located () =
   (* at the start of the failing expression: m["missing"], 1 / (size of m) *)
   Alcotest.(check (list string)) "located" [ "t.jade:12:7"; "t.jade:16:7" ] (List.map at errs)
 
+(* The resolved forms (Eval: a guard [content matches S(x, _) and rest]
+   evaluated by slot position, properties found by address) give what the
+   general rules give: a percept of a subtype of S takes the general rules
+   (slots by name), the rest of the guard is evaluated after the bindings and
+   its error located, [_] binds nothing, and a behaviour property hides the
+   agent's property of the same name. *)
+let resolved_forms () =
+  let text = "ontology O\n\tpredicate q1(x as integer) extends percept with priority = 3\n\
+              \tpredicate q2(y as integer) extends q1 with priority = 2\n\
+              \tpredicate pair(a as integer, b as integer) extends percept\n\n\
+              agent A uses ontology O\n\tproperty n as integer = 7\n\n\ton create do\n\t\tactivate behaviour B\n\n\
+              cyclic behaviour B for agent A\n\tproperty n as integer = 100\n\n\
+              \ton percept when content matches q1(v) and v > 0 do\n\t\tlog \"q1 \" + v + \" n \" + n\n\t\tn = n + 1\n\n\
+              \ton percept when content matches pair(u, _) do\n\t\tlog \"pair \" + u + \" \" + (n of agent)\n\n\
+              \ton percept when content matches q1(w) and (w / 0) > 1 do\n\t\tlog \"never\"\n" in
+  let schema name ints = V.Schema { sname = name; slots = Array.of_list (List.mapi (fun i k ->
+      ((match name, i with "q1", _ -> "x" | "q2", 0 -> "x" | "q2", _ -> "y" | _, 0 -> "a" | _ -> "b"), ref (V.Int k))) ints) } in
+  let (logs, evs) = run_program text [ ("a", "A", []) ] ~events:(fun rt ->
+      List.iter (fun (p, d) -> ignore (Interp.Runtime.notify rt ~agent:"a" p ~default:d ~priority:None))
+        [ (schema "q1" [ 5 ], 3); (schema "q2" [ 6; 9 ], 2); (schema "q1" [ -1 ], 3); (schema "pair" [ 1; 2 ], 0) ]) in
+  Alcotest.(check (list string)) "logs"
+    [ "a: q1 5 n 100"; "a: q1 6 n 101"; "a: pair 1 7" ] logs;
+  let at e = match e with `Assoc f -> (match List.assoc_opt "at" f with Some (`String s) -> s | _ -> "") | _ -> "" in
+  Alcotest.(check (list string)) "the guard's error, once per percept of q1 or a subtype"
+    [ "t.jade:22:45"; "t.jade:22:45"; "t.jade:22:45" ] (List.map at (error_events evs))
+
 let fuel_exhausted () =
   let text = program "\t\tactivate behaviour Spin\n\ncyclic behaviour Spin\n\tdo\n\t\twhile true do\n\t\t\tx = 1\n\t\tlog \"never\"\n" in
   let (logs, evs) = run_program ~fuel:500 text [ ("a", "A", []) ] in
@@ -284,6 +310,110 @@ let random_run_validates =
     ignore arb;
     true
 
+(* The derived rule Dispatch on the interpreter's bodies: two copies of the
+   same agent get the same notifies; one runs [step] only, the other takes
+   every dispatch it can as [M.dispatch]. They must report the same labels,
+   the same body events (logs, errors, sends, activations: those of a
+   dispatch after its EndDispatch, where the derived rule has them), the
+   same messages to send, and reach the same configuration and properties. *)
+module RM = Interp.Runtime.P.M
+
+let show_label (l : RM.lbl) =
+  Mc.action_name l ^ (match l with
+      | Mc.Dequeue e | Mc.Notify e -> Printf.sprintf "(%s,%d,%d)" (V.to_literal e.p) e.prio e.seq
+      | Mc.Handle { id; h; seq; _ } -> Printf.sprintf "(%d,%d,%d)" id h seq
+      | Mc.Skip { id; h } -> Printf.sprintf "(%d,%d)" id h
+      | Mc.End_dispatch { seq; discarded } -> Printf.sprintf "(%d,%b)" seq discarded
+      | Mc.Behaviour_step { id; _ } -> Printf.sprintf "(%d)" id
+      | _ -> "")
+
+let show_event = function
+  | Interp.Eval.Log s -> "log " ^ s
+  | Interp.Eval.Invoke { meth; _ } -> "invoke " ^ meth
+  | Interp.Eval.Sent { perf; content; receivers } ->
+    Printf.sprintf "send %s %s to %s" perf (V.to_literal content) (String.concat "," receivers)
+  | Interp.Eval.Activated b -> "activate " ^ b
+  | Interp.Eval.Deactivated i -> "deactivate " ^ string_of_int i
+  | Interp.Eval.Error (at, m) -> Printf.sprintf "error %s %s" (Source.string_of_region at) m
+
+let show_config (c : RM.t) =
+  Printf.sprintf "phase=%s o2a=%d pq=[%s] next_seq=%d dispatched=%d active=[%s] ready=[%s] blocked=[%s] pos=%d last=%s"
+    (match c.phase with Mc.Transfer_phase -> "transfer" | Dispatch_phase -> "dispatch"
+                      | Handle_phase -> "handle" | Idle_phase -> "idle")
+    (Semantics.Fqueue.length c.o2a)
+    (String.concat ";" (List.map (fun (e : V.t Mc.entry) -> Printf.sprintf "%d/%d" e.prio e.seq)
+                          (Semantics.Pqueue.to_sorted_list c.pq)))
+    c.next_seq c.dispatched
+    (String.concat ";" (List.map (fun (a : Interp.Eval.beh Mc.instance) ->
+         Printf.sprintf "%d:%s" a.id (Interp.Eval.beh_type a.beh)) c.active))
+    (String.concat ";" (List.map string_of_int c.ready))
+    (String.concat ";" (List.map string_of_int c.blocked)) c.pos (show_label c.last)
+
+let derived_dispatch_on_programs_exn =
+  fun (prog, seed) ->
+    let text = Print.program prog in
+    let env, diags = Typing.check [ Parse.string ~file:"gen.jade" text ] in
+    if List.exists (fun d -> d.Diag.severity = Diag.Error) diags then
+      QCheck.Test.fail_reportf "the generated program does not check";
+    let rand = Random.State.make [| seed |] in
+    let percepts = List.init (1 + Random.State.int rand 12) (fun _ ->
+        let ps = percept_types env in
+        let s = List.nth ps (Random.State.int rand (List.length ps)) in
+        let args = List.map (fun (_, ty) -> literal_of rand ty) s.s_slots in
+        let text = if args = [] then s.s_name else s.s_name ^ "(" ^ String.concat ", " args ^ ")" in
+        let (v, prio) = Interp.Eval.percept_value env ~agent_type:"Ag" (Parse.expr ~file:"e" text) in
+        (v, if Random.State.int rand 3 = 0 then Random.State.int rand 9 else prio)) in
+    let batches = 1 + Random.State.int rand 3 in
+    let params = match Typing.Tenv.agent_create env "Ag" with Some r -> r.r_params | None -> [] in
+    let args = List.map (fun (_, ty) -> Interp.Eval.literal_value env (Parse.expr ~file:"a" (literal_of rand ty))) params in
+    let variant = List.nth [ Mc.Reference; Mc.Budgeted; Mc.Printed; Mc.Reference ] (seed mod 4) in
+    let p = { Mc.variant; tie = Mc.Stable; budget = 2; max_active = None; o2a_capacity = None;
+              flood = false; ghosts = seed mod 2 = 0; mutant = None } in
+    let run derived =
+      let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args ~fuel:500 in
+      let out = ref [] in
+      let note s = out := s :: !out in
+      let body () = List.iter (fun e -> note (show_event e)) (Interp.Eval.take_events a) in
+      body ();
+      (* [n] rules at most, counted the same way in both runs: a run stops
+         only between dispatches (the derived rule takes a whole one) *)
+      let rec go (c : RM.t) n =
+        if n <= 0 && c.phase <> Mc.Handle_phase then c else
+        let k = ref 0 in
+        match (if derived then RM.dispatch ~observe:(fun l -> incr k; note (show_label l)) p c else None) with
+        | Some c -> body (); go c (n - !k)
+        | None ->
+          match RM.step p c with
+          | [] -> c
+          | (l, c) :: _ ->
+            note (show_label l);
+            (* the derived rule hands the bodies' events over at the end of
+               the dispatch, in order; the steps are compared the same way *)
+            if c.phase <> Mc.Handle_phase then body ();
+            go c (n - 1) in
+      let c = ref (RM.init p ~world:a behs) in
+      List.iteri (fun i (v, prio) ->
+          c := RM.notify_with p !c v prio;
+          if i mod batches = 0 then c := go !c 300) percepts;
+      let c = go !c 1000 in
+      let (_, outbox) = Interp.Eval.Bodies.take_outbox c.world in
+      let props = List.map (fun (pr : Typing.Tenv.property) ->
+          pr.p_name ^ "=" ^ (match Interp.Eval.property a pr.p_name with Some v -> V.to_literal v | None -> "?"))
+          (Typing.Tenv.agent_properties env "Ag") in
+      (List.rev !out, show_config c, List.map (fun (r, (m : Interp.Eval.message)) -> r ^ ":" ^ m.perf) outbox, props) in
+    let (o1, c1, m1, p1) = run false and (o2, c2, m2, p2) = run true in
+    if o1 <> o2 then
+      QCheck.Test.fail_reportf "labels and events differ:\nsteps:   %s\nderived: %s\n%s"
+        (String.concat " | " o1) (String.concat " | " o2) text;
+    if c1 <> c2 then QCheck.Test.fail_reportf "configurations differ:\n%s\n%s\n%s" c1 c2 text;
+    if m1 <> m2 || p1 <> p2 then QCheck.Test.fail_reportf "messages or properties differ\n%s" text;
+    true
+
+let derived_dispatch_on_programs (prog, seed) =
+  try derived_dispatch_on_programs_exn (prog, seed) with
+  | QCheck.Test.Test_fail _ as x -> raise x
+  | x -> QCheck.Test.fail_reportf "exception %s" (Printexc.to_string x)
+
 let () =
   Alcotest.run "interp" [
     ("values", [
@@ -294,9 +424,13 @@ let () =
         Alcotest.test_case "loops and control" `Quick control;
         Alcotest.test_case "D11 priority of, D12 for over a map" `Quick decisions_of_and_for;
         Alcotest.test_case "performative and sender of message" `Quick message_fields ]);
+    ("derived", [
+        qcheck ~count:60 ~long_factor:10 "derived rule Dispatch = its steps, random programs"
+          (QCheck.pair Typed_gen.arb_program QCheck.small_nat) derived_dispatch_on_programs ]);
     ("errors", [
         Alcotest.test_case "R7 errors located, agent carries on" `Quick runtime_errors_located;
-        Alcotest.test_case "R7 step budget" `Quick fuel_exhausted ]);
+        Alcotest.test_case "R7 step budget" `Quick fuel_exhausted;
+        Alcotest.test_case "resolved guards and properties = the general rules" `Quick resolved_forms ]);
     ("cli", [
         Alcotest.test_case "bad events lines, each located, nothing runs" `Quick cli_bad_events;
         Alcotest.test_case "bad programs and agents" `Quick cli_bad_program;

@@ -337,6 +337,43 @@ let agreement_cases () =
           Alcotest.(check bool) "non-trivial graph" true (r.explorer_states > 10)))
     (Lazy.force model_paths)
 
+(* The derived rule Dispatch (docs/semantics.md) is the rules it stands for:
+   from every reachable configuration of every model where it applies, the
+   labels it reports and the configuration it returns are those of [step]
+   taken one rule at a time (each then the only rule enabled) up to
+   EndDispatch. Also under the mutant that changes the Handle rule. *)
+let derived_dispatch_is_its_steps () =
+  let checked = ref 0 and from_dequeue = ref 0 in
+  let check (m : Model.t) =
+    let g = Explorer.explore m in
+    Array.iter (fun (c : Model.M.t) ->
+        let seen = ref [] in
+        match Model.M.dispatch ~observe:(fun l -> seen := l :: !seen) m.params c with
+        | None -> ()
+        | Some c' ->
+          incr checked;
+          if c.phase = Mc.Dispatch_phase then incr from_dequeue;
+          let rec steps c acc =
+            match Model.M.step m.params c with
+            | [ ((Mc.End_dispatch _ as l), c1) ] -> (List.rev (l :: acc), c1)
+            | [ (l, c1) ] -> steps c1 (l :: acc)
+            | r -> Alcotest.failf "%s: %d rules enabled in a dispatch from %s" m.name (List.length r)
+                     (Explorer.show m c) in
+          let (labels, c1) = steps c [] in
+          if List.rev !seen <> labels then
+            Alcotest.failf "%s: the derived rule reports %s, the steps are %s, from %s" m.name
+              (String.concat " " (List.rev_map Mc.action_name !seen))
+              (String.concat " " (List.map Mc.action_name labels)) (Explorer.show m c);
+          if Explorer.show m c' <> Explorer.show m c1 || Explorer.key c' <> Explorer.key c1 then
+            Alcotest.failf "%s: from %s\nthe derived rule reaches %s\nthe steps reach %s" m.name
+              (Explorer.show m c) (Explorer.show m c') (Explorer.show m c1)) g.states in
+  let models = List.map Model.load (Lazy.force model_paths) in
+  List.iter check models;
+  List.iter (fun (m : Model.t) ->
+      check { m with params = { m.params with mutant = Some Mc.First_handler_only } }) models;
+  Alcotest.(check bool) (Printf.sprintf "checked %d configurations, %d from a Dequeue" !checked !from_dequeue)
+    true (!checked > 1000 && !from_dequeue > 100)
+
 let mutants_caught () =
   let ms = List.map Model.load (Lazy.force model_paths) in
   List.iter (fun (row : Conformance.mutant_row) ->
@@ -435,6 +472,7 @@ let () =
     ("platform", [ Alcotest.test_case "R5e R6 ping-pong between agents" `Quick platform_ping_pong ]);
     ("tlc", agreement_cases () @ [
         Alcotest.test_case "every mutant is caught" `Slow mutants_caught;
+        Alcotest.test_case "derived rule Dispatch = its steps, every model state" `Slow derived_dispatch_is_its_steps;
         qcheck ~count:4 ~long_factor:10 "random models agree with TLC" arb_random_model random_model_agrees;
         Alcotest.test_case "TLC behaviours replayed" `Slow simulation_replayed;
         Alcotest.test_case "OCaml runs validated by TLC" `Slow runs_validated;
