@@ -294,7 +294,6 @@ let jade_results ?(steady_only = false) ?(env = "") quick =
 let interp_bench () =
   (* The same GC settings as jadescript-ref run (Interp.Runtime.tune_gc). *)
   Interp.Runtime.tune_gc ();
-  (match Sys.getenv_opt "JSREF_MINOR" with Some k -> Gc.set { (Gc.get ()) with Gc.minor_heap_size = int_of_string k } | None -> ());
   let quick = Sys.getenv_opt "JSREF_BENCH_QUICK" = Some "1" in
   let env = load_program (find_program "percepts.jade") in
   let steady_n = if quick then 200_000 else 3_000_000 and flood_n = if quick then 1_000_000 else 10_000_000 in

@@ -31,17 +31,22 @@ module Names = Syntax.Strtbl
    looking names up; any other value takes the general rules. *)
 type fast_guard = { fschema : string; fvars : string option array; frest : Ast.expr option }
 
+(* A percept handler of a behaviour, with what was resolved of its guard. *)
+type phandler = {
+  hd : T.handler;
+  fast : fast_guard option;
+  required : (string * (string * bool) list ref) option;
+      (* the schema its guard requires of content, and which percept types
+         were found to be (or not be) that schema *)
+}
+
 type beh = {
   uid : int;
   btype : T.behaviour;
   bprops : cell Names.t;
   mutable bcache : (string * cell option) list;
       (* properties found by name from this behaviour's code, by address *)
-  phandlers : T.handler array;
-  pfast : fast_guard option array;   (* per percept handler *)
-  prequired : (string * (string * bool) list ref) option array;
-      (* per percept handler: the schema its guard requires of content, and
-         which percept types were found to be (or not be) that schema *)
+  phandlers : phandler array;
   mhandlers : T.handler array;
   action : Ast.block option;
 }
@@ -560,16 +565,16 @@ and activate (f : frame) at name kvs =
   | Some bt ->
     incr uids;
     let handlers = T.behaviour_handlers f.ag.env name in
-    let phandlers = Array.of_list (List.filter (fun (h : T.handler) -> h.h_kind = T.On_percept) handlers) in
+    let phandlers = Array.of_list (List.filter_map (fun (h : T.handler) ->
+        if h.h_kind <> T.On_percept then None
+        else Some { hd = h; fast = Option.bind h.h_guard (fast_guard f.ag.env);
+                    required = (match h.h_guard with
+                        | Some g -> (match required_schema g with
+                            | Some x when T.schema f.ag.env x <> None -> Some (x, ref [])
+                            | _ -> None)
+                        | None -> None) }) handlers) in
     let b = { uid = !uids; btype = bt; bprops = Names.create 8; bcache = [];
               phandlers;
-              pfast = Array.map (fun (h : T.handler) -> Option.bind h.h_guard (fast_guard f.ag.env)) phandlers;
-              prequired = Array.map (fun (h : T.handler) ->
-                  match h.h_guard with
-                  | Some g -> (match required_schema g with
-                      | Some x when T.schema f.ag.env x <> None -> Some (x, ref [])
-                      | _ -> None)
-                  | None -> None) phandlers;
               mhandlers = Array.of_list (List.filter (fun (h : T.handler) -> h.h_kind <> T.On_percept) handlers);
               action = T.behaviour_action f.ag.env name } in
     let bf = { f with beh = Some b; id = 0; locals = new_locals (); content = None; message = None } in
@@ -730,8 +735,8 @@ module Bodies = struct
      only when its leftmost conjunct is a [matches] of a schema that the
      percept's type is not and does not extend: then the guard is false, with
      no effect and no possible error, so evaluating it would change nothing. *)
-  let may_apply a b h (p : V.t) =
-    match b.prequired.(h - 1), p with
+  let may_apply a (ph : phandler) (p : V.t) =
+    match ph.required, p with
     | Some (x, memo), V.Schema s ->
       let n = s.sname in
       x == n
@@ -752,15 +757,13 @@ module Bodies = struct
      handler not applicable, and is recorded. The bindings are kept for the
      body. *)
   let percept_applicable a ~id b h p =
-    let own_schema = match b.pfast.(h - 1), p with
-      | Some fg, V.Schema s -> s.sname == fg.fschema
-      | _ -> false in
-    if not (own_schema || may_apply a b h p) then begin
+    let ph = b.phandlers.(h - 1) in
+    if not (may_apply a ph p) then begin
       (match a.pending with None -> () | Some _ -> a.pending <- None);
       (a, false)
     end else
     let f = frame a ~beh:b ~id ~content:p () in
-    let ok = try percept_guard_holds f b.phandlers.(h - 1) b.pfast.(h - 1) p
+    let ok = try percept_guard_holds f ph.hd ph.fast p
       with Runtime_error (at, msg) -> a.events <- Error (at, msg) :: a.events; false in
     a.pending <- (if ok then Some (id, h, f) else None);
     (a, ok)
@@ -774,7 +777,7 @@ module Bodies = struct
       | Some _ -> a.pending <- None; frame a ~beh:b ~id ~content:p ()
       | None -> frame a ~beh:b ~id ~content:p () in
     if a.last_behaviour != b.btype.b_name then a.last_behaviour <- b.btype.b_name;
-    protect_block a f b.phandlers.(h - 1).h_body;
+    protect_block a f b.phandlers.(h - 1).hd.h_body;
     (match a.last_handler with Some k when k = h -> () | _ -> a.last_handler <- Some h);
     (a, take_effects a)
 

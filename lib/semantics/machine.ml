@@ -311,16 +311,21 @@ module Make (B : BODIES) = struct
   (* HandlersOf: the registered handlers (R4a). The list depends only on the
      active behaviours, an immutable list: it is remembered for the last one
      seen (physically), which most dequeues share. *)
-  let handlers_cache : (B.beh instance list * (int * int) list) option ref = ref None
+  let handlers_cache : (B.beh instance list * (int * int) list * B.beh list) option ref = ref None
 
-  let handlers_of (c : t) =
+  (* The snapshot, and beside it the behaviour of each entry's instance
+     (which the derived rule Dispatch uses while [active] is unchanged). *)
+  let handlers_and_behs (c : t) =
     match !handlers_cache with
-    | Some (a, h) when a == c.active -> h
+    | Some (a, h, bs) when a == c.active -> (h, bs)
     | _ ->
-      let h = List.concat_map (fun (a : B.beh instance) ->
-          List.init (B.percept_handlers a.beh) (fun j -> (a.id, j + 1))) c.active in
-      handlers_cache := Some (c.active, h);
-      h
+      let pairs = List.concat_map (fun (a : B.beh instance) ->
+          List.init (B.percept_handlers a.beh) (fun j -> ((a.id, j + 1), a.beh))) c.active in
+      let h = List.map fst pairs and bs = List.map snd pairs in
+      handlers_cache := Some (c.active, h, bs);
+      (h, bs)
+
+  let handlers_of (c : t) = fst (handlers_and_behs c)
 
   (* Dequeue (R3b, R4a, R4b). *)
   let dequeue_entry p (c : t) e pq : lbl * t =
@@ -489,20 +494,27 @@ module Make (B : BODIES) = struct
   (* The Handle arm over the snapshot [todo] of the dispatch of [e], from
      configuration [c] (whose behaviour part is [bs] once a handler had
      effects). No closure is allocated: this runs once per percept. *)
-  let rec dispatch_handlers observe p (c : t) e world applied bs todo =
+  let rec dispatch_handlers observe p (c : t) e world applied bs todo behs =
     match todo with
     | [] -> (world, applied, bs)
     | (id, h) :: rest ->
-      let active = match bs with Some s -> s.active | None -> c.active in
-      match find_instance id active with
+      (* [behs]: beside [todo], the behaviour of each entry's instance in
+         [c.active], when the snapshot was just taken from it ([] otherwise);
+         while no body had effects, the instance is found there *)
+      let found = match bs, behs with
+        | None, b :: _ -> Some b
+        | Some s, _ -> find_instance id s.active
+        | None, [] -> find_instance id c.active in
+      let behs = match behs with _ :: brest -> brest | [] -> [] in
+      match found with
       | None ->                                                              (* skip *)
         (match observe with Some f -> f (Skip { id; h }) | None -> ());
-        dispatch_handlers observe p c e world applied bs rest
+        dispatch_handlers observe p c e world applied bs rest behs
       | Some b ->
         let (world, ok) = B.percept_applicable world ~id b h e.p in
         if not ok then begin                                                 (* skip *)
           (match observe with Some f -> f (Skip { id; h }) | None -> ());
-          dispatch_handlers observe p c e world applied bs rest
+          dispatch_handlers observe p c e world applied bs rest behs
         end else begin                                                       (* handle *)
           let (world, effs) = B.run_percept_handler world ~id b h e.p in
           let bs = match effs with
@@ -512,7 +524,7 @@ module Make (B : BODIES) = struct
               Some (apply_effects p s id effs (List.map fst todo)) in
           (match observe with Some f -> f (Handle { id; h; p = e.p; seq = e.seq }) | None -> ());
           dispatch_handlers observe p c e world true bs
-            (match p.mutant with Some First_handler_only -> [] | _ -> rest)  (* mutant *)
+            (match p.mutant with Some First_handler_only -> [] | _ -> rest) behs  (* mutant *)
         end
 
   (* The configuration after the handlers and EndDispatch; [pq], [waits]
@@ -528,15 +540,15 @@ module Make (B : BODIES) = struct
     match c.phase, c.cur with
     | Handle_phase, Some d ->
       Some (dispatch_end observe p c d.e ~pq:c.pq ~waits:c.waits ~dispatched:c.dispatched
-              (dispatch_handlers observe p c d.e c.world d.applied None d.todo))
+              (dispatch_handlers observe p c d.e c.world d.applied None d.todo []))
     | Dispatch_phase, _ when p.mutant = None && p.variant <> Native && p.tie = Stable && not p.flood
                              && not (dispatch_over p c) ->
       (match Pqueue.pop c.pq with                                            (* dequeue_entry *)
        | Some (e, pq) ->
          (match observe with Some f -> f (Dequeue e) | None -> ());
-         let todo = handlers_of c in
+         let (todo, behs) = handlers_and_behs c in
          Some (dispatch_end observe p c e ~pq ~waits:(bump_waits p c e) ~dispatched:(c.dispatched + 1)
-                 (dispatch_handlers observe p c e c.world false None todo))
+                 (dispatch_handlers observe p c e c.world false None todo behs))
        | None -> None)
     | _ -> None
 end
