@@ -600,18 +600,16 @@ let frame ag ?beh ?(id = 0) ?content ?message () =
   { ag; beh; id; locals = new_locals (); content; message; fuel = ref ag.fuel_limit }
 
 (* Run a body: a run-time error stops it and is recorded (R7). *)
-let protect (a : agent) body =
-  try body () with
+let recover (a : agent) = function
   | Runtime_error (at, msg) -> a.events <- Error (at, msg) :: a.events
   | Return _ | Break | Continue -> ()
   | Stack_overflow -> a.events <- Error (Source.no_region, "recursion too deep") :: a.events
+  | x -> raise x
 
-(* The same for a block, without a closure. *)
-let protect_block (a : agent) f b =
-  try block f b with
-  | Runtime_error (at, msg) -> a.events <- Error (at, msg) :: a.events
-  | Return _ | Break | Continue -> ()
-  | Stack_overflow -> a.events <- Error (Source.no_region, "recursion too deep") :: a.events
+let protect (a : agent) body = try body () with x -> recover a x
+
+(* The same for a block, without a closure (a handler body, once per percept). *)
+let protect_block (a : agent) f b = try block f b with x -> recover a x
 
 let describe_effect = function
   | Semantics.Machine.Activate b -> "activate " ^ b.btype.b_name

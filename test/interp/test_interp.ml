@@ -269,6 +269,13 @@ let rec literal_of rand (ty : Typing.Types.t) =
   | Typing.Types.List t -> "[" ^ literal_of rand t ^ "]"
   | _ -> "0"
 
+(* A percept of one of the program's percept types, in Jadescript syntax. *)
+let random_percept_text rand env =
+  let ps = percept_types env in
+  let s = List.nth ps (Random.State.int rand (List.length ps)) in
+  let args = List.map (fun (_, ty) -> literal_of rand ty) s.s_slots in
+  if args = [] then s.s_name else s.s_name ^ "(" ^ String.concat ", " args ^ ")"
+
 let random_run_validates =
   let arb = QCheck.pair Typed_gen.arb_program QCheck.small_nat in
   fun (prog, seed) ->
@@ -278,13 +285,10 @@ let random_run_validates =
     if List.exists (fun d -> d.Diag.severity = Diag.Error) diags then
       QCheck.Test.fail_reportf "the generated program does not check";
     let rand = Random.State.make [| seed |] in
-    let percepts = percept_types env in
     let events = List.init (1 + Random.State.int rand 6) (fun _ ->
         if Random.State.int rand 4 = 0 then "{\"run\": 1}"
         else
-          let s = List.nth percepts (Random.State.int rand (List.length percepts)) in
-          let args = List.map (fun (_, ty) -> literal_of rand ty) s.s_slots in
-          let p = if args = [] then s.s_name else s.s_name ^ "(" ^ String.concat ", " args ^ ")" in
+          let p = random_percept_text rand env in
           let prio = if Random.State.int rand 3 = 0 then Printf.sprintf ", \"priority\": %d" (Random.State.int rand 9) else "" in
           Printf.sprintf "{\"agent\": \"g\", \"notify\": %s%s}" (Yojson.Safe.to_string (`String p)) prio) in
     let params = match Typing.Tenv.agent_create env "Ag" with Some r -> r.r_params | None -> [] in
@@ -357,10 +361,7 @@ let derived_dispatch_on_programs_exn =
       QCheck.Test.fail_reportf "the generated program does not check";
     let rand = Random.State.make [| seed |] in
     let percepts = List.init (1 + Random.State.int rand 12) (fun _ ->
-        let ps = percept_types env in
-        let s = List.nth ps (Random.State.int rand (List.length ps)) in
-        let args = List.map (fun (_, ty) -> literal_of rand ty) s.s_slots in
-        let text = if args = [] then s.s_name else s.s_name ^ "(" ^ String.concat ", " args ^ ")" in
+        let text = random_percept_text rand env in
         let (v, prio) = Interp.Eval.percept_value env ~agent_type:"Ag" (Parse.expr ~file:"e" text) in
         (v, if Random.State.int rand 3 = 0 then Random.State.int rand 9 else prio)) in
     let batches = 1 + Random.State.int rand 3 in
