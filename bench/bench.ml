@@ -247,22 +247,86 @@ let interp_where env total =
   Printf.printf "    memory: %.0f words allocated per percept (notify and loop), %d minor collections\n%!"
     (words /. n) minors
 
+(* Peak RSS since the last reset (Linux: writing 5 to clear_refs resets
+   VmHWM), so that each flood reports its own peak. *)
+let reset_peak_rss () =
+  try let oc = open_out "/proc/self/clear_refs" in output_string oc "5"; close_out oc
+  with Sys_error _ -> ()
+
+type flood = {
+  n : int;
+  notify_ns : float;                 (* per percept *)
+  transfer_s : float;                (* the one Transfer of all n *)
+  dispatch_ns : float;               (* per percept, after the Transfer *)
+  overall : float;                   (* percepts/s, notify to the last dispatch *)
+  live_words : float;                (* per waiting percept, after the notifies *)
+  peak_mb : int;
+  notify_windows : float list;       (* percepts/s of every million notified *)
+  windows : float list;              (* percepts/s of every million dispatched *)
+}
+
+(* A flood: [total] percepts notified at once, then the agent runs until
+   idle. The notifies, the single Transfer and the dispatches are timed
+   apart, every million of each also on its own. *)
 let interp_flood env total =
   let percept = percept_maker env in
   let c = ref (new_agent env) in
-  Gc.compact ();
+  Gc.compact (); reset_peak_rss ();
+  let live0 = (Gc.stat ()).live_words in
   let t0 = Unix.gettimeofday () in
+  let nwindows = ref [] and nlast = ref t0 in
   for k = 0 to total - 1 do
     let (p, d) = percept k in
-    c := M.notify machine_params !c p d
+    c := M.notify machine_params !c p d;
+    if (k + 1) mod 1_000_000 = 0 then begin
+      let now = Unix.gettimeofday () in
+      nwindows := (1e6 /. (now -. !nlast)) :: !nwindows; nlast := now
+    end
   done;
   let t_notify = Unix.gettimeofday () -. t0 in
-  let windows = ref [] and last = ref (Unix.gettimeofday ()) in
+  (* the live heap with every percept waiting (not timed) *)
+  let live_words = float_of_int ((Gc.stat ()).live_words - live0) /. float_of_int total in
+  let t1 = Unix.gettimeofday () in
+  let c = match M.step machine_params !c with
+    | [ ((Semantics.Machine.Transfer k), c) ] when k = total -> c
+    | _ -> failwith "flood: the first step is not the Transfer of every percept" in
+  let t2 = Unix.gettimeofday () in
+  let windows = ref [] and last = ref t2 in
   let (_, handled) = drain ~every:1_000_000 ~window:(fun _ ->
       let now = Unix.gettimeofday () in
-      windows := (1e6 /. (now -. !last)) :: !windows; last := now) !c in
-  let dt = Unix.gettimeofday () -. t0 in
-  (float_of_int handled /. dt, dt, t_notify, List.rev !windows, handled)
+      windows := (1e6 /. (now -. !last)) :: !windows; last := now) c in
+  let t3 = Unix.gettimeofday () in
+  if handled <> total then failwith "flood: not every percept was dispatched";
+  let dt = t_notify +. (t3 -. t1) in
+  { n = total; notify_ns = t_notify *. 1e9 /. float_of_int total; transfer_s = t2 -. t1;
+    dispatch_ns = (t3 -. t2) *. 1e9 /. float_of_int total; overall = float_of_int total /. dt;
+    live_words; peak_mb = peak_rss_kb () / 1024;
+    notify_windows = List.rev !nwindows; windows = List.rev !windows }
+
+let print_floods floods =
+  let millions l = String.concat " " (List.map (fun r -> Printf.sprintf "%.1f" (r /. 1e6)) l) in
+  Printf.printf "  floods: every percept notified at once, then the agent runs until idle
+";
+  Printf.printf "    %10s %12s %12s %14s %12s %14s %10s
+" "backlog" "notify" "Transfer" "dispatch" "overall"
+    "live memory" "peak RSS";
+  List.iter (fun f ->
+      Printf.printf "    %10d %9.0f ns %9.2f s %11.0f ns %9.2fM/s %8.1f words %7d MB
+" f.n f.notify_ns f.transfer_s
+        f.dispatch_ns (f.overall /. 1e6) f.live_words f.peak_mb) floods;
+  (match floods with
+   | small :: _ :: _ ->
+     let big = List.nth floods (List.length floods - 1) in
+     let total_ns f = f.notify_ns +. f.transfer_s *. 1e9 /. float_of_int f.n +. f.dispatch_ns in
+     Printf.printf "    flat: per-percept cost at %dM / at %dM: notify %.2f, dispatch %.2f, all of it %.2f; live memory per waiting percept %.2f
+"
+       (big.n / 1_000_000) (small.n / 1_000_000) (big.notify_ns /. small.notify_ns)
+       (big.dispatch_ns /. small.dispatch_ns) (total_ns big /. total_ns small) (big.live_words /. small.live_words)
+   | _ -> ());
+  let big = List.nth floods (List.length floods - 1) in
+  Printf.printf "    the %dM flood by the million (M percepts/s): notify %s; dispatch %s
+%!" (big.n / 1_000_000)
+    (millions big.notify_windows) (millions big.windows)
 
 let jade_results ?(steady_only = false) ?(env = "") quick =
   (* bench/jade/run.sh prints "JADE steady ..." and "JADE flood ..." lines. *)
@@ -296,20 +360,16 @@ let interp_bench () =
   Interp.Runtime.tune_gc ();
   let quick = Sys.getenv_opt "JSREF_BENCH_QUICK" = Some "1" in
   let env = load_program (find_program "percepts.jade") in
-  let steady_n = if quick then 200_000 else 3_000_000 and flood_n = if quick then 1_000_000 else 10_000_000 in
+  let steady_n = if quick then 200_000 else 3_000_000 and flood_sizes = if quick then [ 1_000_000; 2_000_000 ] else [ 1_000_000; 3_000_000; 10_000_000 ] in
   Printf.printf "interpreter: percepts end to end (notify, transfer, dispatch to 4 handlers of 3 behaviours, map update)\n";
   let (rate_s, dt_s) = interp_steady env steady_n in
   Printf.printf "  %-46s %12.0f percepts/s  (%d in %.2f s)\n" "jadescript-ref, 1,024 in flight" rate_s steady_n dt_s;
   flush stdout;
   interp_where env (if quick then 100_000 else 1_000_000);
   if Sys.getenv_opt "JSREF_BENCH_STEADY_ONLY" = Some "1" then exit 0;
-  Gc.compact ();
-  let (rate_f, dt_f, t_notify, windows, handled) = interp_flood env flood_n in
-  let peak = peak_rss_kb () in
-  Printf.printf "  %-46s %12.0f percepts/s  (%d in %.2f s, of which notify %.2f s; peak RSS %d MB)\n"
-    (Printf.sprintf "jadescript-ref, flood of %d" flood_n) rate_f handled dt_f t_notify (peak / 1024);
-  Printf.printf "  per-million dispatch rates in the flood (flat = constant per-percept cost): %s\n%!"
-    (String.concat ", " (List.map (fun r -> Printf.sprintf "%.2fM" (r /. 1e6)) windows));
+  let floods = List.map (fun n -> interp_flood env n) flood_sizes in
+  print_floods floods;
+  let rate_f = (List.nth floods (List.length floods - 1)).overall in
   (* JSREF_BENCH_NO_JADE=1 leaves the JADE baseline out (while developing) *)
   if Sys.getenv_opt "JSREF_BENCH_NO_JADE" = Some "1" then () else begin
     let get res kind key = match List.assoc_opt kind res with

@@ -733,22 +733,30 @@ module Bodies = struct
      only when its leftmost conjunct is a [matches] of a schema that the
      percept's type is not and does not extend: then the guard is false, with
      no effect and no possible error, so evaluating it would change nothing. *)
+  let rec memo_by_address n = function
+    | (m, r) :: rest -> if m == n then (if r then 1 else 0) else memo_by_address n rest
+    | [] -> -1
+
+  let rec memo_by_content n = function
+    | (m, r) :: rest -> if String.equal m n then (if r then 1 else 0) else memo_by_content n rest
+    | [] -> -1
+
   let may_apply a (ph : phandler) (p : V.t) =
     match ph.required, p with
     | Some (x, memo), V.Schema s ->
       let n = s.sname in
       x == n
       || (* the memo, by address (names are interned), then by content *)
-      (let rec by_address = function
-          | (m, r) :: rest -> if m == n then r else by_address rest
-          | [] ->
-            let rec by_content = function
-              | (m, r) :: rest -> if String.equal m n then r else by_content rest
-              | [] ->
-                let r = same_name x n || T.subschema a.env n x in
-                memo := (n, r) :: !memo; r in
-            by_content !memo in
-        by_address !memo)
+      (match memo_by_address n !memo with
+       | 1 -> true
+       | 0 -> false
+       | _ ->
+         match memo_by_content n !memo with
+         | 1 -> true
+         | 0 -> false
+         | _ ->
+           let r = same_name x n || T.subschema a.env n x in
+           memo := (n, r) :: !memo; r)
     | _ -> true
 
   (* R3b: the pattern and the when are evaluated now; an error makes the
@@ -760,7 +768,8 @@ module Bodies = struct
       (match a.pending with None -> () | Some _ -> a.pending <- None);
       (a, false)
     end else
-    let f = frame a ~beh:b ~id ~content:p () in
+    let f = { ag = a; beh = Some b; id; locals = new_locals (); content = Some p; message = None;
+              fuel = ref a.fuel_limit } in
     let ok = try percept_guard_holds f ph.hd ph.fast p
       with Runtime_error (at, msg) -> a.events <- Error (at, msg) :: a.events; false in
     a.pending <- (if ok then Some (id, h, f) else None);

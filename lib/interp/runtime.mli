@@ -50,5 +50,6 @@ val platform : t -> P.t
 val env : t -> Typing.Tenv.t
 
 val tune_gc : unit -> unit
-(** The garbage-collector settings for runs: a 32 MB minor heap and a space
-    overhead of 200 (runs allocate many short-lived values). *)
+(** The garbage-collector settings for runs: a 32 MB minor heap (runs
+    allocate many short-lived values) and a space overhead of 1000 (under a
+    flood the major heap is mostly waiting percepts, all live). *)

@@ -30,6 +30,11 @@ let to_list q = match q.back with
 
 let of_list l = { front = l; back = []; len = List.length l }
 
+let append l q = match l with
+  | [] -> q
+  | _ when q.len = 0 -> of_list l
+  | _ -> { q with back = List.rev_append l q.back; len = q.len + List.length l }
+
 let partition f q =
   let (yes, no) = List.partition f (to_list q) in
   (yes, of_list no)
@@ -48,4 +53,7 @@ let remove_first f q =
     | None -> None
 
 let exists f q = List.exists f q.front || List.exists f q.back
+let fold_newest f acc q =
+  List.fold_left f (List.fold_left f acc q.back) (List.rev q.front)
+
 let fold f acc q = List.fold_left f (List.fold_left f acc q.front) (List.rev q.back)

@@ -22,6 +22,10 @@ val to_list : 'a t -> 'a list
 
 val of_list : 'a list -> 'a t
 
+val append : 'a list -> 'a t -> 'a t
+(** [append l q] adds the elements of [l] at the back, the head of [l] first.
+    O(length of [l]). *)
+
 val partition : ('a -> bool) -> 'a t -> 'a list * 'a t
 (** [partition f q] is the elements satisfying [f], front first, and the queue
     of the others in their order. O(n). *)
@@ -33,3 +37,7 @@ val remove_first : ('a -> bool) -> 'a t -> ('a * 'a t) option
 val exists : ('a -> bool) -> 'a t -> bool
 val fold : ('acc -> 'a -> 'acc) -> 'acc -> 'a t -> 'acc
 (** Front to back. *)
+
+val fold_newest : ('acc -> 'a -> 'acc) -> 'acc -> 'a t -> 'acc
+(** Back to front: the newest element first. Allocates nothing for the
+    elements pushed since the last {!pop}. *)

@@ -257,11 +257,22 @@ module Make (B : BODIES) = struct
   (* Transfer (R3a; native: into the message queue). One pass over O2A:
      percepts go into the priority queue, objects stay in order. *)
   let transfer_fast p (c : t) : lbl * t =
-    let (pq, n, rest) = Fqueue.fold (fun (pq, n, rest) x -> match x with
-        | O_percept e -> ((if p.flood && Pqueue.mem e pq then pq else Pqueue.insert e pq), n + 1, rest)
-        | O_object _ -> (pq, n, x :: rest)) (c.pq, 0, []) c.o2a in
-    let l = Transfer n in
-    (l, { c with pq; o2a = (if rest = [] then Fqueue.empty else Fqueue.of_list (List.rev rest));
+    let n = ref 0 and objects = ref [] in
+    let pq =
+      if p.flood then
+        (* the flood abstraction: a percept already waiting is not added again *)
+        Fqueue.fold (fun pq x -> match x with
+            | O_percept e -> incr n; if Pqueue.mem e pq then pq else Pqueue.insert e pq
+            | O_object _ -> objects := x :: !objects; pq) c.pq c.o2a
+      else
+        (* newest first: the objects left behind are consed back into order *)
+        Pqueue.insert_newest_first (fun add ->
+            Fqueue.fold_newest (fun () x -> match x with
+                | O_percept e -> incr n; add e
+                | O_object _ -> objects := x :: !objects) () c.o2a) c.pq in
+    let objects = if p.flood then List.rev !objects else !objects in
+    let l = Transfer !n in
+    (l, { c with pq; o2a = (if objects = [] then Fqueue.empty else Fqueue.of_list objects);
                  phase = Dispatch_phase; dispatched = 0; last = l })
 
   let transfer p (c : t) : lbl * t =

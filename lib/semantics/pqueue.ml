@@ -113,6 +113,44 @@ let insert e q =
         | Some b -> bucket_add e b) q.rest in
     { q with rest; size = q.size + 1 }
 
+(* [append l q]: [l] holds entries of one priority in seq order, all after
+   the entries of that priority in [q] (the transfer's case): the run goes
+   at the back of its bucket in one piece. Otherwise entry by entry. *)
+let append l q = match l with
+  | [] -> q
+  | e0 :: _ ->
+    let rec walk n = function [ e ] -> (n + 1, e.seq) | _ :: r -> walk (n + 1) r | [] -> (n, min_int) in
+    let (n, last) = walk 0 l in
+    let size = q.size + n in
+    if q.size = 0 then { hi = e0.prio; top = { q = Fqueue.of_list l; last }; rest = Prio_map.empty; size }
+    else if e0.prio = q.hi then
+      (if q.top.last < e0.seq then { q with top = { q = Fqueue.append l q.top.q; last }; size }
+       else List.fold_left (fun q e -> insert e q) q l)
+    else if e0.prio > q.hi then
+      { hi = e0.prio; top = { q = Fqueue.of_list l; last }; rest = Prio_map.add q.hi q.top q.rest; size }
+    else match Prio_map.find_opt e0.prio q.rest with
+      | None -> { q with rest = Prio_map.add e0.prio { q = Fqueue.of_list l; last } q.rest; size }
+      | Some b when b.last < e0.seq ->
+        { q with rest = Prio_map.add e0.prio { q = Fqueue.append l b.q; last } q.rest; size }
+      | Some _ -> List.fold_left (fun q e -> insert e q) q l
+
+let insert_newest_first feed q =
+  (* One run per priority, consed as the entries come (newest first), so that
+     each run ends oldest first; the last run used is kept at hand, as
+     consecutive entries often share a priority. *)
+  let runs = ref Prio_map.empty and cur_prio = ref min_int and cur = ref (ref []) in
+  feed (fun e ->
+      if e.prio = !cur_prio then !cur := e :: !(!cur)
+      else begin
+        let r = match Prio_map.find_opt e.prio !runs with
+          | Some r -> r
+          | None -> let r = ref [] in runs := Prio_map.add e.prio r !runs; r in
+        r := e :: !r; cur_prio := e.prio; cur := r
+      end);
+  let q = ref q in
+  Prio_map.iter (fun _ r -> q := append !r !q) !runs;
+  !q
+
 (* The queue whose top bucket became [b]: the next bucket moves up if empty. *)
 let with_top q b size =
   if not (Fqueue.is_empty b.q) then { q with top = b; size }

@@ -22,6 +22,15 @@ val size : 'p t -> int
 
 val insert : 'p entry -> 'p t -> 'p t
 
+val insert_newest_first : (('p entry -> unit) -> unit) -> 'p t -> 'p t
+(** [insert_newest_first feed q] inserts every entry that [feed] passes to its
+    argument, which must come in decreasing seq order (the transfer walks O2A
+    from its newest percept). Equal to inserting them one by one in
+    increasing seq order; when each priority's entries come after those
+    already in [q] (always so in the agent loop) each priority's entries go into
+    its bucket in one piece, O(n + r log k) for [n] entries that change
+    priority [r] times, without building a queue per entry. *)
+
 val top : 'p t -> 'p entry option
 (** The entry DequeueMax takes under the Stable policy: highest priority, then
     smallest seq. *)

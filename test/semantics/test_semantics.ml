@@ -88,10 +88,44 @@ let pqueue_any_order ops =
           | None -> (q, m))) (Pqueue.empty, []) ops in
   agrees q m && List.for_all (fun (q, m) -> agrees q m) !versions
 
+(* The transfer's batch insert (newest first, runs appended to buckets) is
+   the same as inserting one by one, oldest first, into any queue: the batch's
+   seqs are sometimes after the queue's (the loop's case, one run per bucket)
+   and sometimes not (entry by entry). The two queues must pop alike. *)
+let pq_batch =
+  let open QCheck in
+  let entry = Gen.(pair (int_bound 5) (int_bound 40)) in
+  make ~print:(fun (a, b, shift) ->
+      let show l = String.concat " " (List.map (fun (p, s) -> Printf.sprintf "%d/%d" p s) l) in
+      Printf.sprintf "queue: %s; batch: %s; shift %b" (show a) (show b) shift)
+    Gen.(triple (list_size (int_bound 30) entry) (list_size (int_bound 60) entry) bool)
+
+let pqueue_batch_insert (before, batch, shift) =
+  let n = ref 0 in
+  let mk (prio, seq) = incr n; { Pqueue.p = !n; prio; seq = (if shift then seq + 100 else seq) } in
+  let q0 = List.fold_left (fun q (prio, seq) -> incr n; Pqueue.insert { Pqueue.p = !n; prio; seq } q)
+      Pqueue.empty before in
+  (* the batch oldest first, stable among equal seqs *)
+  let batch = List.stable_sort (fun (a : int Pqueue.entry) b -> compare a.seq b.seq) (List.map mk batch) in
+  let one_by_one = List.fold_left (fun q e -> Pqueue.insert e q) q0 batch in
+  let at_once = Pqueue.insert_newest_first (fun add -> List.iter add (List.rev batch)) q0 in
+  let rec drain q acc = match Pqueue.pop q with None -> List.rev acc | Some (e, q) -> drain q (e :: acc) in
+  Pqueue.size at_once = Pqueue.size one_by_one
+  && drain at_once [] = drain one_by_one []
+
 let fqueue_is_a_queue l =
   let q = List.fold_left (fun q x -> Fqueue.push x q) Fqueue.empty l in
   let rec drain q acc = match Fqueue.pop q with None -> List.rev acc | Some (x, q) -> drain q (x :: acc) in
   drain q [] = l && Fqueue.to_list q = l
+  && Fqueue.fold_newest (fun acc x -> x :: acc) [] q = l
+  && (let k = List.length l / 2 in
+      let (a, b) = (List.filteri (fun i _ -> i < k) l, List.filteri (fun i _ -> i >= k) l) in
+      let half = List.fold_left (fun q x -> Fqueue.push x q) Fqueue.empty a in
+      let half = match Fqueue.pop half with Some (_, q) when a <> [] -> Fqueue.push (List.hd a) q | _ -> half in
+      let a' = match a with [] -> [] | x :: r -> r @ [ x ] in
+      Fqueue.to_list (Fqueue.append b half) = a' @ b
+      && Fqueue.length (Fqueue.append b half) = List.length l
+      && Fqueue.fold_newest (fun acc x -> x :: acc) [] (Fqueue.append b half) = a' @ b)
   && (match Fqueue.remove_first (fun x -> x mod 3 = 0) q with
       | None -> not (List.exists (fun x -> x mod 3 = 0) l)
       | Some (x, q') ->
@@ -453,6 +487,7 @@ let () =
         qcheck ~count:500 "priority queue pops by priority then seq" pq_ops pqueue_pops_in_order;
         qcheck ~count:300 "candidates and remove" pq_ops pqueue_candidates;
         qcheck ~count:500 "priority queue under any inserts, pops and removals" pq_any_ops pqueue_any_order;
+        qcheck ~count:500 "transfer's batch insert = inserts one by one" pq_batch pqueue_batch_insert;
         qcheck ~count:300 "fqueue is a FIFO" QCheck.(list_of_size Gen.(int_bound 80) small_int) fqueue_is_a_queue ]);
     ("rulings", [
         Alcotest.test_case "R3b ties in seq order" `Quick ties_in_seq_order;
