@@ -260,6 +260,9 @@ type flood = {
   dispatch_ns : float;               (* per percept, after the Transfer *)
   overall : float;                   (* percepts/s, notify to the last dispatch *)
   live_words : float;                (* per waiting percept, after the notifies *)
+  kept_words : int;                  (* live words left once the agent is idle again *)
+  promoted : float;                  (* words per percept the notifies moved to the major heap *)
+  majors : int;                      (* major collections finished during the notifies *)
   peak_mb : int;
   notify_windows : float list;       (* percepts/s of every million notified *)
   windows : float list;              (* percepts/s of every million dispatched *)
@@ -273,6 +276,7 @@ let interp_flood env total =
   let c = ref (new_agent env) in
   Gc.compact (); reset_peak_rss ();
   let live0 = (Gc.stat ()).live_words in
+  let gc0 = Gc.quick_stat () in
   let t0 = Unix.gettimeofday () in
   let nwindows = ref [] and nlast = ref t0 in
   for k = 0 to total - 1 do
@@ -284,6 +288,7 @@ let interp_flood env total =
     end
   done;
   let t_notify = Unix.gettimeofday () -. t0 in
+  let gc1 = Gc.quick_stat () in
   (* the live heap with every percept waiting (not timed) *)
   let live_words = float_of_int ((Gc.stat ()).live_words - live0) /. float_of_int total in
   let t1 = Unix.gettimeofday () in
@@ -292,40 +297,44 @@ let interp_flood env total =
     | _ -> failwith "flood: the first step is not the Transfer of every percept" in
   let t2 = Unix.gettimeofday () in
   let windows = ref [] and last = ref t2 in
-  let (_, handled) = drain ~every:1_000_000 ~window:(fun _ ->
+  let (idle, handled) = drain ~every:1_000_000 ~window:(fun _ ->
       let now = Unix.gettimeofday () in
       windows := (1e6 /. (now -. !last)) :: !windows; last := now) c in
   let t3 = Unix.gettimeofday () in
+  (* what the drained agent still holds beyond the fresh one (not timed) *)
+  Gc.full_major ();
+  let kept_words = (Gc.stat ()).live_words - live0 in
+  ignore (Sys.opaque_identity idle);
   if handled <> total then failwith "flood: not every percept was dispatched";
   let dt = t_notify +. (t3 -. t1) in
   { n = total; notify_ns = t_notify *. 1e9 /. float_of_int total; transfer_s = t2 -. t1;
     dispatch_ns = (t3 -. t2) *. 1e9 /. float_of_int total; overall = float_of_int total /. dt;
-    live_words; peak_mb = peak_rss_kb () / 1024;
+    live_words; kept_words; peak_mb = peak_rss_kb () / 1024; majors = gc1.major_collections - gc0.major_collections;
+    promoted = (gc1.promoted_words -. gc0.promoted_words) /. float_of_int total;
     notify_windows = List.rev !nwindows; windows = List.rev !windows }
 
 let print_floods floods =
   let millions l = String.concat " " (List.map (fun r -> Printf.sprintf "%.1f" (r /. 1e6)) l) in
-  Printf.printf "  floods: every percept notified at once, then the agent runs until idle
-";
-  Printf.printf "    %10s %12s %12s %14s %12s %14s %10s
-" "backlog" "notify" "Transfer" "dispatch" "overall"
-    "live memory" "peak RSS";
+  Printf.printf "  floods: every percept notified at once, then the agent runs until idle\n";
+  Printf.printf "    %10s %12s %12s %14s %12s %14s %10s %16s\n" "backlog" "notify" "Transfer" "dispatch" "overall"
+    "live memory" "peak RSS" "kept when idle";
   List.iter (fun f ->
-      Printf.printf "    %10d %9.0f ns %9.2f s %11.0f ns %9.2fM/s %8.1f words %7d MB
-" f.n f.notify_ns f.transfer_s
-        f.dispatch_ns (f.overall /. 1e6) f.live_words f.peak_mb) floods;
+      Printf.printf "    %10d %9.0f ns %10.2f s %11.0f ns %8.2fM/s %8.1f words %7d MB %10d words\n" f.n f.notify_ns
+        f.transfer_s f.dispatch_ns (f.overall /. 1e6) f.live_words f.peak_mb f.kept_words) floods;
+  Printf.printf "    (notify and dispatch per percept; live memory per waiting percept once all are notified)\n";
+  List.iter (fun f ->
+      Printf.printf "    where the notifies' time goes at %dM: the collector moved %.1f words per percept to the major heap (every waiting percept is live) and finished %d major collections\n"
+        (f.n / 1_000_000) f.promoted f.majors) floods;
   (match floods with
    | small :: _ :: _ ->
      let big = List.nth floods (List.length floods - 1) in
      let total_ns f = f.notify_ns +. f.transfer_s *. 1e9 /. float_of_int f.n +. f.dispatch_ns in
-     Printf.printf "    flat: per-percept cost at %dM / at %dM: notify %.2f, dispatch %.2f, all of it %.2f; live memory per waiting percept %.2f
-"
+     Printf.printf "    flat: per-percept cost at %dM / at %dM: notify %.2f, dispatch %.2f, all of it %.2f; live memory per waiting percept %.2f\n"
        (big.n / 1_000_000) (small.n / 1_000_000) (big.notify_ns /. small.notify_ns)
        (big.dispatch_ns /. small.dispatch_ns) (total_ns big /. total_ns small) (big.live_words /. small.live_words)
    | _ -> ());
   let big = List.nth floods (List.length floods - 1) in
-  Printf.printf "    the %dM flood by the million (M percepts/s): notify %s; dispatch %s
-%!" (big.n / 1_000_000)
+  Printf.printf "    the %dM flood by the million (M percepts/s): notify %s; dispatch %s\n%!" (big.n / 1_000_000)
     (millions big.notify_windows) (millions big.windows)
 
 let jade_results ?(steady_only = false) ?(env = "") quick =

@@ -23,6 +23,7 @@ module Bodies = struct
   let percept_handlers () = 4
   let message_handlers () = 0
 
+  let percept_may_apply _ () _ _ = true
   let percept_applicable w ~id:_ () h (p : Agent.percept) =
     let ok = match h, p with
       | 1, Falling | 2, Obstacle | 3, Qr_code_read _ | 4, Position _ -> true

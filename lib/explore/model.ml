@@ -194,6 +194,8 @@ module Bodies = struct
         | E_deactivate -> Semantics.Machine.Deactivate) effs
 
   let percept_applicable () ~id:_ b h p = ((), List.mem p b.percept_handlers.(h - 1).accepts)
+  (* the bodies of a model have no effects on the world: the test itself *)
+  let percept_may_apply () b h p = List.mem p b.percept_handlers.(h - 1).accepts
   let run_percept_handler () ~id:_ b h _ = ((), effects b b.percept_handlers.(h - 1).effects)
   let run_action () ~id:_ b = ((), effects b b.action_effects)
   let message_accepted () ~id:_ b h m = List.mem m b.message_handlers.(h - 1).accepts

@@ -759,6 +759,8 @@ module Bodies = struct
            memo := (n, r) :: !memo; r)
     | _ -> true
 
+  let percept_may_apply a b h p = may_apply a b.phandlers.(h - 1) p
+
   (* R3b: the pattern and the when are evaluated now; an error makes the
      handler not applicable, and is recorded. The bindings are kept for the
      body. *)

@@ -111,6 +111,7 @@ module type BODIES = sig
   val percept_handlers : beh -> int
   val message_handlers : beh -> int
   val percept_applicable : world -> id:int -> beh -> int -> percept -> world * bool
+  val percept_may_apply : world -> beh -> int -> percept -> bool
   val run_percept_handler : world -> id:int -> beh -> int -> percept -> world * beh effect list
   val run_action : world -> id:int -> beh -> world * beh effect list
   val message_accepted : world -> id:int -> beh -> int -> message -> bool
@@ -519,6 +520,10 @@ module Make (B : BODIES) = struct
       let behs = match behs with _ :: brest -> brest | [] -> [] in
       match found with
       | None ->                                                              (* skip *)
+        (match observe with Some f -> f (Skip { id; h }) | None -> ());
+        dispatch_handlers observe p c e world applied bs rest behs
+      | Some b when not (B.percept_may_apply world b h e.p) ->                 (* skip *)
+        (* the pre-test: percept_applicable would answer false, changing nothing *)
         (match observe with Some f -> f (Skip { id; h }) | None -> ());
         dispatch_handlers observe p c e world applied bs rest behs
       | Some b ->

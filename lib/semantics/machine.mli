@@ -156,6 +156,15 @@ module type BODIES = sig
       (pattern and [when], R3b)? An error makes it not applicable; the world
       may record it. *)
 
+  val percept_may_apply : world -> beh -> int -> percept -> bool
+  (** A pre-test for the derived rule Dispatch: [false] only when
+      [percept_applicable] would surely answer [false] for handler [h] of the
+      behaviour and this percept, leaving the world as it is and recording
+      nothing (for instance, the guard's first conjunct matches a schema the
+      percept's type is not). Dispatch then takes the Skip without asking
+      [percept_applicable]; [step] always asks. [fun _ _ _ _ -> true] is
+      always correct. *)
+
   val run_percept_handler : world -> id:int -> beh -> int -> percept -> world * beh effect list
 
   val run_action : world -> id:int -> beh -> world * beh effect list

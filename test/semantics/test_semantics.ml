@@ -322,6 +322,7 @@ module Ping = struct
   let percept_handlers _ = 0
   let message_handlers = function Pinger -> 1 | Ponger -> 1
   let percept_applicable w ~id:_ _ _ () = (w, false)
+  let percept_may_apply _ _ _ () = true
   let run_percept_handler w ~id:_ _ _ () = (w, [])
   let run_action w ~id:_ _ = ({ w with outbox = w.outbox @ [ ("b", "ping"); ("nobody", "ping") ] }, [])
   let message_accepted _ ~id:_ b _ m = (b = Ponger && m = "ping") || (b = Pinger && m = "pong")
