@@ -268,6 +268,15 @@ type flood = {
   windows : float list;              (* percepts/s of every million dispatched *)
 }
 
+(* A clock for windows: [tick ()] ends a window of a million percepts;
+   [rates ()] is the percepts per second of each window, in order. *)
+let million_windows () =
+  let rates = ref [] and last = ref (Unix.gettimeofday ()) in
+  let tick () =
+    let now = Unix.gettimeofday () in
+    rates := (1e6 /. (now -. !last)) :: !rates; last := now in
+  (tick, fun () -> List.rev !rates)
+
 (* A flood: [total] percepts notified at once, then the agent runs until
    idle. The notifies, the single Transfer and the dispatches are timed
    apart, every million of each also on its own. *)
@@ -278,14 +287,11 @@ let interp_flood env total =
   let live0 = (Gc.stat ()).live_words in
   let gc0 = Gc.quick_stat () in
   let t0 = Unix.gettimeofday () in
-  let nwindows = ref [] and nlast = ref t0 in
+  let (notified, notify_windows) = million_windows () in
   for k = 0 to total - 1 do
     let (p, d) = percept k in
     c := M.notify machine_params !c p d;
-    if (k + 1) mod 1_000_000 = 0 then begin
-      let now = Unix.gettimeofday () in
-      nwindows := (1e6 /. (now -. !nlast)) :: !nwindows; nlast := now
-    end
+    if (k + 1) mod 1_000_000 = 0 then notified ()
   done;
   let t_notify = Unix.gettimeofday () -. t0 in
   let gc1 = Gc.quick_stat () in
@@ -296,10 +302,8 @@ let interp_flood env total =
     | [ ((Semantics.Machine.Transfer k), c) ] when k = total -> c
     | _ -> failwith "flood: the first step is not the Transfer of every percept" in
   let t2 = Unix.gettimeofday () in
-  let windows = ref [] and last = ref t2 in
-  let (idle, handled) = drain ~every:1_000_000 ~window:(fun _ ->
-      let now = Unix.gettimeofday () in
-      windows := (1e6 /. (now -. !last)) :: !windows; last := now) c in
+  let (dispatched, windows) = million_windows () in
+  let (idle, handled) = drain ~every:1_000_000 ~window:(fun _ -> dispatched ()) c in
   let t3 = Unix.gettimeofday () in
   (* what the drained agent still holds beyond the fresh one (not timed) *)
   Gc.full_major ();
@@ -311,7 +315,7 @@ let interp_flood env total =
     dispatch_ns = (t3 -. t2) *. 1e9 /. float_of_int total; overall = float_of_int total /. dt;
     live_words; kept_words; peak_mb = peak_rss_kb () / 1024; majors = gc1.major_collections - gc0.major_collections;
     promoted = (gc1.promoted_words -. gc0.promoted_words) /. float_of_int total;
-    notify_windows = List.rev !nwindows; windows = List.rev !windows }
+    notify_windows = notify_windows (); windows = windows () }
 
 let print_floods floods =
   let millions l = String.concat " " (List.map (fun r -> Printf.sprintf "%.1f" (r /. 1e6)) l) in
@@ -325,15 +329,14 @@ let print_floods floods =
   List.iter (fun f ->
       Printf.printf "    where the notifies' time goes at %dM: the collector moved %.1f words per percept to the major heap (every waiting percept is live) and finished %d major collections\n"
         (f.n / 1_000_000) f.promoted f.majors) floods;
+  let big = List.nth floods (List.length floods - 1) in
   (match floods with
    | small :: _ :: _ ->
-     let big = List.nth floods (List.length floods - 1) in
      let total_ns f = f.notify_ns +. f.transfer_s *. 1e9 /. float_of_int f.n +. f.dispatch_ns in
      Printf.printf "    flat: per-percept cost at %dM / at %dM: notify %.2f, dispatch %.2f, all of it %.2f; live memory per waiting percept %.2f\n"
        (big.n / 1_000_000) (small.n / 1_000_000) (big.notify_ns /. small.notify_ns)
        (big.dispatch_ns /. small.dispatch_ns) (total_ns big /. total_ns small) (big.live_words /. small.live_words)
    | _ -> ());
-  let big = List.nth floods (List.length floods - 1) in
   Printf.printf "    the %dM flood by the million (M percepts/s): notify %s; dispatch %s\n%!" (big.n / 1_000_000)
     (millions big.notify_windows) (millions big.windows)
 
@@ -378,7 +381,7 @@ let interp_bench () =
   if Sys.getenv_opt "JSREF_BENCH_STEADY_ONLY" = Some "1" then exit 0;
   let floods = List.map (fun n -> interp_flood env n) flood_sizes in
   print_floods floods;
-  let rate_f = (List.nth floods (List.length floods - 1)).overall in
+  let rate_f = (List.nth floods (List.length floods - 1)).overall in   (* the largest *)
   (* JSREF_BENCH_NO_JADE=1 leaves the JADE baseline out (while developing) *)
   if Sys.getenv_opt "JSREF_BENCH_NO_JADE" = Some "1" then () else begin
     let get res kind key = match List.assoc_opt kind res with

@@ -733,12 +733,10 @@ module Bodies = struct
      only when its leftmost conjunct is a [matches] of a schema that the
      percept's type is not and does not extend: then the guard is false, with
      no effect and no possible error, so evaluating it would change nothing. *)
+  (* The memo's answer for the schema named by the very string [n]: 1 (yes),
+     0 (no), -1 (not there). *)
   let rec memo_by_address n = function
     | (m, r) :: rest -> if m == n then (if r then 1 else 0) else memo_by_address n rest
-    | [] -> -1
-
-  let rec memo_by_content n = function
-    | (m, r) :: rest -> if String.equal m n then (if r then 1 else 0) else memo_by_content n rest
     | [] -> -1
 
   let may_apply a (ph : phandler) (p : V.t) =
@@ -751,10 +749,9 @@ module Bodies = struct
        | 1 -> true
        | 0 -> false
        | _ ->
-         match memo_by_content n !memo with
-         | 1 -> true
-         | 0 -> false
-         | _ ->
+         match List.find_opt (fun (m, _) -> String.equal m n) !memo with
+         | Some (_, r) -> r
+         | None ->
            let r = same_name x n || T.subschema a.env n x in
            memo := (n, r) :: !memo; r)
     | _ -> true
@@ -770,8 +767,7 @@ module Bodies = struct
       (match a.pending with None -> () | Some _ -> a.pending <- None);
       (a, false)
     end else
-    let f = { ag = a; beh = Some b; id; locals = new_locals (); content = Some p; message = None;
-              fuel = ref a.fuel_limit } in
+    let f = frame a ~beh:b ~id ~content:p () in
     let ok = try percept_guard_holds f ph.hd ph.fast p
       with Runtime_error (at, msg) -> a.events <- Error (at, msg) :: a.events; false in
     a.pending <- (if ok then Some (id, h, f) else None);

@@ -289,8 +289,8 @@ let env t = t.env
    live until it is dispatched, and the major heap is mostly that backlog.
    A space overhead of 1000 lets the major collector mark it about a fifth as
    often as 200 would (OCaml's default is 120; bench/README.md: the host's
-   notifies under a flood of 10M went from 730 ns to 270 ns each); garbage reaches the
-   major heap slowly in this interpreter (configurations die young), so the
-   heap stays close to the live data. *)
+   notifies under a flood of 10M went from 730 ns to 270-370 ns each);
+   garbage reaches the major heap slowly in this interpreter (configurations
+   die young), so the heap stays close to the live data. *)
 let tune_gc () =
   Gc.set { (Gc.get ()) with Gc.minor_heap_size = 4 * 1024 * 1024; space_overhead = 1000 }

@@ -518,12 +518,13 @@ module Make (B : BODIES) = struct
         | Some s, _ -> find_instance id s.active
         | None, [] -> find_instance id c.active in
       let behs = match behs with _ :: brest -> brest | [] -> [] in
+      (* the pre-test: where it says no, percept_applicable would answer
+         false, changing nothing *)
+      let found = match found with
+        | Some b when B.percept_may_apply world b h e.p -> found
+        | _ -> None in
       match found with
       | None ->                                                              (* skip *)
-        (match observe with Some f -> f (Skip { id; h }) | None -> ());
-        dispatch_handlers observe p c e world applied bs rest behs
-      | Some b when not (B.percept_may_apply world b h e.p) ->                 (* skip *)
-        (* the pre-test: percept_applicable would answer false, changing nothing *)
         (match observe with Some f -> f (Skip { id; h }) | None -> ());
         dispatch_handlers observe p c e world applied bs rest behs
       | Some b ->

@@ -102,37 +102,30 @@ let empty = { hi = min_int; top = no_bucket; rest = Prio_map.empty; size = 0 }
 let is_empty q = q.size = 0
 let size q = q.size
 
-let insert e q =
-  if q.size = 0 then { hi = e.prio; top = single e; rest = Prio_map.empty; size = 1 }
-  else if e.prio = q.hi then { q with top = bucket_add e q.top; size = q.size + 1 }
-  else if e.prio > q.hi then
-    { hi = e.prio; top = single e; rest = Prio_map.add q.hi q.top q.rest; size = q.size + 1 }
-  else
-    let rest = Prio_map.update e.prio (function
-        | None -> single e
-        | Some b -> bucket_add e b) q.rest in
-    { q with rest; size = q.size + 1 }
+(* The queue with [n] more entries, whose bucket of priority [prio] becomes
+   [f] of the one there now ([None]: there is none). *)
+let place prio f n q =
+  let size = q.size + n in
+  if q.size = 0 then { hi = prio; top = f None; rest = Prio_map.empty; size }
+  else if prio = q.hi then { q with top = f (Some q.top); size }
+  else if prio > q.hi then { hi = prio; top = f None; rest = Prio_map.add q.hi q.top q.rest; size }
+  else { q with rest = Prio_map.update prio f q.rest; size }
 
-(* [append l q]: [l] holds entries of one priority in seq order, all after
-   the entries of that priority in [q] (the transfer's case): the run goes
-   at the back of its bucket in one piece. Otherwise entry by entry. *)
+let insert e q = place e.prio (function None -> single e | Some b -> bucket_add e b) 1 q
+
+(* [append l q]: [l] holds entries of one priority in seq order. When they
+   all come after the entries of that priority in [q] (the transfer's case)
+   the run goes at the back of its bucket in one piece; otherwise entry by
+   entry. *)
 let append l q = match l with
   | [] -> q
   | e0 :: _ ->
     let rec walk n = function [ e ] -> (n + 1, e.seq) | _ :: r -> walk (n + 1) r | [] -> (n, min_int) in
     let (n, last) = walk 0 l in
-    let size = q.size + n in
-    if q.size = 0 then { hi = e0.prio; top = { q = Fqueue.of_list l; last }; rest = Prio_map.empty; size }
-    else if e0.prio = q.hi then
-      (if q.top.last < e0.seq then { q with top = { q = Fqueue.append l q.top.q; last }; size }
-       else List.fold_left (fun q e -> insert e q) q l)
-    else if e0.prio > q.hi then
-      { hi = e0.prio; top = { q = Fqueue.of_list l; last }; rest = Prio_map.add q.hi q.top q.rest; size }
-    else match Prio_map.find_opt e0.prio q.rest with
-      | None -> { q with rest = Prio_map.add e0.prio { q = Fqueue.of_list l; last } q.rest; size }
-      | Some b when b.last < e0.seq ->
-        { q with rest = Prio_map.add e0.prio { q = Fqueue.append l b.q; last } q.rest; size }
-      | Some _ -> List.fold_left (fun q e -> insert e q) q l
+    place e0.prio (function
+        | None -> { q = Fqueue.of_list l; last }
+        | Some b when b.last < e0.seq -> { q = Fqueue.append l b.q; last }
+        | Some b -> List.fold_left (fun b e -> bucket_add e b) b l) n q
 
 let insert_newest_first feed q =
   (* One run per priority, consed as the entries come (newest first), so that
