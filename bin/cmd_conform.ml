@@ -15,7 +15,7 @@ let find_vectors = function
       if Sys.file_exists p then p else let u = Filename.dirname d in if u = d then p else up u in
     up (Sys.getcwd ())
 
-let run impl vectors update only =
+let run impl vectors update only timeout keep =
   let dir = find_vectors vectors in
   match O.load dir with
   | exception Failure m -> prerr_endline (dir ^ ":1:1: error: " ^ m); 1
@@ -23,6 +23,7 @@ let run impl vectors update only =
   | vs ->
     let vs = if only = [] then vs else List.filter (fun (v : O.vector) -> List.mem v.name only) vs in
     let impl = match impl with Some c -> c | None -> self_run () in
+    (match keep with Some d when not (Sys.file_exists d) -> (try Sys.mkdir d 0o755 with Sys_error _ -> ()) | _ -> ());
     let failed = ref 0 in
     List.iter (fun (v : O.vector) ->
         if update then begin
@@ -45,7 +46,7 @@ let run impl vectors update only =
           Printf.printf "%-44s %-14s BROKEN VECTOR: its expected trace fails its assertions: %s\n%!"
             v.name (String.concat "," v.rulings) e
         | None ->
-          match O.run_vector ~impl v with
+          match O.run_vector ?timeout ?keep ~impl v with
           | O.Pass -> Printf.printf "%-44s %-14s pass\n%!" v.name (String.concat "," v.rulings)
           | O.Diverge { index; expected; got } ->
             incr failed;
@@ -67,11 +68,19 @@ let cmd =
                       ~doc:"Rewrite each expected.jsonl with jadescript-ref (for vector authors); \
                             the vector's assertions are still checked.") in
   let only = Arg.(value & pos_all string [] & info [] ~docv:"VECTOR" ~doc:"Only these vectors.") in
+  let keep = Arg.(value & opt (some string) None & info ["keep"] ~docv:"DIR"
+                    ~doc:"Keep each trace the implementation wrote as DIR/VECTOR.jsonl (for validate).") in
+  let timeout = Arg.(value & opt (some float) None & info ["timeout"] ~docv:"SECONDS"
+                       ~doc:"Time limit of one vector's run (default: 30 s plus 0.05 s per expected \
+                             event); an implementation still running then is killed and fails.") in
   Cmd.v (Cmd.info "conform" ~doc:"Run an implementation on the conformance vectors."
            ~man:[`S Manpage.s_description;
                  `P "Runs the implementation on every vector of conformance/ and compares \
                      its trace with the expected one, event by event; reports each vector's \
                      pass or failure with the first diverging event. Each vector's expected \
                      trace is first checked against the vector's own assertions \
-                     (docs/trace-format.md). Exit status 1 when a vector fails."])
-    Term.(const run $ impl $ vectors $ update $ only)
+                     (docs/trace-format.md). The implementation must also end within \
+                     $(b,--timeout), exit with status 0 (or 1 exactly when its trace records \
+                     a run-time error, D15) and write the expected header. Exit status 1 \
+                     when a vector fails."])
+    Term.(const run $ impl $ vectors $ update $ only $ timeout $ keep)

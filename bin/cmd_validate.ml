@@ -1,9 +1,9 @@
-(* jadescript-ref validate TRACE: is the run a behaviour of spec/AgentLoop.tla? *)
+(* jadescript-ref validate TRACE...: is the run a behaviour of spec/AgentLoop.tla? *)
 
 open Cmdliner
 open Explore
 
-let run trace keep =
+let run_one keep trace =
   match Validate.trace ?keep trace with
   | verdicts ->
     List.fold_left (fun code v ->
@@ -24,9 +24,14 @@ let run trace keep =
   | exception Model.Error msg -> prerr_endline (Printf.sprintf "%s:1:1: error: %s" trace msg); 1
   | exception Sys_error msg -> prerr_endline (Printf.sprintf "%s:1:1: error: %s" trace msg); 1
 
+(* Every trace is validated, even after a rejection; the status is 1 when any
+   step of any trace was rejected. *)
+let run traces keep = List.fold_left (fun code t -> max code (run_one keep t)) 0 traces
+
 let cmd =
-  let trace = Arg.(required & pos 0 (some string) None & info [] ~docv:"TRACE"
-                     ~doc:"A trace written by jadescript-ref run --trace.") in
+  let trace = Arg.(non_empty & pos_all string [] & info [] ~docv:"TRACE"
+                     ~doc:"Traces written by jadescript-ref run --trace (or by another \
+                           implementation, docs/trace-format.md).") in
   let keep = Arg.(value & opt (some string) None & info ["keep"] ~docv:"DIR"
                     ~doc:"Also write the generated TLA+ modules into DIR.") in
   Cmd.v (Cmd.info "validate" ~doc:"Ask TLC whether a trace is a behaviour of spec/AgentLoop.tla."

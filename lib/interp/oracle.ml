@@ -108,17 +108,114 @@ let compare_traces ~expected ~got =
     | [], g :: _ -> Diverge { index = i; expected = "(the trace ends)"; got = show (strip g) } in
   go 1 (expected, got)
 
-let run_vector ~impl v =
+(* ------------------------------------------------- judging a run *)
+
+let sorted_fields j =
+  let rec norm (j : Yojson.Safe.t) : Yojson.Safe.t = match j with
+    | `Assoc f -> `Assoc (List.sort (fun (a, _) (b, _) -> compare a b) (List.map (fun (k, v) -> (k, norm v)) f))
+    | `List l -> `List (List.map norm l)
+    | j -> j in
+  norm j
+
+let header_problem ~expected (line : string) =
+  match Yojson.Safe.from_string line with
+  | exception Yojson.Json_error _ -> Some "its first line is not JSON (a header is required, docs/trace-format.md)"
+  | `Assoc f as got ->
+    (match List.assoc_opt "trace" f, List.assoc_opt "version" f with
+     | Some (`String "jadescript-ref"), Some (`Int 1) ->
+       if Yojson.Safe.equal (sorted_fields expected) (sorted_fields got) then None
+       else Some (Printf.sprintf "its header differs: expected %s, got %s" (show expected) (show got))
+     | Some (`String "jadescript-ref"), Some v ->
+       Some (Printf.sprintf "its header has version %s; this oracle reads version 1" (show v))
+     | _ -> Some "its first line is not a header ({\"trace\":\"jadescript-ref\",\"version\":1,...})")
+  | _ -> Some "its first line is not a header object"
+
+let has_error_event evs = List.exists (fun e -> List.assoc_opt "event" (fields e) = Some (`String "error")) evs
+
+(* Compare the trace file [got] with the expected events, reading it one line
+   at a time: memory is bounded by the expected trace, whatever [got] holds. *)
+let compare_stream ~expected_header ~expected got =
+  let ic = open_in_bin got in
+  Fun.protect ~finally:(fun () -> close_in_noerr ic) (fun () ->
+      let rec next () = match input_line ic with
+        | l when String.trim l = "" -> next ()
+        | l -> Some l
+        | exception End_of_file -> None in
+      match next () with
+      | None -> `Failed "the implementation wrote an empty trace"
+      | Some h ->
+        match header_problem ~expected:expected_header h with
+        | Some p -> `Failed p
+        | None ->
+          let rec go i errors = function
+            | [] ->
+              (match next () with
+               | None -> `Pass errors
+               | Some l -> `Diverge (i, "(the trace ends)", l))
+            | e :: es ->
+              match next () with
+              | None -> `Diverge (i, show (strip e), "(the trace ends)")
+              | Some l ->
+                match Yojson.Safe.from_string l with
+                | exception Yojson.Json_error _ -> `Diverge (i, show (strip e), "not JSON: " ^ l)
+                | g ->
+                  if Yojson.Safe.equal (strip e) (strip g) then go (i + 1) (errors || has_error_event [ g ]) es
+                  else `Diverge (i, show (strip e), show (strip g)) in
+          go 1 false expected)
+
+let first_line path =
+  match open_in_bin path with
+  | exception Sys_error _ -> ""
+  | ic -> Fun.protect ~finally:(fun () -> close_in_noerr ic) (fun () ->
+      try input_line ic with End_of_file -> "")
+
+(* The shell's status: 0-125 an exit status, 124 from timeout(1), 128+n a signal. *)
+let describe_status ~timeout code =
+  if code = 124 then Printf.sprintf "timed out after %g s (--timeout)" timeout
+  else if code = 137 then Printf.sprintf "killed after %g s (--timeout)" timeout
+  else if code > 128 then Printf.sprintf "was killed by signal %d" (code - 128)
+  else Printf.sprintf "exited with status %d" code
+
+let default_timeout v =
+  let n = try List.length (read_trace (Filename.concat v.dir "expected.jsonl")) with Failure _ | Sys_error _ -> 0 in
+  30. +. 0.05 *. float_of_int n
+
+let run_vector ?timeout ?keep ~impl v =
+  let timeout = match timeout with Some t -> t | None -> default_timeout v in
   let trace = Filename.temp_file "jsref-conform" ".jsonl" in
-  Fun.protect ~finally:(fun () -> try Sys.remove trace with Sys_error _ -> ()) (fun () ->
-      let cmd = Printf.sprintf "cd %s && %s %s %s --events events.jsonl --trace %s > /dev/null 2>&1"
-          (Filename.quote v.dir) impl
+  let errs = Filename.temp_file "jsref-conform" ".err" in
+  Fun.protect ~finally:(fun () ->
+      (match keep with
+       | Some dir ->
+         (* keep the implementation's trace: DIR/NAME.jsonl *)
+         let dst = Filename.concat dir (v.name ^ ".jsonl") in
+         (try Sys.rename trace dst
+          with Sys_error _ -> ignore (Sys.command (Printf.sprintf "cp %s %s" (Filename.quote trace) (Filename.quote dst))))
+       | None -> ());
+      List.iter (fun f -> try Sys.remove f with Sys_error _ -> ()) [ trace; errs ]) (fun () ->
+      let cmd = Printf.sprintf "cd %s && timeout --kill-after=5 %g %s %s %s --events events.jsonl --trace %s > /dev/null 2> %s"
+          (Filename.quote v.dir) timeout impl
           (String.concat " " (List.map Filename.quote v.files))
           (String.concat " " (List.map Filename.quote v.args))
-          (Filename.quote trace) in
-      let _code = Sys.command cmd in
-      match read_trace trace with
-      | [] -> Failed "the implementation wrote no trace"
-      | got -> compare_traces ~expected:(read_trace (Filename.concat v.dir "expected.jsonl")) ~got
-      | exception Failure m -> Failed m
-      | exception Sys_error m -> Failed m)
+          (Filename.quote trace) (Filename.quote errs) in
+      let code = Sys.command cmd in
+      let because m = match first_line errs with "" -> m | l -> m ^ " (its stderr: " ^ l ^ ")" in
+      match
+        let path = Filename.concat v.dir "expected.jsonl" in
+        let header = match String.split_on_char '\n' (read_file path) with
+          | h :: _ -> Yojson.Safe.from_string h
+          | [] -> failwith (path ^ ": empty") in
+        (header, read_trace path)
+      with
+      | exception (Failure m | Sys_error m | Yojson.Json_error m) -> Failed ("the vector is broken: " ^ m)
+      | (expected_header, expected) ->
+        if code <> 0 && code <> 1 then Failed (because ("the implementation " ^ describe_status ~timeout code))
+        else match compare_stream ~expected_header ~expected trace with
+          | exception (Sys_error m) -> Failed (because m)
+          | `Failed m -> Failed (because m)
+          | `Diverge (index, expected, got) -> Diverge { index; expected; got }
+          | `Pass errors ->
+            (* D15: status 1 exactly when the run recorded a run-time error *)
+            if code = 1 && not errors then Failed (because "the implementation exited with status 1, but its trace records no run-time error")
+            else if code = 0 && errors then Failed "the implementation exited with status 0, but its trace records a run-time error (D15: status 1)"
+            else Pass)

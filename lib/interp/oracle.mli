@@ -45,6 +45,17 @@ type outcome =
 val compare_traces : expected:Yojson.Safe.t list -> got:Yojson.Safe.t list -> outcome
 (** Event by event, ignoring [step]. *)
 
-val run_vector : impl:string -> vector -> outcome
+val run_vector : ?timeout:float -> ?keep:string -> impl:string -> vector -> outcome
 (** Runs [impl FILES ARGS --events events.jsonl --trace TMP] in the vector's
-    folder and compares its trace with [expected.jsonl]. *)
+    folder and judges what it did (docs/trace-format.md, "Conformance"):
+    - it must end within [timeout] seconds (default: 30 s plus 0.05 s per
+      expected event), else it is killed and fails;
+    - its exit status must be 0, or 1 exactly when its trace records a
+      run-time error (D15); a signal or any other status fails;
+    - its trace's first line must be a header of format ["jadescript-ref"]
+      version 1, equal to the expected header (field order aside);
+    - its events must equal the expected ones, in order, [step] aside.
+    The trace is read one line at a time, so memory stays bounded by the
+    expected trace; the temporary files are removed ([keep]: the trace is
+    kept as [keep/NAME.jsonl], for [validate]). A failure shows the first
+    line the implementation wrote on standard error. *)

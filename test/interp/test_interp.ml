@@ -255,6 +255,50 @@ let conform_passes () =
   let (status, out, _) = run_command (Printf.sprintf "%s conform --impl '%s run --variant native'" exe exe) in
   Alcotest.(check int) ("native fails the suite:\n" ^ out) 1 status
 
+(* conform judges what an implementation does, not only the events it
+   writes: each fake implementation below plants one fault of a second
+   implementer (wrong status, a signal, a hang, no header, another format
+   version, a missing event), and conform must reject it; the honest fake
+   (the expected trace, copied) must pass. *)
+let conform_judges () =
+  let dir = Filename.concat root "conformance" in
+  let vector = "001-r3b-priority-order" in
+  let expected = Filename.concat (Filename.concat dir vector) "expected.jsonl" in
+  let fake name body =
+    let f = Filename.temp_file ("jsref-fake-" ^ name) ".sh" in
+    let oc = open_out_bin f in
+    (* the trace file is the argument after --trace *)
+    output_string oc ("#!/bin/sh\nwhile [ $# -gt 0 ]; do if [ \"$1\" = --trace ]; then out=\"$2\"; fi; shift; done\n"
+                      ^ body ^ "\n");
+    close_out oc; Unix.chmod f 0o755; f in
+  let judge ?(timeout = "") f =
+    let (status, out, _) = run_command (Printf.sprintf "%s conform %s --impl %s %s" exe timeout f vector) in
+    (status, out) in
+  let honest = fake "honest" (Printf.sprintf "cp %s \"$out\"" (Filename.quote expected)) in
+  let (status, out) = judge honest in
+  Alcotest.(check int) ("the expected trace, copied, passes:\n" ^ out) 0 status;
+  let bad = [
+    ("exit 3", Printf.sprintf "cp %s \"$out\"; exit 3" (Filename.quote expected), "exited with status 3");
+    ("exit 1 without an error event", Printf.sprintf "cp %s \"$out\"; exit 1" (Filename.quote expected), "records no run-time error");
+    ("a signal", Printf.sprintf "cp %s \"$out\"; kill -SEGV $$" (Filename.quote expected), "signal 11");
+    ("no header", Printf.sprintf "tail -n +2 %s > \"$out\"" (Filename.quote expected), "header");
+    ("version 999", Printf.sprintf "sed '1s/\"version\":1/\"version\":999/' %s > \"$out\"" (Filename.quote expected), "version 999");
+    ("another variant in the header", Printf.sprintf "sed '1s/\"reference\"/\"budgeted\"/' %s > \"$out\"" (Filename.quote expected), "header differs");
+    ("an event missing", Printf.sprintf "sed '5d' %s > \"$out\"" (Filename.quote expected), "FAIL at event");
+    ("one event too many", Printf.sprintf "cp %s \"$out\"; tail -n 1 %s >> \"$out\"" (Filename.quote expected) (Filename.quote expected), "FAIL at event");
+    ("nothing written", "true", "empty trace");
+  ] in
+  List.iter (fun (what, body, why) ->
+      let (status, out) = judge (fake "bad" body) in
+      Alcotest.(check int) (what ^ " fails:\n" ^ out) 1 status;
+      Alcotest.(check bool) (Printf.sprintf "%s: the report says %S:\n%s" what why out) true
+        (try ignore (Explore.Str_find.find out why); true with Not_found -> false)) bad;
+  let t0 = Unix.gettimeofday () in
+  let (status, out) = judge ~timeout:"--timeout 1" (fake "hang" "sleep 60") in
+  Alcotest.(check int) ("a hang fails:\n" ^ out) 1 status;
+  Alcotest.(check bool) ("a hang is stopped by --timeout:\n" ^ out) true
+    (Unix.gettimeofday () -. t0 < 20. && (try ignore (Explore.Str_find.find out "timed out"); true with Not_found -> false))
+
 (* ------------------------------------- random programs, random hosts *)
 
 let percept_types env =
@@ -441,6 +485,7 @@ let () =
         Alcotest.test_case "paper runs validated; tampering rejected" `Slow paper_run_validated;
         Alcotest.test_case "conformance vectors' traces validated" `Slow vectors_validated;
         Alcotest.test_case "conform: reference passes, native fails" `Slow conform_passes;
+        Alcotest.test_case "conform judges status, signals, hangs, headers, events" `Slow conform_judges;
         qcheck ~count:3 ~long_factor:15 "random programs' traces validated by TLC"
           (QCheck.pair Typed_gen.arb_program QCheck.small_nat) random_run_validates ]);
   ]
