@@ -26,6 +26,7 @@
 (* records) so that two implementations can be compared node by node.      *)
 (*                                                                         *)
 (* Decisions beyond the paper and the rulings are marked "DECISION".       *)
+(* The rulings (R1a ... R8) are stated in docs/rulings.md.                 *)
 (***************************************************************************)
 EXTENDS Naturals, Sequences, FiniteSets, PerceptPriority
 

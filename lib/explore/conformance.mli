@@ -6,7 +6,8 @@
     - {!replay_simulation}: TLC's random behaviours of a model ([-simulate]),
       replayed step by step by the OCaml machine;
     - {!validate_runs}: random runs of the OCaml machine, checked by TLC as
-      traces of the spec (trace validation, [../shared/tlc-notes.md]). *)
+      traces of the spec (trace validation, docs/trace-format.md,
+      "Validating a trace against the spec"). *)
 
 val models : ?full:bool -> unit -> string list
 (** The AgentLoop models of spec/models (paths), without the [\* full] ones
