@@ -33,7 +33,10 @@ import java.util.logging.Logger;
  *                             drain time as a function of the backlog
  * Option (any position): put=controller (default: AgentController.putO2AObject, the
  * host API), put=direct (Agent.putO2AObject), put=control (a ConcurrentLinkedQueue
- * and the same O2A-manager restart: JADE's scheduler, no O2A list).
+ * and the same O2A-manager restart: JADE's scheduler, no O2A list), put=native10
+ * (Jadescript 1.0's path: each percept becomes an INFORM message posted to the
+ * agent's own mailbox, Agent.postMessage, handled first in, first out by a cyclic
+ * behaviour with receive(): no priorities).
  */
 public final class Bench {
     static Probe probe;
@@ -53,9 +56,11 @@ public final class Bench {
             else args.add(a);
         }
         if (put.equals("control")) tag = "CONTROL";
+        if (put.equals("native10")) tag = "NATIVE10";
         if (args.get(0).equals("listcost")) { listCost(); return; }
         quietLogging();
         probe = new Probe(put.equals("control"));
+        probe.nativeMailbox = put.equals("native10");
         boot();
         Mem.install();
         switch (args.get(0)) {
@@ -115,6 +120,7 @@ public final class Bench {
         switch (put) {
             case "controller" -> controller.putO2AObject(n, AgentController.ASYNC);
             case "direct" -> agent.putO2AObject(n, false);
+            case "native10" -> agent.postNative(n);
             default -> agent.controlPut(n);
         }
     }

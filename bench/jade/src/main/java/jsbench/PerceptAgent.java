@@ -2,6 +2,7 @@ package jsbench;
 
 import jade.core.Agent;
 import jade.core.behaviours.CyclicBehaviour;
+import jade.lang.acl.ACLMessage;
 
 import java.util.ArrayList;
 import java.util.HashMap;
@@ -43,8 +44,8 @@ public final class PerceptAgent extends Agent {
         probe = (Probe) getArguments()[0];
         setEnabledO2ACommunication(true, 0); // 0 = unbounded O2A queue
         loop = new LoopBehaviour();
-        addBehaviour(loop);
-        setO2AManager(loop);
+        if (probe.nativeMailbox) addBehaviour(new MailboxBehaviour());
+        else { addBehaviour(loop); setO2AManager(loop); }
         Navigator nav = new Navigator();
         addBehaviour(nav);
         registeredHandlers.add(nav);
@@ -58,6 +59,52 @@ public final class PerceptAgent extends Agent {
     void controlPut(Object o) {
         probe.control.offer(o);
         loop.restart();
+    }
+
+    /** An INFORM message carrying a notified percept by reference (no serialization:
+        host and agent share the JVM, as on Jadescript 1.0's Android container). */
+    static final class EventMessage extends ACLMessage {
+        private static final long serialVersionUID = 1L;
+        final transient Notified n;
+        EventMessage(Notified n) { super(ACLMessage.INFORM); this.n = n; }
+    }
+
+    /** Host side of put=native10: Jadescript 1.0 turns a native event into an INFORM
+        message the agent sends itself; JADE's postMessage appends it to the mailbox
+        and restarts every behaviour. */
+    void postNative(Notified n) {
+        EventMessage m = new EventMessage(n);
+        m.setSender(getAID());
+        postMessage(m);
+    }
+
+    /** Jadescript 1.0's native events: every INFORM in the mailbox, first in, first out,
+        through the same handlers (no priority queue). */
+    private final class MailboxBehaviour extends CyclicBehaviour {
+        MailboxBehaviour() { super(PerceptAgent.this); }
+
+        @Override
+        public void action() {
+            final Probe pr = probe;
+            pr.loopSteps.lazySet(pr.loopSteps.get() + 1);
+            if (!pr.gateOpen) { block(); return; }
+            long h = pr.handled.get();
+            long hMark = nextMark(pr, h);
+            final List<PerceptHandler> handlers = registeredHandlers;
+            ACLMessage m;
+            while ((m = myAgent.receive()) != null) {
+                if (!(m instanceof EventMessage e)) continue;
+                pr.transferred.lazySet(pr.transferred.get() + 1);
+                for (int i = 0, k = handlers.size(); i < k; i++) {
+                    PerceptHandler hd = handlers.get(i);
+                    if (hd.isApplicableTo(e.n.percept)) hd.execute(e.n);
+                }
+                ++h;
+                pr.handled.lazySet(h);
+                if (h == hMark) { mark(pr.markHandled, pr, h); hMark = nextMark(pr, h); }
+            }
+            block();
+        }
     }
 
     private final class LoopBehaviour extends CyclicBehaviour {

@@ -21,6 +21,8 @@ final class Probe {
 
     /** While false the loop behaviour does not transfer (flood "before" mode). */
     volatile boolean gateOpen = true;
+    /** put=native10: percepts arrive as INFORM messages in the mailbox (Jadescript 1.0). */
+    volatile boolean nativeMailbox;
 
     final AtomicLong transferred = new AtomicLong();
     final AtomicLong handled = new AtomicLong();
