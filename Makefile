@@ -3,7 +3,7 @@
 #   make test    every test suite; last line "N passed, M failed"
 # Both run scripts/setup first, which installs what is missing (idempotent).
 
-.PHONY: all setup build demo test bench spec spec-full conformance clean
+.PHONY: all setup build demo test bench spec spec-full conformance clean playground
 
 all: build
 
@@ -28,6 +28,19 @@ bench: build
 conformance: build
 	@dune exec --no-print-directory -- jadescript-ref explore --all --full --mutants --simulate 200 --validate 200
 	@JSREF_LONG=1 bash scripts/test
+
+# The students' playground (playground/, docs/tutorial.md): out/playground/,
+# index.html and its scripts, compiled from the project's libraries with
+# js_of_ocaml in a build context of its own (playground/dune-workspace.playground),
+# so that a plain `dune build` never needs js_of_ocaml. Honours DUNE_BUILD_DIR.
+PLAY_BUILD = $(or $(DUNE_BUILD_DIR),_build)/playground/playground/js
+playground: setup
+	@dune build --root . --workspace playground/dune-workspace.playground $(PLAY_BUILD)/jsref.js $(PLAY_BUILD)/corridor_data.js
+	@mkdir -p out/playground
+	@cp -f $(PLAY_BUILD)/jsref.js $(PLAY_BUILD)/corridor_data.js out/playground/
+	@cp -f playground/index.html playground/style.css playground/ui.js playground/corridor.js out/playground/
+	@chmod u+w out/playground/*
+	@echo "playground: out/playground/index.html ($$(du -ch out/playground/* | tail -n 1 | cut -f1) in all); open it in a browser"
 
 clean:
 	@dune clean

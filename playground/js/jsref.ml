@@ -1,0 +1,126 @@
+(* window.jsref: the engine for playground/ui.js. Structured values cross as
+   JSON text. *)
+
+open Js_of_ocaml
+open Playground_core
+module Mc = Semantics.Machine
+
+let session : Session.t option ref = ref None
+
+let json j = Js.string (Yojson.Safe.to_string j)
+let err m = `Assoc [ "ok", `Bool false; "error", `String m ]
+
+let protect f =
+  try f () with
+  | Stack_overflow -> json (err "error: the evaluation went too deep (stack overflow)")
+  | e -> json (err ("internal error: " ^ Printexc.to_string e))
+
+let of_js s = Js.to_string s
+
+let member k = function `Assoc f -> List.assoc_opt k f | _ -> None
+let str_member k j = match member k j with Some (`String s) -> s | _ -> ""
+let int_member k j = match member k j with Some (`Int n) -> Some n | _ -> None
+
+let files_of j = match member "files" j with
+  | Some (`List l) -> List.map (fun f -> (str_member "name" f, str_member "text" f)) l
+  | _ -> []
+
+let setup_of j =
+  { Session.default_setup with
+    files = files_of j;
+    agents = (match member "agents" j with
+        | Some (`List l) -> List.filter_map (function `String s -> Some s | _ -> None) l
+        | _ -> []);
+    variant = Option.value (Mc.variant_of_string (str_member "variant" j)) ~default:Mc.Reference;
+    tie = (if str_member "tie" j = "unstable" then Mc.Unstable else Mc.Stable);
+    budget = Option.value (int_member "budget" j) ~default:1;
+    o2a_capacity = int_member "o2a_capacity" j;
+    seed = int_member "seed" j;
+    fuel = Option.value (int_member "fuel" j) ~default:100_000;
+  }
+
+let with_session f = match !session with
+  | None -> json (err "no program is loaded")
+  | Some t -> f t
+
+let outcome = function
+  | Session.Stepped -> "stepped" | Session.All_idle -> "idle" | Session.Limit -> "limit"
+
+let state t extra =
+  json (`Assoc ([ "ok", `Bool true; "view", Session.view t ] @ extra))
+
+let fn1 f = Js.Unsafe.inject (Js.wrap_callback (fun a -> protect (fun () -> f a)))
+let fn0 f = Js.Unsafe.inject (Js.wrap_callback (fun () -> protect f))
+
+let () =
+  Js.Unsafe.set Js.Unsafe.global "jsref" (Js.Unsafe.obj [|
+      "examples", fn0 (fun () -> json (`List (List.map Examples.to_json Examples.all)));
+      "replays", fn0 (fun () -> json (Replays.to_json ()));
+      "check", fn1 (fun s ->
+          let j = Yojson.Safe.from_string (of_js s) in
+          json (`List (List.map (fun l -> `String l) (Session.check (files_of j)))));
+      "create", fn1 (fun s ->
+          let j = Yojson.Safe.from_string (of_js s) in
+          match Session.create (setup_of j) with
+          | Ok t -> session := Some t; state t []
+          | Error e -> session := None;
+            json (`Assoc [ "ok", `Bool false; "errors", `List (List.map (fun l -> `String l) e) ]));
+      "host", fn1 (fun s ->
+          with_session (fun t ->
+              let j = Yojson.Safe.from_string (of_js s) in
+              let agent = str_member "agent" j in
+              let h = match str_member "kind" j with
+                | "put" -> Session.Put { agent; obj = str_member "text" j }
+                | "message" -> Session.Message { agent; perf = str_member "performative" j; content = str_member "text" j }
+                | _ -> Session.Notify { agent; percept = str_member "text" j; priority = int_member "priority" j } in
+              match Session.host t h with
+              | Ok () -> state t []
+              | Error m -> state t [ "error", `String m ]));
+      "step", fn1 (fun c ->
+          with_session (fun t ->
+              let choice = int_of_float (Js.float_of_number (Js.Unsafe.coerce c)) in
+              let o = Session.step ~choice t in
+              state t [ "outcome", `String (outcome o) ]));
+      "iteration", fn0 (fun () ->
+          with_session (fun t -> state t [ "outcome", `String (outcome (Session.iteration t)) ]));
+      "runIdle", fn1 (fun n ->
+          with_session (fun t ->
+              let limit = int_of_float (Js.float_of_number (Js.Unsafe.coerce n)) in
+              let (k, o) = Session.run_idle ~limit t in
+              state t [ "outcome", `String (outcome o); "taken", `Int k ]));
+      "rounds", fn1 (fun n ->
+          with_session (fun t ->
+              Session.run_rounds t (int_of_float (Js.float_of_number (Js.Unsafe.coerce n)));
+              state t []));
+      "back", fn0 (fun () ->
+          with_session (fun t -> let b = Session.back t in state t [ "undone", `Bool b ]));
+      "view", fn0 (fun () -> with_session (fun t -> state t []));
+      "trace", fn1 (fun k ->
+          with_session (fun t ->
+              let from = int_of_float (Js.float_of_number (Js.Unsafe.coerce k)) in
+              let lines = Session.trace t in
+              json (`Assoc [ "total", `Int (List.length lines);
+                             "lines", `List (List.filteri (fun i _ -> i >= from) lines |> List.map (fun l -> `String l)) ])));
+      "replayStep", Js.Unsafe.inject (Js.wrap_callback (fun id k -> protect (fun () ->
+          with_session (fun t ->
+              match Replays.find (of_js id) with
+              | None -> json (err "no such replay")
+              | Some r ->
+                let k = int_of_float (Js.float_of_number (Js.Unsafe.coerce k)) in
+                match List.nth_opt r.steps k with
+                | None -> json (err "no such step")
+                | Some st ->
+                  match Replays.apply t st with
+                  | Ok () -> state t []
+                  | Error m -> state t [ "error", `String m ]))));
+      "replayCheck", fn1 (fun id ->
+          with_session (fun t ->
+              match Replays.find (of_js id) with
+              | None -> json (err "no such replay")
+              | Some r ->
+                match Replays.check r t with
+                | Ok () -> json (`Assoc [ "ok", `Bool true ])
+                | Error m -> json (err m)));
+      "output", fn0 (fun () ->
+          with_session (fun t -> json (`List (List.map (fun l -> `String l) (Session.output t)))));
+    |])

@@ -1,0 +1,682 @@
+(* A playground session: the run of bin/cmd_run.ml and lib/interp/runtime.ml,
+   taken one rule at a time. The trace writer below follows runtime.ml field
+   for field; test/browser/test_playground_engine.ml compares the two traces
+   on every conformance vector. *)
+
+open Syntax
+module Mc = Semantics.Machine
+module P = Interp.Runtime.P
+module M = P.M
+module V = Interp.Value
+module E = Interp.Eval
+module T = Typing.Tenv
+
+type setup = {
+  files : (string * string) list;
+  agents : string list;
+  variant : Mc.variant;
+  tie : Mc.tie_policy;
+  budget : int;
+  o2a_capacity : int option;
+  seed : int option;
+  fuel : int;
+  max_steps : int;
+}
+
+let default_setup = {
+  files = []; agents = []; variant = Mc.Reference; tie = Mc.Stable; budget = 1;
+  o2a_capacity = None; seed = None; fuel = 100_000; max_steps = 1_000_000;
+}
+
+type host_action =
+  | Notify of { agent : string; percept : string; priority : int option }
+  | Put of { agent : string; obj : string }
+  | Message of { agent : string; perf : string; content : string }
+
+type outcome = Stepped | All_idle | Limit
+
+type cmd = H of host_action | R of int * bool | Round
+(* R (choice, refill): a rule; refill false inside run_rounds. Round: the
+   start of a round of run_rounds, its rules follow. *)
+
+type state = {
+  env : T.t;
+  params : Mc.params;
+  mutable platform : P.t;
+  mutable steps : int;
+  mutable events : int;
+  rand : Random.State.t option;
+  puts : (string, int) Hashtbl.t;
+  types : (string * int, string) Hashtbl.t;
+  mutable lines : string list;          (* the trace, newest first *)
+  mutable out : string list;            (* what run prints, newest first *)
+  mutable round : int list;             (* agents still to run in this round *)
+  mutable current : int option;         (* the agent in the middle of an iteration *)
+  max_steps : int;
+}
+
+type t = {
+  setup : setup;
+  mutable st : state;
+  mutable history : cmd list;           (* newest first *)
+  mutable nhist : int;
+}
+
+let setup t = t.setup
+
+(* --------------------------------------------------------- checking *)
+
+let parse_all files =
+  List.map (fun (name, text) ->
+      match Parse.string ~file:name text with
+      | r -> Ok r
+      | exception Diag.Failed d -> Error d) files
+
+let diagnostics files =
+  let parsed = parse_all files in
+  let syntax = List.filter_map (function Error d -> Some d | Ok _ -> None) parsed in
+  let ok = List.filter_map (function Ok r -> Some r | Error _ -> None) parsed in
+  let env, diags = Typing.check ok in
+  (env, List.sort Diag.compare (syntax @ diags))
+
+let check files =
+  match diagnostics files with
+  | (_, ds) -> List.map Diag.to_string ds
+  | exception e -> [ "internal error: " ^ Printexc.to_string e ]
+
+(* ------------------------------------------------------------ trace *)
+
+let str s = `String s
+let int i = `Int i
+
+let write st fields =
+  st.events <- st.events + 1;
+  st.lines <- Yojson.Safe.to_string (`Assoc (("step", int st.events) :: fields)) :: st.lines
+
+let first_file = ref "program.jade"
+
+let on_error st (at : Source.region) msg =
+  let (file, line, col) =
+    if at.left.line = 0 then (!first_file, 1, 1) else (at.left.file, at.left.line, at.left.column) in
+  st.out <- Printf.sprintf "%s:%d:%d: error: %s" file line col msg :: st.out
+
+let entry_fields (e : V.t Mc.entry) =
+  [ "percept", str (V.to_literal e.p); "priority", int e.prio; "seq", int e.seq ]
+
+let message_fields (m : E.message) =
+  [ "performative", str m.perf; "content", str (V.to_literal m.content); "from", str m.sender ]
+
+let behaviour_of (c : M.t) id =
+  match List.find_opt (fun (a : E.beh Mc.instance) -> a.id = id) c.active with
+  | Some a -> E.beh_type a.beh
+  | None -> "?"
+
+let label_fields (c : M.t) (l : M.lbl) : (string * Yojson.Safe.t) list =
+  let ev name = [ "event", str name; "action", str (Mc.action_name l) ] in
+  match l with
+  | Mc.Init -> ev "init"
+  | Mc.Notify e | Mc.Notify_with e -> ev "notify" @ entry_fields e
+  | Mc.Put o -> ev "put" @ [ "object", str (V.to_literal o) ]
+  | Mc.Send (m, seq) -> ev "deliver" @ message_fields m @ [ "seq", int seq ]
+  | Mc.Transfer n -> ev "transfer" @ [ "moved", int n ]
+  | Mc.Transfer_one e -> ev "transfer_one" @ entry_fields e
+  | Mc.Transfer_spin o -> ev "transfer_spin" @ [ "object", str (V.to_literal o) ]
+  | Mc.Transfer_end -> ev "transfer_end"
+  | Mc.Dequeue e -> ev "dequeue" @ entry_fields e
+  | Mc.Handle { id; h; p; seq } ->
+    ev "handle" @ [ "instance", int id; "behaviour", str (behaviour_of c id); "handler", int h;
+                    "percept", str (V.to_literal p); "seq", int seq ]
+  | Mc.Skip { id; h } -> ev "skip" @ [ "instance", int id; "behaviour", str (behaviour_of c id); "handler", int h ]
+  | Mc.End_dispatch { seq; discarded } ->
+    ev (if discarded then "discard" else "end_dispatch") @ [ "seq", int seq ]
+  | Mc.Behaviour_step { id; msg } ->
+    ev "behaviour_step"
+    @ [ "instance", int id; "behaviour", str (behaviour_of c id);
+        "message", (match msg with
+            | None -> `Null
+            | Some (Mc.M_message { m; mseq }) -> `Assoc (message_fields m @ [ "seq", int mseq ])
+            | Some (Mc.M_percept e) -> `Assoc (entry_fields e)) ]
+  | Mc.Next_iteration -> ev "next_iteration"
+  | Mc.Idle -> ev "idle"
+
+let body_event st agent action (e : E.event) =
+  let base name = [ "agent", str agent; "event", str name; "action", str action ] in
+  match e with
+  | E.Log s -> st.out <- (agent ^ ": " ^ s) :: st.out; write st (base "log" @ [ "text", str s ])
+  | E.Invoke { meth; cls; args; result } ->
+    write st (base "invoke" @ [ "method", str meth; "object", str cls;
+                                "args", `List (List.map (fun v -> str (V.to_literal v)) args);
+                                "result", str (V.to_literal result) ])
+  | E.Sent { perf; content; receivers } ->
+    write st (base "send" @ [ "performative", str perf; "content", str (V.to_literal content);
+                              "to", `List (List.map str receivers) ])
+  | E.Activated b -> write st (base "activate" @ [ "behaviour", str b ])
+  | E.Deactivated id -> write st (base "deactivate" @ [ "instance", int id ])
+  | E.Error (at, msg) ->
+    on_error st at msg;
+    write st (base "error" @ [ "at", str (Source.string_of_region at); "message", str msg ])
+
+let world st i = st.platform.agents.(i).config.world
+
+let flush_body st i action =
+  List.iter (body_event st st.platform.agents.(i).name action) (E.take_events (world st i))
+
+let on_event st (pl : P.t) (e : P.event) =
+  st.platform <- pl;
+  match e with
+  | P.Step (name, l) ->
+    let i = Option.get (P.find pl name) in
+    let a = world st i in
+    let effects l = `List (List.map str l) in
+    let extra = match l with
+      | Mc.Handle _ -> [ "effects", effects a.last_effects ]
+      | Mc.Behaviour_step { msg; _ } ->
+        (match a.last_action_effects with Some e -> [ "action_effects", effects e ] | None -> [])
+        @ (match msg, a.last_handler with
+            | Some _, Some h -> [ "handler", int h; "effects", effects a.last_effects ]
+            | _ -> [])
+      | _ -> [] in
+    let known id = Option.value (Hashtbl.find_opt st.types (name, id)) ~default:"?" in
+    let fields = List.map (fun (k, v) ->
+        if k <> "behaviour" then (k, v)
+        else if a.last_behaviour <> "" && (match l with Mc.Skip _ -> false | _ -> true) then (k, str a.last_behaviour)
+        else match l with
+          | Mc.Handle { id; _ } | Mc.Behaviour_step { id; _ } | Mc.Skip { id; _ } -> (k, str (known id))
+          | _ -> (k, v)) (label_fields pl.agents.(i).config l) in
+    List.iter (fun (x : E.beh Mc.instance) -> Hashtbl.replace st.types (name, x.id) (E.beh_type x.beh))
+      pl.agents.(i).config.active;
+    write st (("agent", str name) :: fields @ extra);
+    a.last_behaviour <- "";
+    a.last_action_effects <- None; a.last_handler <- None; a.last_effects <- [];
+    flush_body st i (Mc.action_name l)
+  | P.Delivered { receiver; _ } ->
+    let i = Option.get (P.find pl receiver) in
+    write st (("agent", str receiver) :: label_fields pl.agents.(i).config pl.agents.(i).config.last)
+  | P.Undeliverable { sender; receiver; message } ->
+    write st [ "agent", str sender; "event", str "undeliverable"; "action", `Null;
+               "to", str receiver; "performative", str message.perf;
+               "content", str (V.to_literal message.content) ]
+
+(* ----------------------------------------------------------- agents *)
+
+exception Bad of string
+
+(* The host object [run] offers as @robome: it records the RoboMe SDK commands. *)
+let host_objects () =
+  let calls = [ "startListening"; "callStop"; "callMoveForward"; "callMoveBackward";
+                "callTurnLeft"; "callTurnRight"; "callHeadTiltUp"; "callHeadTiltDown"; "callHeadReset" ] in
+  [ "@robome", V.Native { nid = 1; cls = "RoboMe"; methods = List.map (fun m -> (m, fun _ -> V.Unit)) calls } ]
+
+(* "a,b(1, 2),\"x,y\"" split at the commas outside brackets and quotes. *)
+let split_args s =
+  let parts = ref [] and b = Buffer.create 16 and depth = ref 0 and quoted = ref false in
+  String.iteri (fun i c ->
+      if !quoted then begin
+        Buffer.add_char b c;
+        if c = '"' && (i = 0 || s.[i - 1] <> '\\') then quoted := false
+      end else match c with
+        | '"' -> quoted := true; Buffer.add_char b c
+        | '(' | '[' | '{' -> incr depth; Buffer.add_char b c
+        | ')' | ']' | '}' -> decr depth; Buffer.add_char b c
+        | ',' when !depth = 0 -> parts := Buffer.contents b :: !parts; Buffer.clear b
+        | c -> Buffer.add_char b c) s;
+  if Buffer.length b > 0 || !parts <> [] then parts := Buffer.contents b :: !parts;
+  List.rev_map String.trim !parts
+
+let agent_spec env spec =
+  let fail msg = raise (Bad (Printf.sprintf "--agent %s: error: %s" spec msg)) in
+  match String.index_opt spec ':' with
+  | None -> fail "expected NAME:TYPE[:ARG,...]"
+  | Some i ->
+    let name = String.trim (String.sub spec 0 i) in
+    let rest = String.sub spec (i + 1) (String.length spec - i - 1) in
+    let (ty, args) = match String.index_opt rest ':' with
+      | None -> (rest, "")
+      | Some j -> (String.sub rest 0 j, String.sub rest (j + 1) (String.length rest - j - 1)) in
+    let ty = String.trim ty in
+    if name = "" || ty = "" then fail "expected NAME:TYPE[:ARG,...]";
+    if T.agent env ty = None then fail (Printf.sprintf "there is no agent type %s" ty);
+    let values = List.map (fun a ->
+        match List.assoc_opt a (host_objects ()) with
+        | Some v -> v
+        | None ->
+          (match E.literal_value env (Parse.expr ~file:"--agent" a) with
+           | v -> v
+           | exception Diag.Failed d -> fail d.message
+           | exception E.Runtime_error (_, m) -> fail m)) (split_args args) in
+    (name, ty, values)
+
+let params_of (s : setup) =
+  { Mc.variant = s.variant; tie = s.tie; budget = max 1 s.budget; max_active = None;
+    o2a_capacity = s.o2a_capacity; flood = false; ghosts = true; mutant = None }
+
+let header st (s : setup) specs =
+  let env = st.env in
+  let program = `Assoc [
+      "behaviours", `List (List.map (fun (b : T.behaviour) ->
+          let hs = T.behaviour_handlers env b.b_name in
+          `Assoc [ "name", str b.b_name;
+                   "kind", str (match b.b_kind with Ast.Cyclic -> "cyclic" | Ast.OneShot -> "oneshot");
+                   "action", `Bool (T.behaviour_action env b.b_name <> None);
+                   "percept_handlers", int (List.length (List.filter (fun (h : T.handler) -> h.h_kind = T.On_percept) hs));
+                   "message_handlers", int (List.length (List.filter (fun (h : T.handler) -> h.h_kind <> T.On_percept) hs)) ])
+          (T.behaviours env));
+      "percepts", `Assoc (List.filter_map (fun (sc : T.schema) ->
+          if sc.s_percept then Some (sc.s_name, int sc.s_priority) else None) (T.schemas env)) ] in
+  let p = st.params in
+  st.lines <- Yojson.Safe.to_string (`Assoc [
+      "trace", str "jadescript-ref"; "version", int 1;
+      "variant", str (Mc.string_of_variant p.variant);
+      "tie_policy", str (match p.tie with Mc.Stable -> "stable" | Mc.Unstable -> "unstable");
+      "budget", int p.budget;
+      "o2a_capacity", (match p.o2a_capacity with Some c -> int c | None -> `Null);
+      "seed", (match s.seed with Some n -> int n | None -> `Null);
+      "agents", `List (List.map (fun (n, ty, _) -> `Assoc [ "name", str n; "type", str ty ]) specs);
+      "program", program ]) :: st.lines
+
+let boot (s : setup) : (state, string list) result =
+  match diagnostics s.files with
+  | exception e -> Error [ "internal error: " ^ Printexc.to_string e ]
+  | (env, ds) ->
+    let errors = List.filter (fun (d : Diag.t) -> d.severity = Diag.Error) ds in
+    if errors <> [] then Error (List.map Diag.to_string errors)
+    else begin
+      (match s.files with (f, _) :: _ -> first_file := f | [] -> ());
+      match
+        let specs = List.map (agent_spec env) (List.filter (fun a -> String.trim a <> "") s.agents) in
+        if specs = [] then raise (Bad "error: no agent: give at least one NAME:TYPE");
+        let st = { env; params = params_of s; platform = P.create []; steps = 0; events = 0;
+                   rand = Option.map (fun n -> Random.State.make [| n |]) s.seed;
+                   puts = Hashtbl.create 8; types = Hashtbl.create 16; lines = []; out = [];
+                   round = []; current = None; max_steps = s.max_steps } in
+        header st s specs;
+        let created = List.map (fun (name, ty, args) ->
+            let (a, behs) =
+              try E.create_agent env ~name ~atype:ty ~args ~fuel:s.fuel
+              with E.Runtime_error (_, m) -> raise (Bad ("error: " ^ m)) in
+            write st [ "agent", str name; "event", str "create"; "action", str "Init"; "type", str ty;
+                       "args", `List (List.map (fun v -> str (V.to_literal v)) args);
+                       "behaviours", `List (List.map (fun b -> str (E.beh_type b)) behs) ];
+            List.iter (body_event st name "Init") (E.take_events a);
+            (name, M.init st.params ~world:a behs)) specs in
+        st.platform <- P.create created;
+        Array.iter (fun (ag : P.agent) ->
+            let (_, out) = E.Bodies.take_outbox ag.config.world in
+            List.iter (fun (receiver, m) ->
+                let (pl, ev) = P.deliver st.params st.platform ~sender:ag.name ~receiver m in
+                on_event st pl ev) out) st.platform.agents;
+        st
+      with
+      | st -> Ok st
+      | exception Bad m -> Error [ m ]
+      | exception Diag.Failed d -> Error [ Diag.to_string d ]
+      | exception (Stack_overflow | Out_of_memory) -> Error [ "error: the run ran out of memory or stack" ]
+    end
+
+(* ------------------------------------------------------------- host *)
+
+let set_config st i c =
+  let agents = Array.copy st.platform.agents in
+  agents.(i) <- { (agents.(i)) with config = c };
+  st.platform <- { st.platform with agents }
+
+let located what (d : Diag.t) =
+  Printf.sprintf "%s:%d:%d: error: %s" what d.at.left.line d.at.left.column d.message
+
+let do_host st (h : host_action) : (unit, string) result =
+  let agent = match h with Notify { agent; _ } | Put { agent; _ } | Message { agent; _ } -> agent in
+  match P.find st.platform agent with
+  | None -> Error (Printf.sprintf "host: there is no agent %s" agent)
+  | Some i ->
+    let c = st.platform.agents.(i).config in
+    let atype = (world st i).atype.a_name in
+    let parse what text k =
+      match Parse.expr ~file:what text with
+      | exception Diag.Failed d -> Error (located what d)
+      | e ->
+        (match k e with
+         | r -> r
+         | exception E.Runtime_error (at, m) ->
+           Error (Printf.sprintf "%s:%d:%d: error: %s" what (max 1 at.left.line) (max 1 at.left.column) m)) in
+    match h with
+    | Notify { percept; priority; _ } ->
+      parse "notify" percept (fun e ->
+          let (v, default) = E.percept_value st.env ~agent_type:atype e in
+          match priority with
+          | Some k when k < 0 -> Error (Printf.sprintf "host: priority %d is negative (R2a)" k)
+          | _ when not (M.o2a_has_room st.params c) ->
+            write st [ "agent", str agent; "event", str "refused"; "action", `Null;
+                       "percept", str (V.to_literal v); "reason", str "the O2A queue is full (R2d)" ];
+            Error "host: the O2A queue is full (R2d)"
+          | None ->
+            let c = M.notify st.params c v default in
+            set_config st i c; write st (("agent", str agent) :: label_fields c c.last); Ok ()
+          | Some k ->
+            let c = M.notify_with st.params c v k in
+            set_config st i c; write st (("agent", str agent) :: label_fields c c.last); Ok ())
+    | Put { obj; _ } ->
+      parse "put" obj (fun e ->
+          let v = E.literal_value st.env e in
+          if not (M.o2a_has_room st.params c) then Error "host: the O2A queue is full (R2d)"
+          else begin
+            let c = M.put st.params c v in
+            set_config st i c;
+            let k = 1 + Option.value (Hashtbl.find_opt st.puts agent) ~default:0 in
+            Hashtbl.replace st.puts agent k;
+            write st (("agent", str agent) :: label_fields c c.last @ [ "index", int k ]);
+            Ok ()
+          end)
+    | Message { perf; content; _ } ->
+      parse "message" content (fun e ->
+          let v = E.literal_value st.env e in
+          let perf = if String.trim perf = "" then "inform" else String.trim perf in
+          let (pl, ev) = P.deliver st.params st.platform ~sender:"host" ~receiver:agent
+              { E.perf; content = v; sender = "host" } in
+          on_event st pl ev;
+          Ok ())
+
+(* ------------------------------------------------------------ rules *)
+
+(* A round's order (R6), as Runtime.order draws it. *)
+let order_with rand n =
+  let idx = List.init n Fun.id in
+  match rand with
+  | None -> idx
+  | Some r ->
+    let a = Array.of_list idx in
+    for k = n - 1 downto 1 do
+      let j = Random.State.int r (k + 1) in
+      let x = a.(k) in a.(k) <- a.(j); a.(j) <- x
+    done;
+    Array.to_list a
+
+let idle st i = M.is_idle st.platform.agents.(i).config
+
+(* The next agent; [commit] makes the choice (pops the round, draws the seed). *)
+let pick ?(refill = true) ~commit st =
+  match st.current with
+  | Some i -> Some i
+  | None ->
+    let rec from_round round fresh =
+      match round with
+      | i :: rest when not (idle st i) -> Some (i, rest)
+      | _ :: rest -> from_round rest fresh
+      | [] ->
+        if fresh || not refill || P.all_idle st.platform then None
+        else
+          let rand = if commit then st.rand else Option.map Random.State.copy st.rand in
+          from_round (order_with rand (Array.length st.platform.agents)) true in
+    match from_round st.round false with
+    | None -> (if commit then st.round <- []); None
+    | Some (i, rest) -> (if commit then (st.round <- rest; st.current <- Some i)); Some i
+
+let ends_iteration (l : M.lbl) = match l with
+  | Mc.Behaviour_step _ | Mc.Next_iteration | Mc.Idle -> true
+  | _ -> false
+
+let do_rule ?refill st choice : outcome =
+  if st.steps >= st.max_steps then Limit
+  else match pick ?refill ~commit:true st with
+    | None -> All_idle
+    | Some i ->
+      let name = st.platform.agents.(i).name in
+      match M.step st.params st.platform.agents.(i).config with
+      | [] -> st.current <- None; All_idle
+      | cands ->
+        let (l, c) = match List.nth_opt cands choice with Some x -> x | None -> List.hd cands in
+        set_config st i c;
+        on_event st st.platform (P.Step (name, l));
+        let (_, out) = E.Bodies.take_outbox (world st i) in
+        List.iter (fun (receiver, m) ->
+            let (pl, ev) = P.deliver st.params st.platform ~sender:name ~receiver m in
+            on_event st pl ev) out;
+        st.steps <- st.steps + 1;
+        if ends_iteration l then st.current <- None;
+        Stepped
+
+(* ---------------------------------------------------------- session *)
+
+let create s =
+  match boot s with
+  | Ok st -> Ok { setup = s; st; history = []; nhist = 0 }
+  | Error e -> Error e
+
+let record t c = t.history <- c :: t.history; t.nhist <- t.nhist + 1
+
+let guarded f =
+  try f () with
+  | Stack_overflow -> Error "error: the evaluation went too deep (stack overflow)"
+  | Out_of_memory -> Error "error: out of memory"
+  | Invalid_argument m | Failure m -> Error ("internal error: " ^ m)
+  | Not_found -> Error "internal error: Not_found"
+
+let host t h =
+  match guarded (fun () -> do_host t.st h) with
+  | Ok () -> record t (H h); Ok ()
+  | Error m ->
+    (* a refusal (R2d) is in the trace, as run records it: keep it on replay *)
+    if String.length m >= 10 && String.sub m 0 10 = "host: the " then record t (H h);
+    Error m
+
+let rule t choice =
+  match guarded (fun () -> Ok (do_rule t.st choice)) with
+  | Ok Stepped -> record t (R (choice, true)); Stepped
+  | Ok o -> o
+  | Error m -> t.st.out <- m :: t.st.out; Limit
+
+let step ?(choice = 0) t = rule t choice
+
+let iteration t =
+  let rec go first =
+    match rule t 0 with
+    | Stepped -> if t.st.current = None then Stepped else go false
+    | o -> if first then o else Stepped in
+  go true
+
+let run_idle ?(limit = 5000) t =
+  let rec go n =
+    if n >= limit then (n, Stepped)
+    else match rule t 0 with
+      | Stepped -> go (n + 1)
+      | o -> (n, o) in
+  go 0
+
+(* One round of run's {"run": 1}: every agent that is not idle runs one
+   iteration, in the round's order (the one in progress, if any, is
+   finished first; a new round draws its order from the seed even when every
+   agent is idle, as Runtime.run_rounds does). *)
+let round_cmds st =
+  if st.current = None && st.round = [] then
+    st.round <- order_with st.rand (Array.length st.platform.agents)
+
+let run_rounds t n =
+  for _ = 1 to n do
+    record t Round;
+    round_cmds t.st;
+    let rec go () =
+      match guarded (fun () -> Ok (do_rule ~refill:false t.st 0)) with
+      | Ok Stepped -> record t (R (0, false)); go ()
+      | Ok _ -> ()
+      | Error m -> t.st.out <- m :: t.st.out in
+    go ()
+  done
+
+let replay t cmds =
+  match boot t.setup with
+  | Error _ -> ()
+  | Ok st ->
+    List.iter (function
+        | H h -> ignore (guarded (fun () -> do_host st h))
+        | R (c, refill) -> ignore (guarded (fun () -> Ok (do_rule ~refill st c)))
+        | Round -> round_cmds st) cmds;
+    t.st <- st
+
+let back t =
+  match t.history with
+  | [] -> false
+  | _ :: rest ->
+    let rest = match rest with Round :: r -> r | r -> r in
+    t.history <- rest; t.nhist <- List.length rest;
+    replay t (List.rev rest);
+    true
+
+let history_length t = t.nhist
+let steps t = t.st.steps
+let trace t = List.rev t.st.lines
+let output t = List.rev t.st.out
+
+(* ------------------------------------------------------------- view *)
+
+let next_agent t = pick ~commit:false t.st
+
+let entry_view (e : V.t Mc.entry) =
+  `Assoc [ "percept", str (V.to_literal e.p); "priority", int e.prio; "seq", int e.seq ]
+
+let label_text (c : M.t) (l : M.lbl) =
+  let e (x : V.t Mc.entry) = Printf.sprintf "%s (priority %d, #%d)" (V.to_literal x.p) x.prio x.seq in
+  match l with
+  | Mc.Init -> "Init"
+  | Mc.Notify x -> "Notify " ^ e x
+  | Mc.Notify_with x -> "NotifyWith " ^ e x
+  | Mc.Put o -> "Put " ^ V.to_literal o
+  | Mc.Send (m, seq) -> Printf.sprintf "Send %s %s (m%d)" m.perf (V.to_literal m.content) seq
+  | Mc.Transfer n -> Printf.sprintf "Transfer (%d moved)" n
+  | Mc.Transfer_one x -> "TransferOne " ^ e x
+  | Mc.Transfer_spin o -> "TransferSpin on the object " ^ V.to_literal o
+  | Mc.Transfer_end -> "TransferEnd"
+  | Mc.Dequeue x -> "Dequeue " ^ e x
+  | Mc.Handle { id; h; seq; _ } -> Printf.sprintf "Handle: %s #%d handler %d took #%d" (behaviour_of c id) id h seq
+  | Mc.Skip { id; h } -> Printf.sprintf "Skip: %s #%d handler %d" (behaviour_of c id) id h
+  | Mc.End_dispatch { seq; discarded } ->
+    Printf.sprintf "EndDispatch #%d%s" seq (if discarded then ": discarded, no handler applied" else "")
+  | Mc.Behaviour_step { id; msg } ->
+    Printf.sprintf "BehaviourStep of %s #%d%s" (behaviour_of c id) id
+      (match msg with
+       | None -> ""
+       | Some (Mc.M_message { m; mseq }) -> Printf.sprintf ", took %s %s (m%d)" m.perf (V.to_literal m.content) mseq
+       | Some (Mc.M_percept x) -> ", took the percept " ^ e x)
+  | Mc.Next_iteration -> "NextIteration"
+  | Mc.Idle -> "Idle"
+
+(* The handler's declaration, for the dispatch in progress: the source line. *)
+let handler_info t beh h =
+  let hs = List.filter (fun (x : T.handler) -> x.h_kind = T.On_percept) (T.behaviour_handlers t.st.env beh) in
+  match List.nth_opt hs (h - 1) with
+  | None -> ("", "")
+  | Some x ->
+    let line = x.h_at.left.line in
+    let text = match List.assoc_opt x.h_at.left.file t.setup.files with
+      | None -> ""
+      | Some src ->
+        (match List.nth_opt (String.split_on_char '\n' src) (line - 1) with
+         | Some l -> String.trim l
+         | None -> "") in
+    (Printf.sprintf "%s:%d" x.h_at.left.file line, text)
+
+(* What the next rule of agent i will be, told from its configuration alone
+   (no body runs): the order of Machine.step's arms. *)
+let next_rules t i : string list =
+  let p = t.st.params in
+  let c = t.st.platform.agents.(i).config in
+  let beh id = behaviour_of c id in
+  match c.phase, c.cur with
+  | Mc.Idle_phase, _ -> []
+  | Mc.Transfer_phase, _ when p.variant = Mc.Printed ->
+    (match Semantics.Fqueue.peek c.o2a with
+     | None -> [ "TransferEnd" ]
+     | Some (Mc.O_percept e) -> [ Printf.sprintf "TransferOne %s (#%d)" (V.to_literal e.p) e.seq ]
+     | Some (Mc.O_object o) -> [ "TransferSpin on the object " ^ V.to_literal o ])
+  | Mc.Transfer_phase, _ ->
+    let n = Semantics.Fqueue.fold (fun n x -> match x with Mc.O_percept _ -> n + 1 | _ -> n) 0 c.o2a in
+    [ Printf.sprintf "Transfer (%d percept%s)" n (if n = 1 then "" else "s") ]
+  | Mc.Dispatch_phase, _
+    when p.variant <> Mc.Native && not (Semantics.Pqueue.is_empty c.pq)
+         && not (p.variant = Mc.Budgeted && c.dispatched >= p.budget) ->
+    List.map (fun (e : V.t Mc.entry) -> Printf.sprintf "Dequeue %s (priority %d, #%d)" (V.to_literal e.p) e.prio e.seq)
+      (Semantics.Pqueue.candidates ~stable:(p.tie = Mc.Stable) c.pq)
+  | Mc.Dispatch_phase, _ when c.ready <> [] ->
+    let id = List.nth c.ready (c.pos - 1) in
+    [ Printf.sprintf "BehaviourStep of %s #%d" (beh id) id ]
+  | Mc.Dispatch_phase, _ when p.variant <> Mc.Printed && M.idle_condition c -> [ "Idle" ]
+  | Mc.Dispatch_phase, _ -> [ "NextIteration" ]
+  | Mc.Handle_phase, Some d ->
+    (match d.todo with
+     | [] -> [ Printf.sprintf "EndDispatch #%d%s" d.e.seq (if d.applied then "" else " (discard: no handler applied)") ]
+     | (id, h) :: _ ->
+       if List.exists (fun (a : E.beh Mc.instance) -> a.id = id) c.active
+       then [ Printf.sprintf "Handle or Skip: %s #%d handler %d (its when decides)" (beh id) id h ]
+       else [ Printf.sprintf "Skip: %s #%d handler %d (deactivated, R4b)" (beh id) id h ])
+  | Mc.Handle_phase, None -> []
+
+let choices t = match next_agent t with None -> [] | Some i -> next_rules t i
+
+let phase_name = function
+  | Mc.Transfer_phase -> "transfer" | Mc.Dispatch_phase -> "dispatch"
+  | Mc.Handle_phase -> "handle" | Mc.Idle_phase -> "idle"
+
+let agent_view t next i (ag : P.agent) =
+  let c = ag.config in
+  let a = c.world in
+  let beh id = behaviour_of c id in
+  let o2a = List.map (function
+      | Mc.O_percept e -> `Assoc [ "kind", str "percept"; "percept", str (V.to_literal e.p);
+                                   "priority", int e.prio; "seq", int e.seq ]
+      | Mc.O_object o -> `Assoc [ "kind", str "object"; "object", str (V.to_literal o) ])
+      (Semantics.Fqueue.to_list c.o2a) in
+  let msgq = List.map (function
+      | Mc.M_message { m = (m : E.message); mseq } ->
+        `Assoc [ "kind", str "message"; "performative", str m.perf; "content", str (V.to_literal m.content);
+                 "from", str m.sender; "seq", int mseq ]
+      | Mc.M_percept e -> `Assoc [ "kind", str "percept"; "percept", str (V.to_literal e.p);
+                                   "priority", int e.prio; "seq", int e.seq ])
+      (Semantics.Fqueue.to_list c.msgq) in
+  let props = List.filter_map (fun (p : T.property) ->
+      match E.property a p.p_name with
+      | Some v -> Some (`Assoc [ "name", str p.p_name; "value", str (V.to_literal v) ])
+      | None -> None) (T.agent_properties t.st.env a.atype.a_name) in
+  let cur = match c.cur with
+    | None -> `Null
+    | Some d ->
+      `Assoc [ "entry", entry_view d.e; "applied", `Bool d.applied;
+               "todo", `List (List.map (fun (id, h) ->
+                   let b = beh id in
+                   let (at, text) = handler_info t b h in
+                   `Assoc [ "instance", int id; "behaviour", str b; "handler", int h;
+                            "active", `Bool (List.exists (fun (x : E.beh Mc.instance) -> x.id = id) c.active);
+                            "at", str at; "source", str text ]) d.todo) ] in
+  `Assoc [
+    "name", str ag.name; "type", str a.atype.a_name; "phase", str (phase_name c.phase);
+    "next", `Bool (next = Some i);
+    "o2a", `List o2a;
+    "pq", `List (List.map entry_view (Semantics.Pqueue.to_sorted_list c.pq));
+    "msgq", `List msgq;
+    "active", `List (List.map (fun (x : E.beh Mc.instance) ->
+        `Assoc [ "instance", int x.id; "behaviour", str (E.beh_type x.beh) ]) c.active);
+    "ready", `List (List.map int c.ready);
+    "pos", int c.pos;
+    "blocked", `List (List.map int c.blocked);
+    "cur", cur;
+    "dispatched", int c.dispatched;
+    "waits", `List (List.map (fun (seq, prio, inv) ->
+        `Assoc [ "seq", int seq; "priority", int prio; "inversions", int inv ]) c.waits);
+    "done", int (Mc.Int_set.cardinal c.done_);
+    "last", str (label_text c c.last);
+    "last_action", str (Mc.action_name c.last);
+    "props", `List props;
+    "rules", `List (List.map str (next_rules t i));
+  ]
+
+let view t =
+  let st = t.st in
+  let next = next_agent t in
+  `Assoc [
+    "steps", int st.steps;
+    "history", int t.nhist;
+    "events", int st.events;
+    "variant", str (Mc.string_of_variant st.params.variant);
+    "tie", str (match st.params.tie with Mc.Stable -> "stable" | Mc.Unstable -> "unstable");
+    "budget", int st.params.budget;
+    "next", (match next with Some i -> str st.platform.agents.(i).name | None -> `Null);
+    "all_idle", `Bool (P.all_idle st.platform);
+    "agents", `List (Array.to_list (Array.mapi (agent_view t next) st.platform.agents));
+  ]

@@ -1,0 +1,129 @@
+(** A playground session: a checked program, its agents and the host, run on
+    the project's machine ({!Semantics.Machine}, {!Semantics.Platform}) and
+    evaluator ({!Interp.Eval}) one rule at a time, with its trace and with
+    every step undoable.
+
+    The run is the one [jadescript-ref run] makes: the same agent creation,
+    host rules, rounds (R6: round-robin in creation order, or a seeded order)
+    and loop iterations, and the trace written line for line as
+    [jadescript-ref run --trace] writes it (docs/trace-format.md), except that
+    nothing runs on its own: the student takes each rule ({!step}), a whole
+    iteration ({!iteration}) or runs until every agent is idle ({!run_idle}),
+    and may act as the host between any two rules. The test
+    [test/browser/test_playground_engine.ml] holds the trace to the
+    command line's on every conformance vector.
+
+    Stepping back ({!back}) replays the session from its start without its
+    last command: the agents' state is mutable (properties, lists, maps), so a
+    replay is the one faithful undo. *)
+
+(** {1 Setting up} *)
+
+type setup = {
+  files : (string * string) list;   (** the program: file names and texts *)
+  agents : string list;             (** [NAME:TYPE[:ARG,...]], as [run --agent] *)
+  variant : Semantics.Machine.variant;
+  tie : Semantics.Machine.tie_policy;
+  budget : int;                     (** dispatches per iteration of [budgeted] *)
+  o2a_capacity : int option;        (** R2d *)
+  seed : int option;                (** [None]: round-robin (R6) *)
+  fuel : int;                       (** statements per handler or step (R7) *)
+  max_steps : int;                  (** agent rules in the whole session *)
+}
+
+val default_setup : setup
+(** No files, no agents, the reference loop, stable ties, budget 1, unbounded
+    O2A, round-robin, [run]'s fuel (100,000) and step limit (1,000,000). *)
+
+val check : (string * string) list -> string list
+(** The program's diagnostics, errors and warnings, sorted, one line each as
+    [jadescript-ref check] prints them ([FILE:LINE:COL: error: message]). *)
+
+(** {1 A session} *)
+
+type t
+
+val create : setup -> (t, string list) result
+(** Checks the program and creates the agents in order (R5g), writing the
+    trace header and the [create] events. [Error] with the diagnostics (as
+    {!check} gives them, errors only) or the problem with an agent's
+    specification ([--agent NAME:TYPE: error: ...]); never raises. *)
+
+val setup : t -> setup
+
+(** {1 The host} *)
+
+type host_action =
+  | Notify of { agent : string; percept : string; priority : int option }
+      (** [notifyEvent(p)], or [notifyEvent(p, k)] with a priority (R2) *)
+  | Put of { agent : string; obj : string }    (** an object into O2A (R2c) *)
+  | Message of { agent : string; perf : string; content : string }
+      (** a message from the host (R5e) *)
+
+val host : t -> host_action -> (unit, string) result
+(** Does the host action between two rules. Percepts, objects and contents
+    are Jadescript, as in an events file. [Error] (nothing done, nothing
+    recorded) for a text that does not parse or does not fit
+    ([notify:1:COL: error: message]), an unknown agent, a negative priority or
+    a full O2A queue (R2d: the refusal is in the trace, as [run] records it). *)
+
+(** {1 The agents} *)
+
+type outcome =
+  | Stepped            (** a rule was taken *)
+  | All_idle           (** nothing to do: every agent is idle *)
+  | Limit              (** [max_steps] rules were taken *)
+
+val next_agent : t -> int option
+(** The agent whose rule {!step} takes next (the one in the middle of an
+    iteration, else the next of the round that is not idle), [None] when all
+    are idle. Draws nothing from the seed. *)
+
+val choices : t -> string list
+(** The rules enabled for {!next_agent}, described; more than one only for a
+    Dequeue under unstable ties. *)
+
+val step : ?choice:int -> t -> outcome
+(** One rule of the next agent: [choice] (from 0, default 0) picks among
+    {!choices}; an index out of range takes the first. *)
+
+val iteration : t -> outcome
+(** Rules until the current (or next) agent's iteration ends: its
+    BehaviourStep, NextIteration or Idle. *)
+
+val run_idle : ?limit:int -> t -> int * outcome
+(** Rules until every agent is idle, [max_steps], or [limit] rules in this
+    call (default 5,000: the printed loop never idles, D4). Returns the
+    number of rules taken and why it stopped ([Stepped] when the limit
+    stopped it). *)
+
+val run_rounds : t -> int -> unit
+(** [n] rounds, as [{"run": n}] of an events file: in each, every agent that
+    is not idle runs one iteration (the iteration in progress is finished
+    first). *)
+
+val back : t -> bool
+(** Undoes the last command (a rule or a host action) by replaying the
+    session from its start; [false] when there is nothing to undo. *)
+
+val history_length : t -> int
+(** Commands done so far (rules and host actions). *)
+
+val steps : t -> int
+(** Agent rules taken so far. *)
+
+(** {1 What a student sees} *)
+
+val trace : t -> string list
+(** The trace so far: the header, then one JSON line per event, exactly as
+    [jadescript-ref run --trace] writes them. *)
+
+val output : t -> string list
+(** What [run] would print so far: [NAME: text] for each [log], and
+    [FILE:LINE:COL: error: message] for each run-time error (R7). *)
+
+val view : t -> Yojson.Safe.t
+(** The state of every agent, for the page: queues (the priority queue in
+    dispatch order), behaviours, JADE's ready list and position, the dispatch
+    in progress with the handlers still to try, the properties, the ghosts
+    ([dispatched], [waits]) and the enabled rules. *)
