@@ -131,6 +131,7 @@ let explorer_bench () =
 
 module P = Interp.Runtime.P
 module M = P.M
+module E = Interp.Runtime.E   (* the fast engine: what runs programs *)
 module V = Interp.Value
 
 let load_program file =
@@ -160,28 +161,26 @@ let percept_maker env =
     | 3 -> (V.Schema { sname = qr; slots = [| ("qrCode", ref (V.Text "A7")) |] }, 4)
     | _ -> (V.Schema { sname = position; slots = [| ("k", ref (V.Int (k land 1023))) |] }, 2)
 
-let machine_params = { Semantics.Machine.variant = Semantics.Machine.Reference; tie = Semantics.Machine.Stable;
-                       budget = 1; max_active = None; o2a_capacity = None; flood = false; ghosts = false;
-                       mutant = None }
+let machine_params = Semantics.Machine.default_params
 
 let new_agent env =
   let (a, behs) = Interp.Eval.create_agent env ~name:"l" ~atype:"Loader" ~args:[] ~fuel:1000 in
   M.init machine_params ~world:a behs
 
-(* Run the agent until idle, as the machine's rules, one [M.step] at a time
+(* Run the agent until idle on the fast engine, one [E.step] at a time
    except that each percept's dispatch (Dequeue, Handle or Skip per handler,
-   EndDispatch) is taken as the derived rule [M.dispatch]; count the percepts
+   EndDispatch) is taken as the derived rule [E.dispatch]; count the percepts
    that left and call [window] every [every] of them. *)
 let drain ?(every = 0) ?(window = fun _ -> ()) c =
   let handled = ref 0 in
   let rec go (c : M.t) =
-    match M.dispatch machine_params c with
+    match E.dispatch machine_params c with
     | Some c' ->
       incr handled;
       if every > 0 && !handled mod every = 0 then window !handled;
       go c'
     | None ->
-      match M.step machine_params c with
+      match E.step machine_params c with
       | [] -> c
       | (_, c') :: _ -> go c' in
   let c = go c in
@@ -222,9 +221,9 @@ let interp_where env total =
   let t_notify = ref 0. and t_loop = ref 0. in
   let words0 = Gc.minor_words () and minors0 = (Gc.quick_stat ()).minor_collections in
   let count l = incr steps; let i = rule l in counts.(i) <- counts.(i) + 1 in
-  let rec go (c : M.t) = match M.dispatch ~observe:count machine_params c with
+  let rec go (c : M.t) = match E.dispatch ~observe:count machine_params c with
     | Some c' -> go c'
-    | None -> match M.step machine_params c with
+    | None -> match E.step machine_params c with
       | [] -> c
       | (l, c') :: _ -> count l; go c' in
   while !k < total do
@@ -298,7 +297,7 @@ let interp_flood env total =
   (* the live heap with every percept waiting (not timed) *)
   let live_words = float_of_int ((Gc.stat ()).live_words - live0) /. float_of_int total in
   let t1 = Unix.gettimeofday () in
-  let c = match M.step machine_params !c with
+  let c = match E.step machine_params !c with
     | [ ((Semantics.Machine.Transfer k), c) ] when k = total -> c
     | _ -> failwith "flood: the first step is not the Transfer of every percept" in
   let t2 = Unix.gettimeofday () in

@@ -24,8 +24,7 @@ let summary (g : Explorer.graph) =
 
 let one model_arg against mutant =
   let m = Model.load (resolve_model model_arg) in
-  let m = { m with params = { m.params with mutant } } in
-  let g = Explorer.explore m in
+  let g = Explorer.explore ?rules:(Option.map Mutant.rules mutant) m in
   summary g;
   if not against then 0
   else begin
@@ -84,10 +83,10 @@ let run model_arg against mutant_name all_flag full mutants simulate validate =
   match
     let mutant = match mutant_name with
       | None -> None
-      | Some n -> (match List.assoc_opt n Semantics.Machine.mutants with
+      | Some n -> (match List.assoc_opt n Mutant.all with
           | Some m -> Some m
           | None -> raise (Model.Error (Printf.sprintf "unknown mutant %s (known: %s)" n
-                                          (String.concat ", " (List.map fst Semantics.Machine.mutants))))) in
+                                          (String.concat ", " (List.map fst Mutant.all))))) in
     match model_arg, all_flag with
     | Some m, false -> one m against mutant
     | None, true -> all ~full ~mutants ~simulate ~validate

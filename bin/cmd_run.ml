@@ -151,8 +151,7 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
       | None -> prerr_endline ("error: unknown variant " ^ variant ^ " (printed, reference, budgeted, native)"); raise (Stop 1) in
     let trace = Option.map open_out_bin trace_file in
     Interp.Runtime.tune_gc ();
-    let params = { Mc.variant; tie = Mc.Stable; budget = 1; max_active = None;
-                   o2a_capacity = capacity; flood = false; ghosts = false; mutant = None } in
+    let params = { Mc.default_params with variant; o2a_capacity = capacity } in
     (* R7: a run-time error is recorded and the run carries on; it is also
        reported here, one line each, and makes the exit status 1. An error
        with no place in the program (recursion too deep) is put at the start

@@ -73,9 +73,8 @@ let make_with ?program:(path = program ()) ~record () : (module Agent.AGENT) =
     let name = "jadescript"
 
     let create (loop : Agent.loop) (host : Agent.host) =
-      let params = { Mc.variant = loop.variant; tie = Mc.Stable; budget = loop.budget;
-                     max_active = None; o2a_capacity = loop.o2a_capacity; flood = false;
-                     ghosts = false; mutant = None } in
+      let params = { Mc.default_params with variant = loop.variant; budget = loop.budget;
+                                            o2a_capacity = loop.o2a_capacity } in
       let native = V.Native {
           nid = 1; cls = "RoboMe";
           methods = List.map (fun (m, _) -> (m, fun _ ->
@@ -102,7 +101,7 @@ let make_with ?program:(path = program ()) ~record () : (module Agent.AGENT) =
         end
 
     let take t =
-      match M.step t.params t.c with
+      match Interp.Runtime.E.step t.params t.c with
       | [] -> None
       | (l, c) :: _ ->
         t.c <- c;

@@ -23,7 +23,6 @@ module Bodies = struct
   let percept_handlers () = 4
   let message_handlers () = 0
 
-  let percept_may_apply _ () _ _ = true
   let percept_applicable w ~id:_ () h (p : Agent.percept) =
     let ok = match h, p with
       | 1, Falling | 2, Obstacle | 3, Qr_code_read _ | 4, Position _ -> true
@@ -49,9 +48,13 @@ module Bodies = struct
   let message_accepted _ ~id:_ () _ () = false
   let run_message_handler w ~id:_ () _ () = (w, [])
   let take_outbox w = (w, [])
+
+  (* the fast engine's pre-test: handler h takes one percept kind *)
+  let percept_may_apply _ () h (p : Agent.percept) = snd (percept_applicable () ~id:0 () h p)
 end
 
-module M = Machine.Make (Bodies)
+module E = Engine.Fast.Make (Bodies)
+module M = E.M
 
 type label = (Agent.percept, unit, unit) Machine.label
 
@@ -65,9 +68,8 @@ type t = {
 let name = "reference"
 
 let create (loop : Agent.loop) host =
-  let params = { Machine.variant = loop.variant; tie = Machine.Stable; budget = loop.budget;
-                 max_active = None; o2a_capacity = loop.o2a_capacity; flood = false;
-                 ghosts = false; mutant = None } in
+  let params = { Machine.default_params with variant = loop.variant; budget = loop.budget;
+                                             o2a_capacity = loop.o2a_capacity } in
   let w = { host; current = (0., 0.); map = [] } in
   invoke w "startListening";
   let c = M.init params ~world:w [ () ] in
@@ -93,7 +95,7 @@ let notify t p ~priority =
     end
 
 let take t =
-  match M.step t.params t.c with
+  match E.step t.params t.c with
   | [] -> None
   | (l, c) :: _ -> t.c <- c; record t l; Some l
 

@@ -248,7 +248,7 @@ let agent_spec env spec =
 
 let params_of (s : setup) =
   { Mc.variant = s.variant; tie = s.tie; budget = max 1 s.budget; max_active = None;
-    o2a_capacity = s.o2a_capacity; flood = false; ghosts = true; mutant = None }
+    o2a_capacity = s.o2a_capacity; flood = false; ghosts = true }
 
 let header st (s : setup) specs =
   let env = st.env in

@@ -17,8 +17,8 @@ let tlc_graph (m : Model.t) =
   | None -> let (g, _) = Tlc.state_graph m in Hashtbl.replace cache key g; g
 
 let check ?mutant (m : Model.t) =
-  let m' = { m with params = { m.params with mutant } } in
-  Compare.graphs (Explorer.explore m') (tlc_graph m)
+  let rules = Option.map Mutant.rules mutant in
+  Compare.graphs (Explorer.explore ?rules m) (tlc_graph m)
 
 type mutant_row = { mutant : string; caught_by : string option; witness_length : int }
 
@@ -30,7 +30,7 @@ let mutant_table ms =
           let r = check ~mutant:mu m in
           if Compare.agree r then go rest
           else { mutant = name; caught_by = Some m.name; witness_length = List.length r.witness - 1 } in
-      go ms) Semantics.Machine.mutants
+      go ms) Mutant.all
 
 (* ------------------------------------------------------------ simulation *)
 

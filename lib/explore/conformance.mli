@@ -16,7 +16,7 @@ val models : ?full:bool -> unit -> string list
 val tlc_graph : Model.t -> Dot.graph
 (** TLC's state graph of the model, computed once per process. *)
 
-val check : ?mutant:Semantics.Machine.mutant -> Model.t -> Compare.report
+val check : ?mutant:Mutant.t -> Model.t -> Compare.report
 (** The explorer (with the mutant, if any) against TLC. *)
 
 type mutant_row = {

@@ -9,7 +9,7 @@ type graph = {
   seconds : float;
 }
 
-let successors (m : Model.t) (c : Model.M.t) =
+let successors ?(rules = Model.M.rules) (m : Model.t) (c : Model.M.t) =
   let p = m.params in
   let host = ref [] in
   let add l c = host := (l, c) :: !host in
@@ -27,7 +27,7 @@ let successors (m : Model.t) (c : Model.M.t) =
     Array.iteri (fun o _ -> let c' = Model.M.put p c o in add c'.last c') m.objects;
   if c.msg_seq < m.max_send then
     Array.iteri (fun x _ -> let c' = Model.M.send p c x in add c'.last c') m.messages;
-  List.rev_append !host (Model.M.step p c)
+  List.rev_append !host (Model.M.step_by rules p c)
 
 (* ------------------------------------------------------------- keys *)
 
@@ -124,7 +124,7 @@ let show (m : Model.t) (c : Model.M.t) =
 
 (* ---------------------------------------------------------- explore *)
 
-let explore ?(max_states = 5_000_000) (m : Model.t) =
+let explore ?(max_states = 5_000_000) ?rules (m : Model.t) =
   let t0 = Unix.gettimeofday () in
   let ids : (string, int) Hashtbl.t = Hashtbl.create 65536 in
   let states = ref (Array.make 1024 (Obj.magic 0)) and count = ref 0 in
@@ -152,7 +152,7 @@ let explore ?(max_states = 5_000_000) (m : Model.t) =
   let i0 = intern init in
   while not (Queue.is_empty queue) do
     let i = Queue.pop queue in
-    let succs = successors m !states.(i) in
+    let succs = successors ?rules m !states.(i) in
     if succs = [] then deadlocks := i :: !deadlocks;
     List.iter (fun (l, c') ->
         let j = intern c' in

@@ -16,8 +16,10 @@ type graph = {
   seconds : float;
 }
 
-val successors : Model.t -> Model.M.t -> (Model.M.lbl * Model.M.t) list
-(** Host rules (within the model's bounds) then agent rules. *)
+val successors : ?rules:Model.M.rules -> Model.t -> Model.M.t -> (Model.M.lbl * Model.M.t) list
+(** Host rules (within the model's bounds) then agent rules: those of
+    [rules] (the reference {!Semantics.Machine.Make.rules} by default; a
+    mutant's table, {!Mutant.rules}, in the conformance checks). *)
 
 val key : Model.M.t -> string
 (** The canonical key of a configuration. *)
@@ -27,7 +29,7 @@ val show : Model.t -> Model.M.t -> string
     behaviours and the last rule, as the machine's record holds them (the
     priority queue shown in dequeue order). *)
 
-val explore : ?max_states:int -> Model.t -> graph
+val explore : ?max_states:int -> ?rules:Model.M.rules -> Model.t -> graph
 (** @raise Failure when more than [max_states] (default 5,000,000) states are found. *)
 
 val shortest_path : graph -> int -> (string * int) list

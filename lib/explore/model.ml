@@ -145,7 +145,7 @@ let of_constants ~name ~dir cs =
     let params = { Semantics.Machine.variant; tie; budget = Tla.to_int (g "Budget");
                    max_active = Some (Tla.to_int (g "MaxActive"));
                    o2a_capacity = Some (Tla.to_int (g "O2ACapacity"));
-                   flood; ghosts = true; mutant = None } in
+                   flood; ghosts = true } in
     { name; dir; constants = cs; params; percepts;
       default_priority = Array.map (fun p -> Tla.to_int (Tla.field p (g "DefaultPriority"))) percepts;
       overrides = List.sort_uniq compare (List.map Tla.to_int (Tla.to_list (g "Overrides")));
@@ -194,8 +194,6 @@ module Bodies = struct
         | E_deactivate -> Semantics.Machine.Deactivate) effs
 
   let percept_applicable () ~id:_ b h p = ((), List.mem p b.percept_handlers.(h - 1).accepts)
-  (* the bodies of a model have no effects on the world: the test itself *)
-  let percept_may_apply () b h p = List.mem p b.percept_handlers.(h - 1).accepts
   let run_percept_handler () ~id:_ b h _ = ((), effects b b.percept_handlers.(h - 1).effects)
   let run_action () ~id:_ b = ((), effects b b.action_effects)
   let message_accepted () ~id:_ b h m = List.mem m b.message_handlers.(h - 1).accepts

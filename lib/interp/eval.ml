@@ -23,30 +23,13 @@ type cell = { mutable v : V.t; ty : Ty.t }
 
 module Names = Syntax.Strtbl
 
-(* A percept guard of the shape [content matches S(x1, ..., xn)], possibly
-   followed by [and rest], resolved when the behaviour is activated: S's name
-   as the type environment spells it, and per slot the variable it binds
-   ([None] for [_]). Evaluating it on a value of schema S itself is what the
-   general rules do on that shape (pattern PCons, positional slots), without
-   looking names up; any other value takes the general rules. *)
-type fast_guard = { fschema : string; fvars : string option array; frest : Ast.expr option }
-
-(* A percept handler of a behaviour, with what was resolved of its guard. *)
-type phandler = {
-  hd : T.handler;
-  fast : fast_guard option;
-  required : (string * (string * bool) list ref) option;
-      (* the schema its guard requires of content, and which percept types
-         were found to be (or not be) that schema *)
-}
-
 type beh = {
   uid : int;
   btype : T.behaviour;
   bprops : cell Names.t;
   mutable bcache : (string * cell option) list;
       (* properties found by name from this behaviour's code, by address *)
-  phandlers : phandler array;
+  phandlers : T.handler array;
   mhandlers : T.handler array;
   action : Ast.block option;
 }
@@ -218,35 +201,6 @@ let slot at (s : V.schema_v) x =
   match Array.find_opt (fun (n, _) -> n = x) s.slots with
   | Some (_, r) -> r
   | None -> err at "%s has no slot %s" s.sname x
-
-(* The schema a guard requires of content, when its leftmost conjunct is
-   [content matches S] or [content matches S(...)]. *)
-let rec required_schema (e : Ast.expr) = match e.it with
-  | Matches ({ it = Content; _ }, { it = PCons (c, _); _ }) -> Some c.it
-  | Matches ({ it = Content; _ }, { it = PName x; _ }) -> Some x
-  | Binop (And, l, _) -> required_schema l
-  | _ -> None
-
-(* The guard's fast form, when it has the shape [content matches S(p1, ...,
-   pn)] or [content matches S(p1, ..., pn) and rest], S a schema with n
-   slots, and each pi a [_] or a name that is not a schema (a variable). *)
-let fast_guard env (g : Ast.expr) =
-  let form (m : Ast.expr) rest = match m.it with
-    | Matches ({ it = Content; _ }, { it = PCons (c, ps); _ }) ->
-      (match T.schema env c.it with
-       | Some sc when List.length sc.s_slots = List.length ps ->
-         let var (p : Ast.pattern) = match p.it with
-           | PWild -> Some None
-           | PName x when T.schema env x = None -> Some (Some x)
-           | _ -> None in
-         let vars = List.map var ps in
-         if List.mem None vars then None
-         else Some { fschema = sc.s_name; fvars = Array.of_list (List.map Option.get vars); frest = rest }
-       | _ -> None)
-    | _ -> None in
-  match g.it with
-  | Binop (And, l, r) -> form l (Some r)
-  | _ -> form g None
 
 (* ------------------------------------------------------ arithmetic *)
 
@@ -565,14 +519,7 @@ and activate (f : frame) at name kvs =
   | Some bt ->
     incr uids;
     let handlers = T.behaviour_handlers f.ag.env name in
-    let phandlers = Array.of_list (List.filter_map (fun (h : T.handler) ->
-        if h.h_kind <> T.On_percept then None
-        else Some { hd = h; fast = Option.bind h.h_guard (fast_guard f.ag.env);
-                    required = (match h.h_guard with
-                        | Some g -> (match required_schema g with
-                            | Some x when T.schema f.ag.env x <> None -> Some (x, ref [])
-                            | _ -> None)
-                        | None -> None) }) handlers) in
+    let phandlers = Array.of_list (List.filter (fun (h : T.handler) -> h.h_kind = T.On_percept) handlers) in
     let b = { uid = !uids; btype = bt; bprops = Names.create 8; bcache = [];
               phandlers;
               mhandlers = Array.of_list (List.filter (fun (h : T.handler) -> h.h_kind <> T.On_percept) handlers);
@@ -638,21 +585,6 @@ let guard_holds (f : frame) (h : T.handler) =
   | None -> true
   | Some g -> condition f g
 
-(* A percept guard: its fast form when it has one and the percept is of the
-   pattern's own schema (the positional case of [pattern]); the bindings are
-   made in the same order. Otherwise the general rules. *)
-let percept_guard_holds (f : frame) (h : T.handler) fast (p : V.t) =
-  match fast, p, h.h_guard with
-  | Some { fschema; fvars; frest }, V.Schema s, Some g
-    when same_name s.sname fschema && Array.length s.slots = Array.length fvars ->
-    Array.iteri (fun i x -> match x with
-        | Some x -> local_set f.locals x !(snd s.slots.(i))
-        | None -> ()) fvars;
-    (match frest with
-     | None -> true
-     | Some r -> condition_value g (expr f r))
-  | _ -> guard_holds f h
-
 let create_agent env ~name ~atype ~args ~fuel =
   match T.agent env atype with
   | None -> raise (Runtime_error (Source.no_region, Printf.sprintf "unknown agent type %s" atype))
@@ -717,6 +649,13 @@ let percept_value env ~agent_type (e : Ast.expr) =
      | _ -> err e.at "%s is not a percept type (it does not extend percept)" s.sname)
   | _ -> err e.at "a percept is a construction of a percept type, such as qrCodeRead(\"A7\")"
 
+(* ------------------------------------------- for the fast engine *)
+
+let percept_handler b h = b.phandlers.(h - 1)
+let guard_frame a ~id b p = frame a ~beh:b ~id ~content:p ()
+let bind_local (f : frame) x v = local_set f.locals x v
+let condition_part (f : frame) ~(whole : Ast.expr) (part : Ast.expr) = condition_value whole (expr f part)
+
 module Bodies = struct
   type percept = V.t
   type nonrec message = message
@@ -729,46 +668,12 @@ module Bodies = struct
   let percept_handlers b = Array.length b.phandlers
   let message_handlers b = Array.length b.mhandlers
 
-  (* Can the guard of percept handler h hold for this percept at all? False
-     only when its leftmost conjunct is a [matches] of a schema that the
-     percept's type is not and does not extend: then the guard is false, with
-     no effect and no possible error, so evaluating it would change nothing. *)
-  (* The memo's answer for the schema named by the very string [n]: 1 (yes),
-     0 (no), -1 (not there). *)
-  let rec memo_by_address n = function
-    | (m, r) :: rest -> if m == n then (if r then 1 else 0) else memo_by_address n rest
-    | [] -> -1
-
-  let may_apply a (ph : phandler) (p : V.t) =
-    match ph.required, p with
-    | Some (x, memo), V.Schema s ->
-      let n = s.sname in
-      x == n
-      || (* the memo, by address (names are interned), then by content *)
-      (match memo_by_address n !memo with
-       | 1 -> true
-       | 0 -> false
-       | _ ->
-         match List.find_opt (fun (m, _) -> String.equal m n) !memo with
-         | Some (_, r) -> r
-         | None ->
-           let r = same_name x n || T.subschema a.env n x in
-           memo := (n, r) :: !memo; r)
-    | _ -> true
-
-  let percept_may_apply a b h p = may_apply a b.phandlers.(h - 1) p
-
   (* R3b: the pattern and the when are evaluated now; an error makes the
      handler not applicable, and is recorded. The bindings are kept for the
      body. *)
   let percept_applicable a ~id b h p =
-    let ph = b.phandlers.(h - 1) in
-    if not (may_apply a ph p) then begin
-      (match a.pending with None -> () | Some _ -> a.pending <- None);
-      (a, false)
-    end else
     let f = frame a ~beh:b ~id ~content:p () in
-    let ok = try percept_guard_holds f ph.hd ph.fast p
+    let ok = try guard_holds f b.phandlers.(h - 1)
       with Runtime_error (at, msg) -> a.events <- Error (at, msg) :: a.events; false in
     a.pending <- (if ok then Some (id, h, f) else None);
     (a, ok)
@@ -782,7 +687,7 @@ module Bodies = struct
       | Some _ -> a.pending <- None; frame a ~beh:b ~id ~content:p ()
       | None -> frame a ~beh:b ~id ~content:p () in
     if a.last_behaviour != b.btype.b_name then a.last_behaviour <- b.btype.b_name;
-    protect_block a f b.phandlers.(h - 1).hd.h_body;
+    protect_block a f b.phandlers.(h - 1).h_body;
     (match a.last_handler with Some k when k = h -> () | _ -> a.last_handler <- Some h);
     (a, take_effects a)
 

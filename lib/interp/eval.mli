@@ -103,6 +103,30 @@ val coerce_param : Typing.Types.t -> Value.t -> Value.t option
 (** The value converted to a parameter or slot type (integer to float or
     double), or [None] if it does not fit. *)
 
+(** {1 For the fast engine}
+
+    What [lib/engine/interp_bodies.ml] needs to evaluate a percept guard the
+    way the general rules do, faster. *)
+
+val percept_handler : beh -> int -> Typing.Tenv.handler
+(** Percept handler [h] (from 1) of the instance, in declaration order. *)
+
+val guard_frame : agent -> id:int -> beh -> Value.t -> frame
+(** The frame a percept guard of the instance is evaluated in, for this
+    percept (a fresh step budget). *)
+
+val bind_local : frame -> string -> Value.t -> unit
+(** Binds a pattern variable, as a pattern does. *)
+
+val condition_part : frame -> whole:Syntax.Ast.expr -> Syntax.Ast.expr -> bool
+(** The value of [part], a conjunct of the [when] condition [whole], which
+    must be a boolean. @raise Runtime_error *)
+
+(** {1 The bodies}
+
+    The reference: every percept guard is evaluated by the general rules,
+    with no memo and no pre-test. *)
+
 module Bodies : Semantics.Machine.BODIES
   with type percept = Value.t and type message = message and type obj = Value.t
    and type beh = beh and type world = agent

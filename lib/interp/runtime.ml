@@ -1,5 +1,6 @@
 module P = Semantics.Platform.Make (Eval.Bodies)
 module M = P.M
+module E = Engine.Fast.Make (Engine.Interp_bodies)
 module Mc = Semantics.Machine
 module T = Typing.Tenv
 module V = Value
@@ -239,7 +240,7 @@ let iterate t i =
   let left = t.opts.max_steps - t.steps in
   if left > 0 then begin
     let before = t.events in
-    let (pl, evs) = P.iteration ~max_steps:left ~on_event:(on_event t) t.opts.params t.platform i in
+    let (pl, evs) = P.iteration ~max_steps:left ~on_event:(on_event t) ~step:E.step t.opts.params t.platform i in
     t.platform <- pl;
     ignore before;
     t.steps <- t.steps + List.length (List.filter (function P.Step _ -> true | _ -> false) evs)

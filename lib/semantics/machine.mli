@@ -13,7 +13,12 @@
     The machine is parameterised by what handlers and behaviour steps do
     ({!BODIES}): the explorer plugs in the abstract bodies of a TLA+ model
     (acceptance tables and activate/deactivate effects), the interpreter plugs
-    in real Jadescript code. *)
+    in real Jadescript code.
+
+    This is the reference: plain rules, no caches, no derived rules. The fast
+    path that runs programs ([lib/engine/]) is tested equal to it, rule for
+    rule; the mutants of the conformance checks are altered {!Make.rules}
+    tables built outside it ([lib/explore/mutant.ml]). *)
 
 (** {1 Parameters} *)
 
@@ -27,20 +32,6 @@ type tie_policy =
   | Stable     (** R3b: equal priorities leave in seq order *)
   | Unstable   (** any entry of the highest priority (java.util.PriorityQueue) *)
 
-(** Deliberate semantic mutants of the rules, to show that the comparison
-    with TLC has teeth (docs/semantics.md, "Mutants"). Never used outside the
-    conformance checks. *)
-type mutant =
-  | Ties_to_largest_seq     (** Dequeue breaks ties towards the LAST notified *)
-  | First_handler_only      (** a dispatch stops after the first handler ran *)
-  | Transfer_moves_one      (** Transfer moves only the first O2A percept *)
-  | Step_before_dispatch    (** a behaviour step runs before the dispatch *)
-  | Oneshot_not_removed     (** a one-shot behaviour stays active *)
-  | O2a_not_drained         (** Transfer copies percepts but leaves them in O2A *)
-
-val mutants : (string * mutant) list
-(** Every mutant, with its name ([ties-largest-seq], ...). *)
-
 type params = {
   variant : variant;
   tie : tie_policy;
@@ -53,8 +44,11 @@ type params = {
                                   all 0, identical queue entries merge *)
   ghosts : bool;              (** maintain [done_] and [waits] (the spec's ghost
                                   variables); off in production runs *)
-  mutant : mutant option;     (** [None] except in the conformance checks *)
 }
+
+val default_params : params
+(** [reference], stable ties, budget 1, no bounds, no flood abstraction, no
+    ghosts: what [jadescript-ref run] uses unless told otherwise. *)
 
 val variant_of_string : string -> variant option
 val string_of_variant : variant -> string
@@ -156,15 +150,6 @@ module type BODIES = sig
       (pattern and [when], R3b)? An error makes it not applicable; the world
       may record it. *)
 
-  val percept_may_apply : world -> beh -> int -> percept -> bool
-  (** A pre-test for the derived rule Dispatch: [false] only when
-      [percept_applicable] would surely answer [false] for handler [h] of the
-      behaviour and this percept, leaving the world as it is and recording
-      nothing (for instance, the guard's first conjunct matches a schema the
-      percept's type is not). Dispatch then takes the Skip without asking
-      [percept_applicable]; [step] always asks. [fun _ _ _ _ -> true] is
-      always correct. *)
-
   val run_percept_handler : world -> id:int -> beh -> int -> percept -> world * beh effect list
 
   val run_action : world -> id:int -> beh -> world * beh effect list
@@ -207,32 +192,98 @@ module Make (B : BODIES) : sig
   val send : params -> t -> B.message -> t
   (** [Send]: a message reaches the agent (R5e); blocked behaviours wake (R5d). *)
 
-  (** {2 Agent rules} *)
+  (** {2 Agent rules}
 
-  val step : params -> t -> (lbl * t) list
-  (** Every agent rule enabled in this configuration, with its result. At most
-      one, except that [Dequeue] under the [Unstable] policy (and under the flood
-      abstraction) may take any of several entries. Empty when the agent is idle.
-      Each match arm of the implementation is one rule. *)
+      Each rule is one action of the spec: [rule p c] is the empty list when
+      the action's enabling condition does not hold in [c], else its results
+      (several only for Dequeue's candidates under the [Unstable] policy or
+      the flood abstraction). *)
+
+  type rule = params -> t -> (lbl * t) list
+
+  val transfer : rule
+  (** Transfer (R3a; [native]: into the message queue). *)
+
+  val transfer_one : rule
+  (** TransferOne ([printed]). *)
+
+  val transfer_spin : rule
+  (** TransferSpin ([printed]). *)
+
+  val transfer_end : rule
+  (** TransferEnd ([printed]). *)
+
+  val dequeue : rule
+  (** Dequeue (R3b, R4a): one result per candidate. *)
+
+  val handle_or_skip : rule
+  (** Handle or Skip (R3b, R4b): Applicable of the head of the snapshot is
+      evaluated once (the bodies may record an error while evaluating a
+      guard), and decides which of the two actions is enabled.
+      @raise Fault.Crash in phase [Handle] without a dispatch in progress. *)
+
+  val end_dispatch : rule
+  (** EndDispatch (R3b). *)
+
+  val behaviour_step : rule
+  (** BehaviourStep (R5a-R5d, R5f). *)
+
+  val next_iteration : rule
+  (** NextIteration (D5). *)
+
+  val idle : rule
+  (** Idle (R3e). *)
+
+  (** The agent rules as a table, so that a caller can build an altered
+      machine (a mutant) from them without touching them. *)
+  type rules = {
+    transfer : rule; transfer_one : rule; transfer_spin : rule; transfer_end : rule;
+    dequeue : rule; handle_or_skip : rule; end_dispatch : rule;
+    behaviour_step : rule; next_iteration : rule; idle : rule;
+  }
+
+  val rules : rules
+  (** The reference table. *)
+
+  val step_by : rules -> rule
+  (** AgentStep: every rule of the table enabled in this configuration, with
+      its result, in the spec's order of the disjuncts. *)
+
+  val step : rule
+  (** [step_by rules]. Empty when the agent is idle. *)
 
   val is_idle : t -> bool
 
-  (** {2 Derived rule} *)
+  (** {2 Operators the spec names}
 
-  val dispatch : ?observe:(lbl -> unit) -> params -> t -> t option
-  (** One percept's whole dispatch in one call, when the configuration is in
-      phase Handle (the rest of the dispatch in progress) or in phase
-      Dispatch with Dequeue the one rule enabled (stable ties, no flood
-      abstraction, no mutant): Dequeue, then Handle or Skip for each handler
-      of the snapshot, then EndDispatch. The result is the configuration that
-      {!step} reaches by applying those rules one at a time (each is then the
-      only rule enabled), without building the configurations in between;
-      [observe] sees their labels in order. [None] in any other
-      configuration. docs/semantics.md, "A derived rule"; tested against
-      {!step} on every reachable configuration of the models and on the
-      interpreter's runs. *)
+      Exported for the fast engine and for altered rules; each is the TLA+
+      operator of the same name. *)
 
-  (** {2 Conditions the spec names} *)
+  type bs = { active : B.beh instance list; ready : int list; blocked : int list; pos : int }
+  (** BS: the behaviour part of a configuration. *)
+
+  val bs_of : t -> bs
+  val with_bs : t -> bs -> t
+  (** SetBS. *)
+
+  val apply_effects : params -> bs -> int -> B.beh effect list -> int list -> bs
+  (** ApplyEffects(S, this, effs, reserved) (R5g, R5h, D2). *)
+
+  val find_instance : int -> B.beh instance list -> B.beh option
+  (** The behaviour of an instance, if it is active. *)
+
+  val handlers_of : t -> (int * int) list
+  (** HandlersOf(active) (R4a). *)
+
+  val bump_waits : params -> t -> B.percept entry -> (int * int * int) list
+  (** BumpWaits (ghost). *)
+
+  val add_done : params -> t -> int -> Int_set.t
+  (** [done \cup {seq}] (ghost). *)
+
+  val budget_spent : params -> t -> bool
+  val dispatch_over : params -> t -> bool
+  (** BudgetSpent, DispatchOver. *)
 
   val idle_condition : t -> bool
   (** R3e: nothing ready, no percept in O2A, the priority queue empty. *)

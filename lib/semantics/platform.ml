@@ -43,12 +43,12 @@ module Make (B : Machine.BODIES) = struct
     | Machine.Behaviour_step _ | Machine.Next_iteration | Machine.Idle -> true
     | _ -> false
 
-  let iteration ?(max_steps = 1_000_000) ?(on_event = fun _ _ -> ()) p t i =
+  let iteration ?(max_steps = 1_000_000) ?(on_event = fun _ _ -> ()) ?(step = M.step) p t i =
     let name = t.agents.(i).name in
     let t = { t with next = (i + 1) mod Array.length t.agents } in
     let rec go t n acc =
       if n >= max_steps then (t, List.rev acc)
-      else match M.step p t.agents.(i).config with
+      else match step p t.agents.(i).config with
         | [] -> (t, List.rev acc)
         | (l, c) :: _ ->
           let t = set t i c in

@@ -34,12 +34,17 @@ module Make (B : Machine.BODIES) : sig
   val deliver : Machine.params -> t -> sender:string -> receiver:string -> B.message -> t * event
   (** A message from [sender] (an agent, or the host) to [receiver] (R5e). *)
 
-  val iteration : ?max_steps:int -> ?on_event:(t -> event -> unit) -> Machine.params -> t -> int -> t * event list
+  val iteration :
+    ?max_steps:int -> ?on_event:(t -> event -> unit) ->
+    ?step:(Machine.params -> M.t -> (M.lbl * M.t) list) ->
+    Machine.params -> t -> int -> t * event list
   (** One loop iteration of agent [i] ([max_steps] bounds it; default 10^6).
       Empty when the agent is idle. Under the [Unstable] tie policy the first
       candidate is taken. [on_event] sees each event as it happens, with the
       platform right after it (a step's event before the deliveries of the
-      messages that step sent). *)
+      messages that step sent). [step] takes the agent's rules: [M.step]
+      by default; the runtime passes the fast engine's, which answers the
+      same. *)
 
   type policy = Round_robin | Seeded of Random.State.t
 

@@ -19,8 +19,7 @@ let run_program ?(variant = Mc.Reference) ?(fuel = 10_000) ?(events = fun _ -> (
   let logs = ref [] in
   let trace = Filename.temp_file "jsref" ".jsonl" in
   let oc = open_out_bin trace in
-  let params = { Mc.variant; tie = Mc.Stable; budget = 1; max_active = None; o2a_capacity = None;
-                 flood = false; ghosts = false; mutant = None } in
+  let params = { Mc.default_params with variant } in
   let opts = { Interp.Runtime.params; seed = None; fuel; max_steps = 100_000; trace = Some oc;
                on_log = (fun a s -> logs := (a ^ ": " ^ s) :: !logs); on_error = (fun _ _ -> ()) } in
   let rt = Interp.Runtime.create env opts agents in
@@ -358,13 +357,18 @@ let random_run_validates =
     ignore arb;
     true
 
-(* The derived rule Dispatch on the interpreter's bodies: two copies of the
-   same agent get the same notifies; one runs [step] only, the other takes
-   every dispatch it can as [M.dispatch]. They must report the same labels,
-   the same body events (logs, errors, sends, activations: those of a
-   dispatch after its EndDispatch, where the derived rule has them), the
-   same messages to send, and reach the same configuration and properties. *)
+(* The fast engine on the interpreter's bodies against the reference: two
+   copies of the same agent get the same notifies; one runs the reference
+   machine's [step] on the reference bodies (Eval.Bodies: every guard by the
+   general rules, no memo, no pre-test), the other the engine (lib/engine:
+   its [step], and every dispatch it can as the derived rule [dispatch], on
+   Engine.Interp_bodies with resolved guards, the memo and the pre-test).
+   They must report the same labels, the same body events (logs, errors,
+   sends, activations: those of a dispatch after its EndDispatch, where the
+   derived rule has them), the same messages to send, and reach the same
+   configuration and properties. *)
 module RM = Interp.Runtime.P.M
+module FE = Interp.Runtime.E
 
 let show_label (l : RM.lbl) =
   Mc.action_name l ^ (match l with
@@ -412,8 +416,7 @@ let derived_dispatch_on_programs_exn =
     let params = match Typing.Tenv.agent_create env "Ag" with Some r -> r.r_params | None -> [] in
     let args = List.map (fun (_, ty) -> Interp.Eval.literal_value env (Parse.expr ~file:"a" (literal_of rand ty))) params in
     let variant = List.nth [ Mc.Reference; Mc.Budgeted; Mc.Printed; Mc.Reference ] (seed mod 4) in
-    let p = { Mc.variant; tie = Mc.Stable; budget = 2; max_active = None; o2a_capacity = None;
-              flood = false; ghosts = seed mod 2 = 0; mutant = None } in
+    let p = { Mc.default_params with variant; budget = 2; ghosts = seed mod 2 = 0 } in
     let run derived =
       let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args ~fuel:500 in
       let out = ref [] in
@@ -425,10 +428,10 @@ let derived_dispatch_on_programs_exn =
       let rec go (c : RM.t) n =
         if n <= 0 && c.phase <> Mc.Handle_phase then c else
         let k = ref 0 in
-        match (if derived then RM.dispatch ~observe:(fun l -> incr k; note (show_label l)) p c else None) with
+        match (if derived then FE.dispatch ~observe:(fun l -> incr k; note (show_label l)) p c else None) with
         | Some c -> body (); go c (n - !k)
         | None ->
-          match RM.step p c with
+          match (if derived then FE.step p c else RM.step p c) with
           | [] -> c
           | (l, c) :: _ ->
             note (show_label l);
@@ -459,6 +462,25 @@ let derived_dispatch_on_programs (prog, seed) =
   | QCheck.Test.Test_fail _ as x -> raise x
   | x -> QCheck.Test.fail_reportf "exception %s" (Printexc.to_string x)
 
+(* The comparison above has teeth: with a wrong pre-test planted in the
+   engine's bodies (it says no to every handler whose guard requires a
+   schema, even for a percept of that schema), it fails on some of the same
+   random programs. *)
+let wrong_pretest_caught () =
+  let gen = QCheck.pair Typed_gen.arb_program QCheck.small_nat in
+  let rand = Random.State.make [| seed |] in
+  let caught = ref 0 and tried = ref 0 in
+  Engine.Interp_bodies.wrong_pretest := true;
+  Fun.protect ~finally:(fun () -> Engine.Interp_bodies.wrong_pretest := false) (fun () ->
+      while !caught = 0 && !tried < 200 do
+        incr tried;
+        let x = QCheck.Gen.generate1 ~rand (QCheck.get_gen gen) in
+        match derived_dispatch_on_programs x with
+        | _ -> ()
+        | exception _ -> incr caught
+      done);
+  Alcotest.(check bool) (Printf.sprintf "a wrong pre-test is caught (%d programs tried)" !tried) true (!caught > 0)
+
 let () =
   Alcotest.run "interp" [
     ("values", [
@@ -470,8 +492,9 @@ let () =
         Alcotest.test_case "D11 priority of, D12 for over a map" `Quick decisions_of_and_for;
         Alcotest.test_case "performative and sender of message" `Quick message_fields ]);
     ("derived", [
-        qcheck ~count:60 ~long_factor:10 "derived rule Dispatch = its steps, random programs"
-          (QCheck.pair Typed_gen.arb_program QCheck.small_nat) derived_dispatch_on_programs ]);
+        qcheck ~count:60 ~long_factor:10 "engine (step, Dispatch) = reference steps, random programs"
+          (QCheck.pair Typed_gen.arb_program QCheck.small_nat) derived_dispatch_on_programs;
+        Alcotest.test_case "a wrong pre-test is caught" `Quick wrong_pretest_caught ]);
     ("errors", [
         Alcotest.test_case "R7 errors located, agent carries on" `Quick runtime_errors_located;
         Alcotest.test_case "R7 step budget" `Quick fuel_exhausted;

@@ -322,7 +322,6 @@ module Ping = struct
   let percept_handlers _ = 0
   let message_handlers = function Pinger -> 1 | Ponger -> 1
   let percept_applicable w ~id:_ _ _ () = (w, false)
-  let percept_may_apply _ _ _ () = true
   let run_percept_handler w ~id:_ _ _ () = (w, [])
   let run_action w ~id:_ _ = ({ w with outbox = w.outbox @ [ ("b", "ping"); ("nobody", "ping") ] }, [])
   let message_accepted _ ~id:_ b _ m = (b = Ponger && m = "ping") || (b = Pinger && m = "pong")
@@ -335,8 +334,7 @@ end
 module P = Semantics.Platform.Make (Ping)
 
 let platform_ping_pong () =
-  let p = { Mc.variant = Mc.Reference; tie = Mc.Stable; budget = 1; max_active = None;
-            o2a_capacity = None; flood = false; ghosts = false; mutant = None } in
+  let p = Mc.default_params in
   let w = { Ping.outbox = []; got = [] } in
   let t = P.create [ ("a", P.M.init p ~world:w [ Ping.Pinger ]); ("b", P.M.init p ~world:w [ Ping.Ponger ]) ] in
   let rec run t n acc =
@@ -372,40 +370,72 @@ let agreement_cases () =
           Alcotest.(check bool) "non-trivial graph" true (r.explorer_states > 10)))
     (Lazy.force model_paths)
 
+(* The fast engine (lib/engine) on the models' bodies, with the pre-test
+   that the acceptance tables give. *)
+module Fast_model_bodies = struct
+  include Model.Bodies
+  let percept_may_apply () (b : Model.beh) h p = List.mem p b.percept_handlers.(h - 1).accepts
+end
+
+module FE = Engine.Fast.Make (Fast_model_bodies)
+
+(* The fast engine's [step] is the reference's, rule for rule: on every
+   reachable configuration of every model, the same rules with the same
+   labels reach the same configurations. *)
+let engine_step_is_reference () =
+  let checked = ref 0 in
+  let models = List.map Model.load (Lazy.force model_paths) in
+  List.iter (fun (m : Model.t) ->
+      let g = Explorer.explore m in
+      Array.iter (fun (c : Model.M.t) ->
+          incr checked;
+          let show r = String.concat " | " (List.map (fun (l, c') ->
+              Mc.action_name l ^ " -> " ^ Explorer.show m c' ^ " " ^ Explorer.key c') r) in
+          let fast = show (FE.step m.params c) and reference = show (Model.M.step m.params c) in
+          if fast <> reference then
+            Alcotest.failf "%s: from %s\nthe engine takes %s\nthe reference takes %s" m.name
+              (Explorer.show m c) fast reference) g.states) models;
+  Alcotest.(check bool) (Printf.sprintf "checked %d configurations" !checked) true (!checked > 10_000)
+
 (* The derived rule Dispatch (docs/semantics.md) is the rules it stands for:
    from every reachable configuration of every model where it applies, the
-   labels it reports and the configuration it returns are those of [step]
-   taken one rule at a time (each then the only rule enabled) up to
-   EndDispatch. Also under the mutant that changes the Handle rule. *)
+   labels it reports and the configuration it returns are those of the
+   reference [step] taken one rule at a time (each then the only rule
+   enabled) up to EndDispatch. The comparison has teeth: against the rules
+   of the mutant that changes Handle, it finds a difference. *)
 let derived_dispatch_is_its_steps () =
-  let checked = ref 0 and from_dequeue = ref 0 in
-  let check (m : Model.t) =
+  let checked = ref 0 and from_dequeue = ref 0 and differ = ref 0 in
+  let check ~expect_equal (rules : Model.M.rules) (m : Model.t) =
     let g = Explorer.explore m in
     Array.iter (fun (c : Model.M.t) ->
         let seen = ref [] in
-        match Model.M.dispatch ~observe:(fun l -> seen := l :: !seen) m.params c with
+        match FE.dispatch ~observe:(fun l -> seen := l :: !seen) m.params c with
         | None -> ()
         | Some c' ->
-          incr checked;
-          if c.phase = Mc.Dispatch_phase then incr from_dequeue;
+          if expect_equal then incr checked;
+          if expect_equal && c.phase = Mc.Dispatch_phase then incr from_dequeue;
           let rec steps c acc =
-            match Model.M.step m.params c with
+            match Model.M.step_by rules m.params c with
             | [ ((Mc.End_dispatch _ as l), c1) ] -> (List.rev (l :: acc), c1)
             | [ (l, c1) ] -> steps c1 (l :: acc)
             | r -> Alcotest.failf "%s: %d rules enabled in a dispatch from %s" m.name (List.length r)
                      (Explorer.show m c) in
           let (labels, c1) = steps c [] in
-          if List.rev !seen <> labels then
+          let same = List.rev !seen = labels
+                     && Explorer.show m c' = Explorer.show m c1 && Explorer.key c' = Explorer.key c1 in
+          if not same then incr differ;
+          if expect_equal && List.rev !seen <> labels then
             Alcotest.failf "%s: the derived rule reports %s, the steps are %s, from %s" m.name
               (String.concat " " (List.rev_map Mc.action_name !seen))
               (String.concat " " (List.map Mc.action_name labels)) (Explorer.show m c);
-          if Explorer.show m c' <> Explorer.show m c1 || Explorer.key c' <> Explorer.key c1 then
+          if expect_equal && not same then
             Alcotest.failf "%s: from %s\nthe derived rule reaches %s\nthe steps reach %s" m.name
               (Explorer.show m c) (Explorer.show m c') (Explorer.show m c1)) g.states in
   let models = List.map Model.load (Lazy.force model_paths) in
-  List.iter check models;
-  List.iter (fun (m : Model.t) ->
-      check { m with params = { m.params with mutant = Some Mc.First_handler_only } }) models;
+  List.iter (check ~expect_equal:true Model.M.rules) models;
+  Alcotest.(check int) "no difference with the reference" 0 !differ;
+  List.iter (check ~expect_equal:false (Mutant.rules Mutant.First_handler_only)) models;
+  Alcotest.(check bool) "the mutant of Handle differs" true (!differ > 0);
   Alcotest.(check bool) (Printf.sprintf "checked %d configurations, %d from a Dequeue" !checked !from_dequeue)
     true (!checked > 1000 && !from_dequeue > 100)
 
@@ -458,8 +488,8 @@ let wrong_run_rejected () =
      reaches is not a behaviour of the spec. *)
   let path = List.find (fun p -> Filename.basename p = "MCTiesStable.tla") (Lazy.force model_paths) in
   let m = Model.load path in
-  let mutant = { m with params = { m.params with mutant = Some Mc.Ties_to_largest_seq } } in
-  let g = Explorer.explore mutant in
+  let mutant = m in
+  let g = Explorer.explore ~rules:(Mutant.rules Mutant.Ties_to_largest_seq) m in
   let r = Compare.graphs g (Conformance.tlc_graph m) in
   let target = List.find_map (function
       | Compare.State (Compare.Explorer_only, v) -> Some v
@@ -509,6 +539,7 @@ let () =
     ("tlc", agreement_cases () @ [
         Alcotest.test_case "every mutant is caught" `Slow mutants_caught;
         Alcotest.test_case "derived rule Dispatch = its steps, every model state" `Slow derived_dispatch_is_its_steps;
+        Alcotest.test_case "engine step = reference step, every model state" `Slow engine_step_is_reference;
         qcheck ~count:4 ~long_factor:10 "random models agree with TLC" arb_random_model random_model_agrees;
         Alcotest.test_case "TLC behaviours replayed" `Slow simulation_replayed;
         Alcotest.test_case "OCaml runs validated by TLC" `Slow runs_validated;

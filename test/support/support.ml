@@ -20,11 +20,16 @@ let rec find_root dir =
     let parent = Filename.dirname dir in
     if parent = dir then failwith "repository root not found" else find_root parent
 
+(* The build directory: _build, or DUNE_BUILD_DIR when set. *)
+let build_dir = match Sys.getenv_opt "DUNE_BUILD_DIR" with
+  | Some d when d <> "" -> Filename.basename d
+  | _ -> "_build"
+
 let root =
   (* Under dune the tests run in _build/default/test: climb out of _build. *)
   let cwd = Sys.getcwd () in
   let rec strip_build d =
-    if Filename.basename d = "_build" then Filename.dirname d
+    if Filename.basename d = build_dir then Filename.dirname d
     else let p = Filename.dirname d in if p = d then cwd else strip_build p in
   find_root (strip_build cwd)
 
@@ -41,4 +46,4 @@ let run_command cmd =
   Sys.remove out; Sys.remove err;
   (status, o, e)
 
-let exe = Filename.concat root "_build/default/bin/main.exe"
+let exe = Filename.concat root (build_dir ^ "/default/bin/main.exe")

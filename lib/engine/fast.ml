@@ -1,0 +1,139 @@
+(* The fast path beside the reference rules of lib/semantics/machine.ml.
+   Every function here computes what a rule (or a run of rules) of the
+   reference computes; test/semantics and test/interp hold them equal. *)
+
+open Semantics.Machine
+module Pqueue = Semantics.Pqueue
+module Fqueue = Semantics.Fqueue
+
+module type BODIES = sig
+  include Semantics.Machine.BODIES
+  val percept_may_apply : world -> beh -> int -> percept -> bool
+end
+
+module Make (B : BODIES) = struct
+  module M = Semantics.Machine.Make (B)
+
+  (* Transfer (R3a) in one pass over O2A: percepts go into the priority
+     queue, objects stay in order. *)
+  let transfer p (c : M.t) : M.lbl * M.t =
+    let n = ref 0 and objects = ref [] in
+    let pq =
+      if p.flood then
+        (* the flood abstraction: a percept already waiting is not added again *)
+        Fqueue.fold (fun pq x -> match x with
+            | O_percept e -> incr n; if Pqueue.mem e pq then pq else Pqueue.insert e pq
+            | O_object _ -> objects := x :: !objects; pq) c.pq c.o2a
+      else
+        (* newest first: the objects left behind are consed back into order *)
+        Pqueue.insert_newest_first (fun add ->
+            Fqueue.fold_newest (fun () x -> match x with
+                | O_percept e -> incr n; add e
+                | O_object _ -> objects := x :: !objects) () c.o2a) c.pq in
+    let objects = if p.flood then List.rev !objects else !objects in
+    let l = Transfer !n in
+    (l, { c with pq; o2a = (if objects = [] then Fqueue.empty else Fqueue.of_list objects);
+                 phase = Dispatch_phase; dispatched = 0; last = l })
+
+  (* HandlersOf, remembered for the last [active] list seen (physically):
+     the list is immutable and most dequeues share it. Beside each entry,
+     the behaviour of its instance, which [dispatch] uses while [active] is
+     unchanged. *)
+  let handlers_cache : (B.beh instance list * (int * int) list * B.beh list) option ref = ref None
+
+  let handlers_and_behs (c : M.t) =
+    match !handlers_cache with
+    | Some (a, h, bs) when a == c.active -> (h, bs)
+    | _ ->
+      let pairs = List.concat_map (fun (a : B.beh instance) ->
+          List.init (B.percept_handlers a.beh) (fun j -> ((a.id, j + 1), a.beh))) c.active in
+      let h = List.map fst pairs and bs = List.map snd pairs in
+      handlers_cache := Some (c.active, h, bs);
+      (h, bs)
+
+  (* Dequeue under stable ties without the flood abstraction: the top is the
+     one candidate (seqs are unique); one pop. *)
+  let dequeue_top p (c : M.t) e pq : M.lbl * M.t =
+    let l = Dequeue e in
+    (l, { c with pq; cur = Some { e; todo = fst (handlers_and_behs c); applied = false };
+                 waits = M.bump_waits p c e; phase = Handle_phase;
+                 dispatched = c.dispatched + 1; last = l })
+
+  let single_candidate p = p.variant <> Native && p.tie = Stable && not p.flood
+
+  let step p (c : M.t) : (M.lbl * M.t) list =
+    match c.phase with
+    | Transfer_phase when p.variant = Reference || p.variant = Budgeted -> [ transfer p c ]
+    | Dispatch_phase when single_candidate p && not (M.dispatch_over p c) ->
+      (match Pqueue.pop c.pq with
+       | Some (e, pq) -> [ dequeue_top p c e pq ]
+       | None -> M.step p c)
+    | _ -> M.step p c
+
+  (* Dispatch: the Handle arm of the rules over the snapshot [todo] of the
+     dispatch of [e], from configuration [c] (whose behaviour part is [bs]
+     once a handler had effects), on local variables; what the rules would
+     have written in each configuration (world, todo, applied, the behaviour
+     part) is written once, at the end. No closure is allocated: this runs
+     once per percept. *)
+  let rec dispatch_handlers observe p (c : M.t) e world applied bs todo behs =
+    match todo with
+    | [] -> (world, applied, bs)
+    | (id, h) :: rest ->
+      (* [behs]: beside [todo], the behaviour of each entry's instance in
+         [c.active], when the snapshot was just taken from it ([] otherwise);
+         while no body had effects, the instance is found there *)
+      let found = match bs, behs with
+        | None, b :: _ -> Some b
+        | Some (s : M.bs), _ -> M.find_instance id s.active
+        | None, [] -> M.find_instance id c.active in
+      let behs = match behs with _ :: brest -> brest | [] -> [] in
+      (* the pre-test: where it says no, percept_applicable would answer
+         false, changing nothing *)
+      let found = match found with
+        | Some b when B.percept_may_apply world b h e.p -> found
+        | _ -> None in
+      match found with
+      | None ->                                                              (* skip *)
+        (match observe with Some f -> f (Skip { id; h }) | None -> ());
+        dispatch_handlers observe p c e world applied bs rest behs
+      | Some b ->
+        let (world, ok) = B.percept_applicable world ~id b h e.p in
+        if not ok then begin                                                 (* skip *)
+          (match observe with Some f -> f (Skip { id; h }) | None -> ());
+          dispatch_handlers observe p c e world applied bs rest behs
+        end else begin                                                       (* handle *)
+          let (world, effs) = B.run_percept_handler world ~id b h e.p in
+          let bs = match effs with
+            | [] -> bs
+            | _ ->
+              let s = match bs with Some s -> s | None -> M.bs_of c in
+              Some (M.apply_effects p s id effs (List.map fst todo)) in
+          (match observe with Some f -> f (Handle { id; h; p = e.p; seq = e.seq }) | None -> ());
+          dispatch_handlers observe p c e world true bs rest behs
+        end
+
+  (* The configuration after the handlers and EndDispatch; [pq], [waits]
+     and [dispatched] are [c]'s, or what Dequeue made of them. *)
+  let dispatch_end observe p (c : M.t) e ~pq ~waits ~dispatched (world, applied, bs) =
+    let l = End_dispatch { seq = e.seq; discarded = not applied } in        (* end_dispatch *)
+    (match observe with Some f -> f l | None -> ());
+    let c' = { c with pq; waits; dispatched; world; done_ = M.add_done p c e.seq; cur = None;
+                      phase = Dispatch_phase; last = l } in
+    match bs with Some s -> M.with_bs c' s | None -> c'
+
+  let dispatch ?observe p (c : M.t) : M.t option =
+    match c.phase, c.cur with
+    | Handle_phase, Some d ->
+      Some (dispatch_end observe p c d.e ~pq:c.pq ~waits:c.waits ~dispatched:c.dispatched
+              (dispatch_handlers observe p c d.e c.world d.applied None d.todo []))
+    | Dispatch_phase, _ when single_candidate p && not (M.dispatch_over p c) ->
+      (match Pqueue.pop c.pq with                                            (* dequeue *)
+       | Some (e, pq) ->
+         (match observe with Some f -> f (Dequeue e) | None -> ());
+         let (todo, behs) = handlers_and_behs c in
+         Some (dispatch_end observe p c e ~pq ~waits:(M.bump_waits p c e) ~dispatched:(c.dispatched + 1)
+                 (dispatch_handlers observe p c e c.world false None todo behs))
+       | None -> None)
+    | _ -> None
+end

@@ -1,0 +1,53 @@
+(** The fast path of the agent loop: the same rules as
+    {!Semantics.Machine}, taken faster. Programs run on it ([jadescript-ref
+    run], the corridor simulator, the bench); the reference machine stays
+    plain and is what it is tested against, rule for rule.
+
+    What is faster here, and what stands for it in the reference:
+    - Transfer in one pass over O2A from its newest entry, each priority's
+      run going to its bucket in one piece ({!Semantics.Pqueue.insert_newest_first})
+      — the reference folds [Pqueue.insert] over the percepts;
+    - Dequeue under stable ties as one pop, with the snapshot of the
+      registered handlers remembered for the last [active] list seen
+      (physically) — the reference asks for the candidates and rebuilds
+      HandlersOf every time;
+    - the derived rule {!Make.dispatch}: Dequeue, every Handle or Skip and
+      EndDispatch in one call, on local variables, with the bodies' pre-test
+      {!BODIES.percept_may_apply} deciding Skips without evaluating guards.
+
+    docs/semantics.md, "A derived rule: Dispatch" and "The fast engine". *)
+
+module type BODIES = sig
+  include Semantics.Machine.BODIES
+
+  val percept_may_apply : world -> beh -> int -> percept -> bool
+  (** A pre-test: [false] only when [percept_applicable] would surely answer
+      [false] for handler [h] of the behaviour and this percept, leaving the
+      world as it is and recording nothing. [fun _ _ _ _ -> true] is always
+      correct. *)
+end
+
+module Make (B : BODIES) : sig
+  module M : module type of Semantics.Machine.Make (B)
+  (** The reference machine on the same bodies. *)
+
+  val transfer : Semantics.Machine.params -> M.t -> M.lbl * M.t
+  (** Transfer in one pass, in a configuration where the reference's
+      [M.transfer] is enabled and the variant is not [Native] (there the
+      reference's own rule is taken). *)
+
+  val step : Semantics.Machine.params -> M.t -> (M.lbl * M.t) list
+  (** What [M.step] answers, faster: the batch Transfer, Dequeue as one pop
+      with a remembered snapshot, every other rule the reference's. *)
+
+  val dispatch : ?observe:(M.lbl -> unit) -> Semantics.Machine.params -> M.t -> M.t option
+  (** One percept's whole dispatch in one call, when the configuration is in
+      phase Handle (the rest of the dispatch in progress) or in phase
+      Dispatch with Dequeue the one rule enabled (stable ties, no flood
+      abstraction, not [Native]): Dequeue, then Handle or Skip for each
+      handler of the snapshot, then EndDispatch. The result is the
+      configuration that [M.step] reaches by applying those rules one at a
+      time (each is then the only rule enabled), without building the
+      configurations in between; [observe] sees their labels in order.
+      [None] in any other configuration. *)
+end

@@ -1,0 +1,126 @@
+(* The interpreter's bodies, with resolved guards, a memo and a pre-test:
+   the fast path of the percept guards. Eval.Bodies is the reference. *)
+
+module Eval = Interp_eval.Eval
+module V = Interp_eval.Value
+module T = Typing.Tenv
+module Ast = Syntax.Ast
+
+(* A guard [content matches S(x1, ..., xn)], possibly followed by [and rest],
+   resolved: S's name as the type environment spells it, and per slot the
+   variable it binds ([None] for [_]). *)
+type resolved_guard = { fschema : string; fvars : string option array; frest : Ast.expr option }
+
+(* What is known of one percept handler. *)
+type info = {
+  fast : resolved_guard option;
+  required : (string * (string * bool) list ref) option;
+      (* the schema the guard requires of content, and per percept type
+         (by name) whether it is that schema or extends it *)
+}
+
+(* Names are interned by the lexer: equal names are usually the same string. *)
+let same_name (x : string) y = x == y || String.equal x y
+
+(* The schema a guard requires of content, when its leftmost conjunct is
+   [content matches S] or [content matches S(...)]. *)
+let rec required_schema (e : Ast.expr) = match e.it with
+  | Matches ({ it = Content; _ }, { it = PCons (c, _); _ }) -> Some c.it
+  | Matches ({ it = Content; _ }, { it = PName x; _ }) -> Some x
+  | Binop (And, l, _) -> required_schema l
+  | _ -> None
+
+let resolve_guard env (g : Ast.expr) =
+  let form (m : Ast.expr) rest = match m.it with
+    | Matches ({ it = Content; _ }, { it = PCons (c, ps); _ }) ->
+      (match T.schema env c.it with
+       | Some sc when List.length sc.s_slots = List.length ps ->
+         let var (p : Ast.pattern) = match p.it with
+           | PWild -> Some None
+           | PName x when T.schema env x = None -> Some (Some x)
+           | _ -> None in
+         let vars = List.map var ps in
+         if List.mem None vars then None
+         else Some { fschema = sc.s_name; fvars = Array.of_list (List.map Option.get vars); frest = rest }
+       | _ -> None)
+    | _ -> None in
+  match g.it with
+  | Binop (And, l, r) -> form l (Some r)
+  | _ -> form g None
+
+let info_of env (h : T.handler) =
+  match h.h_guard with
+  | None -> { fast = None; required = None }
+  | Some g ->
+    { fast = resolve_guard env g;
+      required = (match required_schema g with
+          | Some x when T.schema env x <> None -> Some (x, ref [])
+          | _ -> None) }
+
+(* What is known, per handler (by address: the type environment's handler
+   records live as long as the program), for the environment in use; a new
+   environment starts afresh. *)
+let known : (T.t * (T.handler * info) list ref) option ref = ref None
+
+let info (a : Eval.agent) (h : T.handler) =
+  let tbl = match !known with
+    | Some (env, tbl) when env == a.env -> tbl
+    | _ -> let tbl = ref [] in known := Some (a.env, tbl); tbl in
+  let rec find = function
+    | (h', i) :: rest -> if h' == h then i else find rest
+    | [] -> let i = info_of a.env h in tbl := (h, i) :: !tbl; i in
+  find !tbl
+
+let wrong_pretest = ref false
+
+(* The memo's answer for the type named by the very string [n]: 1 (yes),
+   0 (no), -1 (not there). *)
+let rec memo_by_address n = function
+  | (m, r) :: rest -> if m == n then (if r then 1 else 0) else memo_by_address n rest
+  | [] -> -1
+
+let may_apply (a : Eval.agent) (i : info) (p : V.t) =
+  match i.required, p with
+  | Some _, _ when !wrong_pretest -> false
+  | Some (x, memo), V.Schema s ->
+    let n = s.sname in
+    x == n
+    || (match memo_by_address n !memo with
+        | 1 -> true
+        | 0 -> false
+        | _ ->
+          match List.find_opt (fun (m, _) -> String.equal m n) !memo with
+          | Some (_, r) -> r
+          | None ->
+            let r = same_name x n || T.subschema a.env n x in
+            memo := (n, r) :: !memo; r)
+  | _ -> true
+
+include (Eval.Bodies : Semantics.Machine.BODIES
+         with type percept = V.t and type message = Eval.message and type obj = V.t
+          and type beh = Eval.beh and type world = Eval.agent)
+
+let percept_may_apply a b h p = may_apply a (info a (Eval.percept_handler b h)) p
+
+let percept_applicable (a : Eval.agent) ~id b h p =
+  let hd = Eval.percept_handler b h in
+  let i = info a hd in
+  if not (may_apply a i p) then begin
+    (match a.pending with None -> () | Some _ -> a.pending <- None);
+    (a, false)
+  end else
+    match i.fast, p, hd.h_guard with
+    | Some { fschema; fvars; frest }, V.Schema s, Some g
+      when same_name s.sname fschema && Array.length s.slots = Array.length fvars ->
+      let f = Eval.guard_frame a ~id b p in
+      Array.iteri (fun k x -> match x with
+          | Some x -> Eval.bind_local f x !(snd s.slots.(k))
+          | None -> ()) fvars;
+      let ok = match frest with
+        | None -> true
+        | Some r ->
+          (try Eval.condition_part f ~whole:g r
+           with Eval.Runtime_error (at, msg) -> a.events <- Eval.Error (at, msg) :: a.events; false) in
+      a.pending <- (if ok then Some (id, h, f) else None);
+      (a, ok)
+    | _ -> Eval.Bodies.percept_applicable a ~id b h p
