@@ -69,83 +69,21 @@ let agent_spec env spec =
            | exception Interp.Eval.Runtime_error (_, m) -> fail m)) (split_args args) in
     (name, ty, values)
 
-type host_event =
-  | Notify of string * V.t * int * int option
-  | Put of string * V.t
-  | Message of string * string * V.t
-  | Run of int
-  | Run_idle
-
-(* Read and check every line before anything runs: a bad line is reported
-   with its location and nothing is run. *)
-let read_events env agents file =
-  let lines = match Parse.read_all file with
-    | Ok t -> String.split_on_char '\n' t
-    | Error m -> report_at file 1 1 ("cannot read the events file: " ^ m); raise (Stop 1) in
-  let errors = ref 0 in
-  let events = List.concat (List.mapi (fun k line ->
-      let n = k + 1 in
-      let bad col msg = incr errors; report_at file n col msg; [] in
-      let line = String.trim line in
-      if line = "" || line.[0] = '#' then []
-      else match Yojson.Safe.from_string line with
-        | exception Yojson.Json_error m -> bad 1 ("not a JSON object: " ^ String.concat " " (String.split_on_char '\n' m))
-        | `Assoc fields ->
-          let get f = List.assoc_opt f fields in
-          let agent () = match get "agent" with
-            | Some (`String a) ->
-              (match List.assoc_opt a agents with
-               | Some ty -> Some (a, ty)
-               | None -> ignore (bad 1 (Printf.sprintf "there is no agent %s" a)); None)
-            | _ -> ignore (bad 1 "this line needs an \"agent\""); None in
-          let expr what s = match Parse.expr ~file s with
-            | e -> Some e
-            | exception Diag.Failed d -> ignore (bad d.at.left.column (what ^ ": " ^ d.message)); None in
-          (match get "notify", get "put", get "message", get "run" with
-           | Some (`String p), None, None, None ->
-             (match agent () with
-              | None -> []
-              | Some (a, ty) ->
-                (match expr "the percept" p with
-                 | None -> []
-                 | Some e ->
-                   (match Interp.Eval.percept_value env ~agent_type:ty e with
-                    | (v, default) ->
-                      (match get "priority" with
-                       | None -> [ Notify (a, v, default, None) ]
-                       | Some (`Int k) when k >= 0 -> [ Notify (a, v, default, Some k) ]
-                       | Some _ -> bad 1 "\"priority\" is a natural number (R2a)")
-                    | exception Interp.Eval.Runtime_error (at, m) -> bad at.left.column m)))
-           | None, Some (`String o), None, None ->
-             (match agent (), expr "the object" o with
-              | Some (a, _), Some e ->
-                (match Interp.Eval.literal_value env e with
-                 | v -> [ Put (a, v) ]
-                 | exception Interp.Eval.Runtime_error (at, m) -> bad at.left.column m)
-              | _ -> [])
-           | None, None, Some (`String c), None ->
-             let perf = match get "performative" with Some (`String p) -> p | _ -> "inform" in
-             (match agent (), expr "the content" c with
-              | Some (a, _), Some e ->
-                (match Interp.Eval.literal_value env e with
-                 | v -> [ Message (a, perf, v) ]
-                 | exception Interp.Eval.Runtime_error (at, m) -> bad at.left.column m)
-              | _ -> [])
-           | None, None, None, Some (`Int k) when k >= 0 -> [ Run k ]
-           | None, None, None, Some (`String "idle") -> [ Run_idle ]
-           | _ -> bad 1 "expected one of \"notify\", \"put\", \"message\" (with \"agent\") or \"run\" (a number or \"idle\")")
-        | _ -> bad 1 "each line is a JSON object") lines) in
-  if !errors > 0 then raise (Stop 1);
-  events
+(* The events file, first pass: every line is checked, and every bad one
+   reported with its location, before anything runs. *)
+let check_events env agents file =
+  match Interp.Events.check env ~agents file ~report:(fun ~line ~col m -> report_at file line col m) with
+  | 0 -> ()
+  | _ -> raise (Stop 1)
+  | exception Sys_error m -> report_at file 1 1 ("cannot read the events file: " ^ m); raise (Stop 1)
 
 let run files agent_specs events_file trace_file seed max_steps variant fuel capacity =
   match
     let env = load files in
     let specs = List.map (agent_spec env) agent_specs in
     if specs = [] then (prerr_endline "error: no agent: give at least one --agent NAME:TYPE"; raise (Stop 1));
-    let events = match events_file with
-      | None -> []
-      | Some f -> read_events env (List.map (fun (n, ty, _) -> (n, ty)) specs) f in
+    let agents = List.map (fun (n, ty, _) -> (n, ty)) specs in
+    Option.iter (check_events env agents) events_file;
     let variant = match Mc.variant_of_string variant with
       | Some v -> v
       | None -> prerr_endline ("error: unknown variant " ^ variant ^ " (printed, reference, budgeted, native)"); raise (Stop 1) in
@@ -173,12 +111,19 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
     let check = function
       | Ok () -> ()
       | Error m -> host_error := true; prerr_endline ("host: " ^ m) in
-    List.iter (function
-        | Notify (a, v, default, priority) -> check (Interp.Runtime.notify rt ~agent:a v ~default ~priority)
-        | Put (a, v) -> check (Interp.Runtime.put rt ~agent:a v)
-        | Message (a, perf, v) -> check (Interp.Runtime.message rt ~agent:a ~perf v)
-        | Run k -> Interp.Runtime.run_rounds rt k
-        | Run_idle -> Interp.Runtime.run_until_idle rt) events;
+    (* the second pass: each event applied as it is read *)
+    let apply : Interp.Events.t -> unit = function
+      | Notify { agent; percept; default; priority } -> check (Interp.Runtime.notify rt ~agent percept ~default ~priority)
+      | Put { agent; obj } -> check (Interp.Runtime.put rt ~agent obj)
+      | Message { agent; perf; content } -> check (Interp.Runtime.message rt ~agent ~perf content)
+      | Run k -> Interp.Runtime.run_rounds rt k
+      | Run_idle -> Interp.Runtime.run_until_idle rt in
+    let complete = match events_file with
+      | None -> true
+      | Some f ->
+        (try Interp.Events.iter env ~agents f ~report:(fun ~line ~col m -> report_at f line col m) apply
+         with Sys_error m -> report_at f 1 1 ("cannot read the events file: " ^ m); false) in
+    if not complete then raise (Stop 1);
     Interp.Runtime.run_until_idle rt;
     Interp.Runtime.finish rt;
     Option.iter close_out trace;
@@ -212,5 +157,11 @@ let cmd =
                      events of $(b,--events) in order, then runs until every agent is idle \
                      (or $(b,--max-steps)). $(i,log e) prints $(i,NAME: text) on standard \
                      output. $(b,--trace) writes every observable step (R8) as JSON lines; \
-                     docs/trace-format.md defines the format. A run-time error (R7) stops                      its handler or step and the run carries on; it is reported on standard                      error as $(i,FILE:LINE:COL: error: message) when it happens, and the exit                      status is then 1. A program, agent or events-file error stops before                      anything runs, with exit status 1."])
+                     docs/trace-format.md defines the format. A run-time error (R7) stops \
+                     its handler or step and the run carries on; it is reported on standard \
+                     error as $(i,FILE:LINE:COL: error: message) when it happens, and the exit \
+                     status is then 1. A program, agent or events-file error stops before \
+                     anything runs, with exit status 1. The events file is read twice, one \
+                     line at a time: every line is checked first, then the events are applied \
+                     as they are read."])
     Term.(const run $ files $ agents $ events $ trace $ seed $ max_steps $ variant $ fuel $ capacity)

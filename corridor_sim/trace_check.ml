@@ -5,39 +5,37 @@ let percepts = [ "falling"; "obstacle"; "position"; "qrCodeRead" ]   (* sorted, 
 
 let index (p : Agent.percept) =
   let n = Agent.percept_name p in
-  let rec go i = function [] -> assert false | x :: r -> if x = n then i else go (i + 1) r in
+  let rec go i = function
+    | [] -> Semantics.Fault.crash "Trace_check: percept %s is not one of the model's" n
+    | x :: r -> if x = n then i else go (i + 1) r in
   go 0 percepts
 
 let str s = Tla.Str s
-let int i = Tla.Int i
 
 let model_constants (loop : Agent.loop) (log : Reference_controller.label list) =
   let notifies = List.length (List.filter (function Mc.Notify _ | Mc.Notify_with _ -> true | _ -> false) log) in
   let overrides = List.sort_uniq compare (List.filter_map (function Mc.Notify_with e -> Some e.prio | _ -> None) log) in
-  let handler p = Tla.record [ ("accepts", Tla.set [ str p ]); ("effects", Tla.Seq []) ] in
-  let beh = "HandlePercepts" in
-  [ ("Variant", str (Mc.string_of_variant loop.variant));
-    ("TiePolicy", str "Stable");
-    ("Budget", int loop.budget);
-    ("Percepts", Tla.set (List.map str percepts));
-    ("DefaultPriority", Tla.record [ ("falling", int 10); ("obstacle", int 8); ("qrCodeRead", int 4); ("position", int 2) ]);
-    ("Overrides", Tla.set (List.map int overrides));
-    ("Objects", Tla.set []);
-    ("Messages", Tla.set []);
-    ("MaxNotify", int notifies);
-    ("MaxPut", int 0);
-    ("MaxSend", int 0);
-    ("Flood", Tla.Bool false);
-    ("O2ACapacity", int (match loop.o2a_capacity with Some c -> c | None -> max 1 notifies));
-    ("Behaviours", Tla.set [ str beh ]);
-    ("Kind", Tla.record [ (beh, str "cyclic") ]);
-    ("HasAction", Tla.record [ (beh, Tla.Bool false) ]);
-    ("ActionEffects", Tla.record [ (beh, Tla.Seq []) ]);
-    ("PerceptHandlers", Tla.record [ (beh, Tla.Seq (List.map handler [ "falling"; "obstacle"; "qrCodeRead"; "position" ])) ]);
-    ("MessageHandlers", Tla.record [ (beh, Tla.Seq []) ]);
-    ("InitialBehaviours", Tla.Seq [ str beh ]);
-    ("MaxActive", int 1);
-    ("InversionBound", int 0) ]
+  let handler p = Agent_loop.handler ~accepts:[ str p ] ~effects:[] in
+  Agent_loop.constants {
+    variant = Mc.string_of_variant loop.variant;
+    tie_policy = "Stable";
+    budget = loop.budget;
+    percepts;
+    default_priority = [ ("falling", 10); ("obstacle", 8); ("qrCodeRead", 4); ("position", 2) ];
+    overrides;
+    objects = []; messages = [];
+    max_notify = notifies; max_put = 0; max_send = 0;
+    flood = false;
+    o2a_capacity = (match loop.o2a_capacity with Some c -> c | None -> max 1 notifies);
+    behaviours = [ "HandlePercepts" ];
+    kind = (fun _ -> "cyclic");
+    has_action = (fun _ -> false);
+    action_effects = (fun _ -> Tla.Seq []);
+    percept_handlers = (fun _ -> Tla.Seq (List.map handler [ "falling"; "obstacle"; "qrCodeRead"; "position" ]));
+    message_handlers = (fun _ -> Tla.Seq []);
+    initial = [ "HandlePercepts" ];
+    max_active = 1;
+    inversion_bound = 0 }
 
 let entry (e : Agent.percept Mc.entry) : int Mc.entry = { p = index e.p; prio = e.prio; seq = e.seq }
 

@@ -299,9 +299,9 @@ let check r t =
       let* () = expect "last.act" last "Idle" in
       let* () = expect "msgq" (show (entries "msgq" a)) "<<noise#3>>" in
       let handled = List.filter_map (fun l ->
-          match Yojson.Safe.from_string l with
-          | j when str "event" j = "behaviour_step" ->
-            (match member "message" j with Some (`Assoc _ as m) -> Some (Printf.sprintf "%s#%d" (str "percept" m) (num "seq" m)) | _ -> None)
+          match Trace.line_of_json (Yojson.Safe.from_string l) with
+          | Ok { event = Trace.Behaviour_step { taken = Some (Trace.Took_percept e); _ }; _ } ->
+            Some (Printf.sprintf "%s#%d" e.percept e.seq)
           | _ -> None) (List.tl trace) in
       expect "percepts taken, in order" (show handled) "<<position#2, obstacle#1>>"
     | "MCFloodNative" ->

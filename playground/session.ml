@@ -1,7 +1,7 @@
 (* A playground session: the run of bin/cmd_run.ml and lib/interp/runtime.ml,
-   taken one rule at a time. The trace writer below follows runtime.ml field
-   for field; test/browser/test_playground_engine.ml compares the two traces
-   on every conformance vector. *)
+   taken one rule at a time. The trace is written as runtime.ml writes it,
+   by Interp.Tracer; test/browser/test_playground_engine.ml compares the two
+   traces on every conformance vector. *)
 
 open Syntax
 module Mc = Semantics.Machine
@@ -44,10 +44,8 @@ type state = {
   params : Mc.params;
   mutable platform : P.t;
   mutable steps : int;
-  mutable events : int;
   rand : Random.State.t option;
-  puts : (string, int) Hashtbl.t;
-  types : (string * int, string) Hashtbl.t;
+  mutable tr : Interp.Tracer.t;         (* writes into [lines] *)
   mutable lines : string list;          (* the trace, newest first *)
   mutable out : string list;            (* what run prints, newest first *)
   mutable round : int list;             (* agents still to run in this round *)
@@ -89,10 +87,6 @@ let check files =
 let str s = `String s
 let int i = `Int i
 
-let write st fields =
-  st.events <- st.events + 1;
-  st.lines <- Yojson.Safe.to_string (`Assoc (("step", int st.events) :: fields)) :: st.lines
-
 let first_file = ref "program.jade"
 
 let on_error st (at : Source.region) msg =
@@ -100,102 +94,40 @@ let on_error st (at : Source.region) msg =
     if at.left.line = 0 then (!first_file, 1, 1) else (at.left.file, at.left.line, at.left.column) in
   st.out <- Printf.sprintf "%s:%d:%d: error: %s" file line col msg :: st.out
 
-let entry_fields (e : V.t Mc.entry) =
-  [ "percept", str (V.to_literal e.p); "priority", int e.prio; "seq", int e.seq ]
+(* The session's tracer: its lines go to [st.lines], logs and errors to what
+   run prints. *)
+let tracer st =
+  let w = Trace.writer (fun line -> st.lines <- String.sub line 0 (String.length line - 1) :: st.lines) in
+  Interp.Tracer.create w ~on_body:(fun agent -> function
+      | E.Log s -> st.out <- (agent ^ ": " ^ s) :: st.out
+      | E.Error (at, msg) -> on_error st at msg
+      | _ -> ())
 
-let message_fields (m : E.message) =
-  [ "performative", str m.perf; "content", str (V.to_literal m.content); "from", str m.sender ]
+let world st i = st.platform.agents.(i).config.world
 
 let behaviour_of (c : M.t) id =
   match List.find_opt (fun (a : E.beh Mc.instance) -> a.id = id) c.active with
   | Some a -> E.beh_type a.beh
   | None -> "?"
 
-let label_fields (c : M.t) (l : M.lbl) : (string * Yojson.Safe.t) list =
-  let ev name = [ "event", str name; "action", str (Mc.action_name l) ] in
-  match l with
-  | Mc.Init -> ev "init"
-  | Mc.Notify e | Mc.Notify_with e -> ev "notify" @ entry_fields e
-  | Mc.Put o -> ev "put" @ [ "object", str (V.to_literal o) ]
-  | Mc.Send (m, seq) -> ev "deliver" @ message_fields m @ [ "seq", int seq ]
-  | Mc.Transfer n -> ev "transfer" @ [ "moved", int n ]
-  | Mc.Transfer_one e -> ev "transfer_one" @ entry_fields e
-  | Mc.Transfer_spin o -> ev "transfer_spin" @ [ "object", str (V.to_literal o) ]
-  | Mc.Transfer_end -> ev "transfer_end"
-  | Mc.Dequeue e -> ev "dequeue" @ entry_fields e
-  | Mc.Handle { id; h; p; seq } ->
-    ev "handle" @ [ "instance", int id; "behaviour", str (behaviour_of c id); "handler", int h;
-                    "percept", str (V.to_literal p); "seq", int seq ]
-  | Mc.Skip { id; h } -> ev "skip" @ [ "instance", int id; "behaviour", str (behaviour_of c id); "handler", int h ]
-  | Mc.End_dispatch { seq; discarded } ->
-    ev (if discarded then "discard" else "end_dispatch") @ [ "seq", int seq ]
-  | Mc.Behaviour_step { id; msg } ->
-    ev "behaviour_step"
-    @ [ "instance", int id; "behaviour", str (behaviour_of c id);
-        "message", (match msg with
-            | None -> `Null
-            | Some (Mc.M_message { m; mseq }) -> `Assoc (message_fields m @ [ "seq", int mseq ])
-            | Some (Mc.M_percept e) -> `Assoc (entry_fields e)) ]
-  | Mc.Next_iteration -> ev "next_iteration"
-  | Mc.Idle -> ev "idle"
+let index st name = match P.find st.platform name with
+  | Some i -> i
+  | None -> Semantics.Fault.crash "Session: no agent %s" name
 
-let body_event st agent action (e : E.event) =
-  let base name = [ "agent", str agent; "event", str name; "action", str action ] in
-  match e with
-  | E.Log s -> st.out <- (agent ^ ": " ^ s) :: st.out; write st (base "log" @ [ "text", str s ])
-  | E.Invoke { meth; cls; args; result } ->
-    write st (base "invoke" @ [ "method", str meth; "object", str cls;
-                                "args", `List (List.map (fun v -> str (V.to_literal v)) args);
-                                "result", str (V.to_literal result) ])
-  | E.Sent { perf; content; receivers } ->
-    write st (base "send" @ [ "performative", str perf; "content", str (V.to_literal content);
-                              "to", `List (List.map str receivers) ])
-  | E.Activated b -> write st (base "activate" @ [ "behaviour", str b ])
-  | E.Deactivated id -> write st (base "deactivate" @ [ "instance", int id ])
-  | E.Error (at, msg) ->
-    on_error st at msg;
-    write st (base "error" @ [ "at", str (Source.string_of_region at); "message", str msg ])
-
-let world st i = st.platform.agents.(i).config.world
-
-let flush_body st i action =
-  List.iter (body_event st st.platform.agents.(i).name action) (E.take_events (world st i))
-
-let on_event st (pl : P.t) (e : P.event) =
+(* An event of the platform, with the platform right after it; [before]: the
+   configuration the rule started from (default: the platform's until now). *)
+let on_event ?before st (pl : P.t) (e : P.event) =
+  let prev = st.platform in
   st.platform <- pl;
   match e with
   | P.Step (name, l) ->
-    let i = Option.get (P.find pl name) in
-    let a = world st i in
-    let effects l = `List (List.map str l) in
-    let extra = match l with
-      | Mc.Handle _ -> [ "effects", effects a.last_effects ]
-      | Mc.Behaviour_step { msg; _ } ->
-        (match a.last_action_effects with Some e -> [ "action_effects", effects e ] | None -> [])
-        @ (match msg, a.last_handler with
-            | Some _, Some h -> [ "handler", int h; "effects", effects a.last_effects ]
-            | _ -> [])
-      | _ -> [] in
-    let known id = Option.value (Hashtbl.find_opt st.types (name, id)) ~default:"?" in
-    let fields = List.map (fun (k, v) ->
-        if k <> "behaviour" then (k, v)
-        else if a.last_behaviour <> "" && (match l with Mc.Skip _ -> false | _ -> true) then (k, str a.last_behaviour)
-        else match l with
-          | Mc.Handle { id; _ } | Mc.Behaviour_step { id; _ } | Mc.Skip { id; _ } -> (k, str (known id))
-          | _ -> (k, v)) (label_fields pl.agents.(i).config l) in
-    List.iter (fun (x : E.beh Mc.instance) -> Hashtbl.replace st.types (name, x.id) (E.beh_type x.beh))
-      pl.agents.(i).config.active;
-    write st (("agent", str name) :: fields @ extra);
-    a.last_behaviour <- "";
-    a.last_action_effects <- None; a.last_handler <- None; a.last_effects <- [];
-    flush_body st i (Mc.action_name l)
+    let i = index st name in
+    let before = match before with Some c -> c | None -> prev.agents.(i).config in
+    Interp.Tracer.step st.tr ~agent:name ~before ~after:pl.agents.(i).config l
   | P.Delivered { receiver; _ } ->
-    let i = Option.get (P.find pl receiver) in
-    write st (("agent", str receiver) :: label_fields pl.agents.(i).config pl.agents.(i).config.last)
+    Interp.Tracer.host st.tr ~agent:receiver pl.agents.(index st receiver).config
   | P.Undeliverable { sender; receiver; message } ->
-    write st [ "agent", str sender; "event", str "undeliverable"; "action", `Null;
-               "to", str receiver; "performative", str message.perf;
-               "content", str (V.to_literal message.content) ]
+    Interp.Tracer.undeliverable st.tr ~sender ~receiver message
 
 (* ----------------------------------------------------------- agents *)
 
@@ -247,32 +179,8 @@ let agent_spec env spec =
     (name, ty, values)
 
 let params_of (s : setup) =
-  { Mc.variant = s.variant; tie = s.tie; budget = max 1 s.budget; max_active = None;
-    o2a_capacity = s.o2a_capacity; flood = false; ghosts = true }
-
-let header st (s : setup) specs =
-  let env = st.env in
-  let program = `Assoc [
-      "behaviours", `List (List.map (fun (b : T.behaviour) ->
-          let hs = T.behaviour_handlers env b.b_name in
-          `Assoc [ "name", str b.b_name;
-                   "kind", str (match b.b_kind with Ast.Cyclic -> "cyclic" | Ast.OneShot -> "oneshot");
-                   "action", `Bool (T.behaviour_action env b.b_name <> None);
-                   "percept_handlers", int (List.length (List.filter (fun (h : T.handler) -> h.h_kind = T.On_percept) hs));
-                   "message_handlers", int (List.length (List.filter (fun (h : T.handler) -> h.h_kind <> T.On_percept) hs)) ])
-          (T.behaviours env));
-      "percepts", `Assoc (List.filter_map (fun (sc : T.schema) ->
-          if sc.s_percept then Some (sc.s_name, int sc.s_priority) else None) (T.schemas env)) ] in
-  let p = st.params in
-  st.lines <- Yojson.Safe.to_string (`Assoc [
-      "trace", str "jadescript-ref"; "version", int 1;
-      "variant", str (Mc.string_of_variant p.variant);
-      "tie_policy", str (match p.tie with Mc.Stable -> "stable" | Mc.Unstable -> "unstable");
-      "budget", int p.budget;
-      "o2a_capacity", (match p.o2a_capacity with Some c -> int c | None -> `Null);
-      "seed", (match s.seed with Some n -> int n | None -> `Null);
-      "agents", `List (List.map (fun (n, ty, _) -> `Assoc [ "name", str n; "type", str ty ]) specs);
-      "program", program ]) :: st.lines
+  { Mc.default_params with variant = s.variant; tie = s.tie; budget = max 1 s.budget;
+                           o2a_capacity = s.o2a_capacity; ghosts = true }
 
 let boot (s : setup) : (state, string list) result =
   match diagnostics s.files with
@@ -285,19 +193,18 @@ let boot (s : setup) : (state, string list) result =
       match
         let specs = List.map (agent_spec env) (List.filter (fun a -> String.trim a <> "") s.agents) in
         if specs = [] then raise (Bad "error: no agent: give at least one NAME:TYPE");
-        let st = { env; params = params_of s; platform = P.create []; steps = 0; events = 0;
+        let st = { env; params = params_of s; platform = P.create []; steps = 0;
                    rand = Option.map (fun n -> Random.State.make [| n |]) s.seed;
-                   puts = Hashtbl.create 8; types = Hashtbl.create 16; lines = []; out = [];
+                   tr = Interp.Tracer.create (Trace.nowhere ()) ~on_body:(fun _ _ -> ());
+                   lines = []; out = [];
                    round = []; current = None; max_steps = s.max_steps } in
-        header st s specs;
+        st.tr <- tracer st;
+        Interp.Tracer.header st.tr env st.params ~seed:s.seed (List.map (fun (n, ty, _) -> (n, ty)) specs);
         let created = List.map (fun (name, ty, args) ->
             let (a, behs) =
               try E.create_agent env ~name ~atype:ty ~args ~fuel:s.fuel
               with E.Runtime_error (_, m) -> raise (Bad ("error: " ^ m)) in
-            write st [ "agent", str name; "event", str "create"; "action", str "Init"; "type", str ty;
-                       "args", `List (List.map (fun v -> str (V.to_literal v)) args);
-                       "behaviours", `List (List.map (fun b -> str (E.beh_type b)) behs) ];
-            List.iter (body_event st name "Init") (E.take_events a);
+            Interp.Tracer.created st.tr ~agent:name ~agent_type:ty args behs a;
             (name, M.init st.params ~world:a behs)) specs in
         st.platform <- P.create created;
         Array.iter (fun (ag : P.agent) ->
@@ -345,15 +252,14 @@ let do_host st (h : host_action) : (unit, string) result =
           match priority with
           | Some k when k < 0 -> Error (Printf.sprintf "host: priority %d is negative (R2a)" k)
           | _ when not (M.o2a_has_room st.params c) ->
-            write st [ "agent", str agent; "event", str "refused"; "action", `Null;
-                       "percept", str (V.to_literal v); "reason", str "the O2A queue is full (R2d)" ];
+            Interp.Tracer.refused st.tr ~agent v;
             Error "host: the O2A queue is full (R2d)"
           | None ->
             let c = M.notify st.params c v default in
-            set_config st i c; write st (("agent", str agent) :: label_fields c c.last); Ok ()
+            set_config st i c; Interp.Tracer.host st.tr ~agent c; Ok ()
           | Some k ->
             let c = M.notify_with st.params c v k in
-            set_config st i c; write st (("agent", str agent) :: label_fields c c.last); Ok ())
+            set_config st i c; Interp.Tracer.host st.tr ~agent c; Ok ())
     | Put { obj; _ } ->
       parse "put" obj (fun e ->
           let v = E.literal_value st.env e in
@@ -361,9 +267,7 @@ let do_host st (h : host_action) : (unit, string) result =
           else begin
             let c = M.put st.params c v in
             set_config st i c;
-            let k = 1 + Option.value (Hashtbl.find_opt st.puts agent) ~default:0 in
-            Hashtbl.replace st.puts agent k;
-            write st (("agent", str agent) :: label_fields c c.last @ [ "index", int k ]);
+            Interp.Tracer.host st.tr ~agent c;
             Ok ()
           end)
     | Message { perf; content; _ } ->
@@ -424,8 +328,9 @@ let do_rule ?refill st choice : outcome =
       | [] -> st.current <- None; All_idle
       | cands ->
         let (l, c) = match List.nth_opt cands choice with Some x -> x | None -> List.hd cands in
+        let before = st.platform.agents.(i).config in
         set_config st i c;
-        on_event st st.platform (P.Step (name, l));
+        on_event ~before st st.platform (P.Step (name, l));
         let (_, out) = E.Bodies.take_outbox (world st i) in
         List.iter (fun (receiver, m) ->
             let (pl, ev) = P.deliver st.params st.platform ~sender:name ~receiver m in
@@ -672,7 +577,7 @@ let view t =
   `Assoc [
     "steps", int st.steps;
     "history", int t.nhist;
-    "events", int st.events;
+    "events", int (Trace.lines_written (Interp.Tracer.writer st.tr));
     "variant", str (Mc.string_of_variant st.params.variant);
     "tie", str (match st.params.tie with Mc.Stable -> "stable" | Mc.Unstable -> "unstable");
     "budget", int st.params.budget;

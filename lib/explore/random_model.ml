@@ -4,7 +4,6 @@ let upto rand n = Random.State.int rand (n + 1)
 let subset rand l = List.filter (fun _ -> Random.State.bool rand) l
 
 let str s = Tla.Str s
-let int i = Tla.Int i
 
 let constants rand =
   let variant = pick rand [ "printed"; "reference"; "budgeted"; "native" ] in
@@ -14,36 +13,38 @@ let constants rand =
   let behaviours = pick rand [ [ "B1" ]; [ "B1"; "B2" ] ] in
   let flood = chance rand 0.15 in
   let effect () =
-    if Random.State.bool rand then Tla.record [ "op", str "activate"; "b", str (pick rand behaviours) ]
-    else Tla.record [ "op", str "deactivate" ] in
+    if Random.State.bool rand then Agent_loop.activate (pick rand behaviours)
+    else Agent_loop.deactivate in
   let effects () = Tla.Seq (List.init (if chance rand 0.3 then 1 else 0) (fun _ -> effect ())) in
   let handlers accepted n =
     Tla.Seq (List.init n (fun _ ->
         Tla.record [ "accepts", Tla.set (List.map str (subset rand accepted)); "effects", effects () ])) in
-  let per f = Tla.record (List.map (fun b -> (b, f b)) behaviours) in
-  let initial = List.init (1 + upto rand (List.length behaviours - 1)) (fun i -> str (List.nth behaviours i)) in
-  [ "Variant", str variant;
-    "TiePolicy", str (if chance rand 0.25 then "Unstable" else "Stable");
-    "Budget", int (1 + upto rand 1);
-    "Percepts", Tla.set (List.map str percepts);
-    "DefaultPriority", Tla.record (List.map (fun p -> (p, int (upto rand 2))) percepts);
-    "Overrides", Tla.set (if chance rand 0.3 then [ int (upto rand 3) ] else []);
-    "Objects", Tla.set (List.map str objects);
-    "Messages", Tla.set (List.map str messages);
-    "MaxNotify", int (1 + upto rand 2);
-    "MaxPut", int (if objects = [] then 0 else 1);
-    "MaxSend", int (if messages = [] then 0 else 1);
-    "Flood", Tla.Bool flood;
-    "O2ACapacity", int (1 + upto rand (if flood then 1 else 2));
-    "Behaviours", Tla.set (List.map str behaviours);
-    "Kind", per (fun _ -> str (if chance rand 0.3 then "oneshot" else "cyclic"));
-    "HasAction", per (fun _ -> Tla.Bool (chance rand 0.4));
-    "ActionEffects", per (fun _ -> effects ());
-    "PerceptHandlers", per (fun _ -> handlers percepts (upto rand 2));
-    "MessageHandlers", per (fun _ -> handlers messages (if messages = [] then 0 else upto rand 1));
-    "InitialBehaviours", Tla.Seq initial;
-    "MaxActive", int (List.length initial + upto rand 1);
-    "InversionBound", int (upto rand 2) ]
+  (* drawn in the order of earlier versions, so that a seed gives the same model *)
+  let per_b f = List.map (fun b -> (b, f b)) behaviours in
+  let initial = List.init (1 + upto rand (List.length behaviours - 1)) (fun i -> List.nth behaviours i) in
+  let inversion_bound = upto rand 2 in
+  let max_active = List.length initial + upto rand 1 in
+  let message_handlers = per_b (fun _ -> handlers messages (if messages = [] then 0 else upto rand 1)) in
+  let percept_handlers = per_b (fun _ -> handlers percepts (upto rand 2)) in
+  let action_effects = per_b (fun _ -> effects ()) in
+  let has_action = per_b (fun _ -> chance rand 0.4) in
+  let kind = per_b (fun _ -> if chance rand 0.3 then "oneshot" else "cyclic") in
+  let o2a_capacity = 1 + upto rand (if flood then 1 else 2) in
+  let max_notify = 1 + upto rand 2 in
+  let overrides = if chance rand 0.3 then [ upto rand 3 ] else [] in
+  let default_priority = List.map (fun p -> (p, upto rand 2)) percepts in
+  let budget = 1 + upto rand 1 in
+  let tie_policy = if chance rand 0.25 then "Unstable" else "Stable" in
+  Agent_loop.constants {
+    variant; tie_policy; budget; percepts; default_priority; overrides; objects; messages;
+    max_notify; max_put = (if objects = [] then 0 else 1); max_send = (if messages = [] then 0 else 1);
+    flood; o2a_capacity; behaviours;
+    kind = (fun b -> List.assoc b kind);
+    has_action = (fun b -> List.assoc b has_action);
+    action_effects = (fun b -> List.assoc b action_effects);
+    percept_handlers = (fun b -> List.assoc b percept_handlers);
+    message_handlers = (fun b -> List.assoc b message_handlers);
+    initial; max_active; inversion_bound }
 
 let write ~dir ~name cs =
   let tla = Filename.concat dir (name ^ ".tla") and cfg = Filename.concat dir (name ^ ".cfg") in

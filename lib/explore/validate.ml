@@ -8,52 +8,24 @@ exception Cannot_express of int * string
 let str s = Tla.Str s
 let int i = Tla.Int i
 
-let read_lines path =
-  let text = Tlc.read_file path in
-  String.split_on_char '\n' text
-  |> List.rev_map String.trim |> List.rev
-  |> List.fold_left (fun (n, acc) l -> (n + 1, if l = "" then acc else (n, l) :: acc)) (1, [])
-  |> snd |> List.rev_map (fun (n, l) ->
-      match Yojson.Safe.from_string l with
-      | `Assoc f -> (n, f)
-      | _ -> failwith (Printf.sprintf "%s:%d:1: error: not a JSON object" path n)
-      | exception Yojson.Json_error m ->
-        failwith (Printf.sprintf "%s:%d:1: error: not JSON: %s" path n (String.concat " " (String.split_on_char '\n' m))))
-
-let get f fields = List.assoc_opt f fields
-let get_str f fields = match get f fields with Some (`String s) -> s | _ -> ""
-let get_int f fields = match get f fields with Some (`Int i) -> i | _ -> 0
-let get_strs f fields = match get f fields with
-  | Some (`List l) -> List.filter_map (function `String s -> Some s | _ -> None) l
-  | _ -> []
-
 let percept_type lit =
   match String.index_opt lit '(' with Some i -> String.sub lit 0 i | None -> lit
 
-let machine_events = [ "create"; "notify"; "put"; "deliver"; "transfer"; "transfer_one";
-                       "transfer_spin"; "transfer_end"; "dequeue"; "handle"; "skip"; "discard";
-                       "end_dispatch"; "behaviour_step"; "next_iteration"; "idle" ]
+let effect_value = function
+  | Trace.Deactivated -> Agent_loop.deactivate
+  | Trace.Activated b -> Agent_loop.activate b
 
-let effect_value line s =
-  match String.split_on_char ' ' s with
-  | [ "deactivate" ] -> Tla.record [ "op", str "deactivate" ]
-  | [ "activate"; b ] -> Tla.record [ "op", str "activate"; "b", str b ]
-  | _ -> raise (Cannot_express (line, "unknown effect " ^ s))
+let read path =
+  match Trace.read_file path with
+  | Ok r -> r
+  | Error m -> failwith m
 
 let model_of_trace path ~agent =
   try
-    let lines = read_lines path in
-    let (header, events) = match lines with
-      | (_, h) :: rest when get_str "trace" h = "jadescript-ref" -> (h, rest)
-      | _ -> failwith (Printf.sprintf "%s:1:1: error: not a jadescript-ref trace (no header line)" path) in
-    let events = List.filter (fun (_, e) -> get_str "agent" e = agent) events in
-    let program = match get "program" header with Some (`Assoc p) -> p | _ -> [] in
-    let behaviours = match get "behaviours" program with
-      | Some (`List l) -> List.filter_map (function `Assoc b -> Some b | _ -> None) l
-      | _ -> [] in
-    let percept_defaults = match get "percepts" program with
-      | Some (`Assoc l) -> List.filter_map (function (n, `Int k) -> Some (n, k) | _ -> None) l
-      | _ -> [] in
+    let (header, lines) = read path in
+    let events = List.filter (fun (_, (l : Trace.line)) -> l.agent = agent) lines in
+    let behaviours = header.behaviours in
+    let percept_defaults = header.percepts in
     (* The values of this run. *)
     let notified = ref [] and overrides = ref [] and puts = ref 0 and msgs = ref 0 in
     let initial = ref [] and activations = ref 0 in
@@ -64,78 +36,70 @@ let model_of_trace path ~agent =
     let skipped = Hashtbl.create 8 and deactivated = Hashtbl.create 8 in
     let current = ref 0 in   (* the seq of the percept being dispatched *)
     let add tbl k v = Hashtbl.replace tbl k (v :: Option.value (Hashtbl.find_opt tbl k) ~default:[]) in
-    let records = List.filter_map (fun (line, e) ->
-        let ev = get_str "event" e in
-        (match ev with
-         | "deactivate" -> Hashtbl.replace deactivated (get_int "instance" e) ()
-         | "activate" -> Hashtbl.reset deactivated
-         | _ -> ());
-        if not (List.mem ev machine_events) then None
-        else
-          let act = get_str "action" e in
-          let r fields = Some (Tla.record (("act", str act) :: fields), line) in
-          let entry e = [ "p", str ("n" ^ string_of_int (get_int "seq" e)); "prio", int (get_int "priority" e);
-                          "seq", int (get_int "seq" e) ] in
-          let effects_of f = List.map (effect_value line) (get_strs f e) in
-          match ev with
-          | "create" ->
-            initial := get_strs "behaviours" e;
-            Some (Tla.record [ "act", str "Init" ], line)
-          | "notify" ->
-            let seq = get_int "seq" e and prio = get_int "priority" e in
-            let ty = percept_type (get_str "percept" e) in
-            let default = match List.assoc_opt ty percept_defaults with
-              | Some k -> k
-              | None -> raise (Cannot_express (line, "percept type " ^ ty ^ " is not in the trace header")) in
-            notified := (seq, default) :: !notified;
-            if act = "NotifyWith" then overrides := prio :: !overrides;
-            r (entry e)
-          | "put" -> incr puts; r [ "obj", str ("o" ^ string_of_int (get_int "index" e)) ]
-          | "deliver" ->
-            msgs := max !msgs (get_int "seq" e);
-            r [ "m", str ("m" ^ string_of_int (get_int "seq" e)); "seq", int (get_int "seq" e) ]
-          | "transfer" -> r [ "moved", int (get_int "moved" e) ]
-          | "transfer_one" -> r (entry e)
-          | "transfer_spin" -> r [ "obj", str "o1" ]
-          | "transfer_end" | "next_iteration" | "idle" -> r []
-          | "dequeue" -> current := get_int "seq" e; r [ "e", Tla.record (entry e) ]
-          | "handle" ->
-            let effs = effects_of "effects" in
-            activations := !activations + List.length effs;
-            add ph (get_str "behaviour" e, get_int "handler" e)
-              ("n" ^ string_of_int (get_int "seq" e), effs, line);
-            r [ "id", int (get_int "instance" e); "h", int (get_int "handler" e);
-                "p", str ("n" ^ string_of_int (get_int "seq" e)); "seq", int (get_int "seq" e) ]
-          | "skip" ->
-            if not (Hashtbl.mem deactivated (get_int "instance" e)) then
-              Hashtbl.replace skipped (get_str "behaviour" e, get_int "handler" e, "n" ^ string_of_int !current) line;
-            r [ "id", int (get_int "instance" e); "h", int (get_int "handler" e) ]
-          | "discard" | "end_dispatch" ->
-            r [ "seq", int (get_int "seq" e); "discarded", Tla.Bool (ev = "discard") ]
-          | "behaviour_step" ->
-            let b = get_str "behaviour" e in
-            (match get "action_effects" e with
-             | Some _ ->
-               let effs = effects_of "action_effects" in
-               activations := !activations + List.length effs;
-               add action b (effs, line)
-             | None -> ());
-            let msg = match get "message" e with
-              | Some (`Assoc m) when get "performative" m <> None ->
-                let name = "m" ^ string_of_int (get_int "seq" m) in
-                let effs = effects_of "effects" in
-                activations := !activations + List.length effs;
-                add mh (b, get_int "handler" e) (name, effs, line);
-                Tla.record [ "kind", str "message"; "m", str name; "seq", int (get_int "seq" m) ]
-              | Some (`Assoc m) ->
-                let name = "n" ^ string_of_int (get_int "seq" m) in
-                let effs = effects_of "effects" in
-                activations := !activations + List.length effs;
-                add ph (b, get_int "handler" e) (name, effs, line);
-                Tla.record (("kind", str "percept") :: entry m)
-              | _ -> Tla.record [ "kind", str "none" ] in
-            r [ "id", int (get_int "instance" e); "msg", msg ]
-          | _ -> None) events in
+    let n seq = "n" ^ string_of_int seq in
+    let entry (e : Trace.entry) = [ "p", str (n e.seq); "prio", int e.priority; "seq", int e.seq ] in
+    let effects l = List.map effect_value l in
+    let records = List.filter_map (fun (line, (l : Trace.line)) ->
+        let r fields = match Trace.action l.event with
+          | Some act -> Some (Tla.record (("act", str act) :: fields), line)
+          | None -> None in
+        match l.event with
+        | Trace.Body { body = Trace.Deactivate id; _ } -> Hashtbl.replace deactivated id (); None
+        | Trace.Body { body = Trace.Activate _; _ } -> Hashtbl.reset deactivated; None
+        | Trace.Body _ | Trace.Refused _ | Trace.Undeliverable _ | Trace.Destroy -> None
+        | Trace.Create { behaviours; _ } ->
+          initial := behaviours;
+          Some (Tla.record [ "act", str "Init" ], line)
+        | Trace.Notify { entry = e; overridden } ->
+          let ty = percept_type e.percept in
+          let default = match List.assoc_opt ty percept_defaults with
+            | Some k -> k
+            | None -> raise (Cannot_express (line, "percept type " ^ ty ^ " is not in the trace header")) in
+          notified := (e.seq, default) :: !notified;
+          if overridden then overrides := e.priority :: !overrides;
+          r (entry e)
+        | Trace.Put { index; _ } -> incr puts; r [ "obj", str ("o" ^ string_of_int index) ]
+        | Trace.Deliver { seq; _ } ->
+          msgs := max !msgs seq;
+          r [ "m", str ("m" ^ string_of_int seq); "seq", int seq ]
+        | Trace.Transfer moved -> r [ "moved", int moved ]
+        | Trace.Transfer_one e -> r (entry e)
+        | Trace.Transfer_spin _ -> r [ "obj", str "o1" ]
+        | Trace.Transfer_end | Trace.Next_iteration | Trace.Idle -> r []
+        | Trace.Dequeue e -> current := e.seq; r [ "e", Tla.record (entry e) ]
+        | Trace.Handle { instance; behaviour; handler; seq; effects = effs; _ } ->
+          let effs = effects effs in
+          activations := !activations + List.length effs;
+          add ph (behaviour, handler) (n seq, effs, line);
+          r [ "id", int instance; "h", int handler; "p", str (n seq); "seq", int seq ]
+        | Trace.Skip { instance; behaviour; handler } ->
+          if not (Hashtbl.mem deactivated instance) then
+            Hashtbl.replace skipped (behaviour, handler, n !current) line;
+          r [ "id", int instance; "h", int handler ]
+        | Trace.End_dispatch { seq; discarded } ->
+          r [ "seq", int seq; "discarded", Tla.Bool discarded ]
+        | Trace.Behaviour_step { instance; behaviour = b; taken; action_effects; handler } ->
+          (match action_effects with
+           | Some effs ->
+             let effs = effects effs in
+             activations := !activations + List.length effs;
+             add action b (effs, line)
+           | None -> ());
+          let handler_effects () = match handler with Some (h, e) -> (h, effects e) | None -> (0, []) in
+          let msg = match taken with
+            | Some (Trace.Took_message (_, seq)) ->
+              let name = "m" ^ string_of_int seq in
+              let (h, effs) = handler_effects () in
+              activations := !activations + List.length effs;
+              add mh (b, h) (name, effs, line);
+              Tla.record [ "kind", str "message"; "m", str name; "seq", int seq ]
+            | Some (Trace.Took_percept e) ->
+              let (h, effs) = handler_effects () in
+              activations := !activations + List.length effs;
+              add ph (b, h) (n e.seq, effs, line);
+              Tla.record (("kind", str "percept") :: entry e)
+            | None -> Tla.record [ "kind", str "none" ] in
+          r [ "id", int instance; "msg", msg ]) events in
     if records = [] then raise (Cannot_express (1, "the trace has no step of agent " ^ agent));
     Hashtbl.iter (fun (b, h) uses ->
         List.iter (fun (n, _, _) ->
@@ -159,10 +123,11 @@ let model_of_trace path ~agent =
           | [ effs ] -> Tla.record [ "accepts", accepts; "effects", Tla.Seq effs ]
           | _ -> Tla.record [ "accepts", accepts; "effects", Tla.Seq [];
                               "byValue", Tla.record (List.map (fun (n, effs, _) -> (n, Tla.Seq effs)) uses) ])) in
-    let bnames = List.map (get_str "name") behaviours in
-    let per f = Tla.record (List.map (fun b -> (get_str "name" b, f b)) behaviours) in
+    let info b = match List.find_opt (fun (i : Trace.behaviour_info) -> i.name = b) behaviours with
+      | Some i -> i
+      | None -> raise (Cannot_express (1, "behaviour " ^ b ^ " is not in the trace header")) in
     let action_effects b =
-      let uses = List.rev (Option.value (Hashtbl.find_opt action (get_str "name" b)) ~default:[]) in
+      let uses = List.rev (Option.value (Hashtbl.find_opt action b) ~default:[]) in
       match List.sort_uniq compare (List.map fst uses) with
       | [] -> Tla.Seq []
       | [ effs ] -> Tla.Seq effs
@@ -170,37 +135,32 @@ let model_of_trace path ~agent =
         let (_, line) = List.nth uses 1 in
         raise (Cannot_express (line, Printf.sprintf
                                  "the action block of %s has different activate/deactivate effects in different steps; \
-                                  a model gives each action block one list of effects" (get_str "name" b))) in
-    let p = Semantics.Machine.string_of_variant in
-    ignore p;
-    let capacity = match get "o2a_capacity" header with
-      | Some (`Int c) -> c
-      | _ -> List.length !notified + !puts + 1 in
+                                  a model gives each action block one list of effects" b)) in
+    let capacity = match header.o2a_capacity with
+      | Some c -> c
+      | None -> List.length !notified + !puts + 1 in
     let n_notify = List.length !notified in
-    let constants = [
-      "Variant", str (get_str "variant" header);
-      "TiePolicy", str (if get_str "tie_policy" header = "unstable" then "Unstable" else "Stable");
-      "Budget", int (max 1 (get_int "budget" header));
-      "Percepts", Tla.set (List.map (fun (n, _) -> str n) percepts);
-      "DefaultPriority", Tla.record (List.map (fun (n, d) -> (n, int d)) percepts);
-      "Overrides", Tla.set (List.map int !overrides);
-      "Objects", Tla.set (List.map str (names "o" !puts));
-      "Messages", Tla.set (List.map str (names "m" !msgs));
-      "MaxNotify", int n_notify;
-      "MaxPut", int !puts;
-      "MaxSend", int !msgs;
-      "Flood", Tla.Bool false;
-      "O2ACapacity", int (max 1 capacity);
-      "Behaviours", Tla.set (List.map str bnames);
-      "Kind", per (fun b -> str (get_str "kind" b));
-      "HasAction", per (fun b -> Tla.Bool (get "action" b = Some (`Bool true)));
-      "ActionEffects", per action_effects;
-      "PerceptHandlers", per (fun b -> handlers ph (get_str "name" b) (get_int "percept_handlers" b));
-      "MessageHandlers", per (fun b -> handlers mh (get_str "name" b) (get_int "message_handlers" b));
-      "InitialBehaviours", Tla.Seq (List.map str !initial);
-      "MaxActive", int (1 + List.length !initial + !activations);
-      "InversionBound", int (n_notify + 1);
-    ] in
+    let constants = Agent_loop.constants {
+        variant = header.variant;
+        tie_policy = (if header.tie_policy = "unstable" then "Unstable" else "Stable");
+        budget = max 1 header.budget;
+        percepts = List.map fst percepts;
+        default_priority = percepts;
+        overrides = !overrides;
+        objects = names "o" !puts;
+        messages = names "m" !msgs;
+        max_notify = n_notify; max_put = !puts; max_send = !msgs;
+        flood = false;
+        o2a_capacity = max 1 capacity;
+        behaviours = List.map (fun (b : Trace.behaviour_info) -> b.name) behaviours;
+        kind = (fun b -> (info b).kind);
+        has_action = (fun b -> (info b).has_action);
+        action_effects;
+        percept_handlers = (fun b -> handlers ph b (info b).percept_handlers);
+        message_handlers = (fun b -> handlers mh b (info b).message_handlers);
+        initial = !initial;
+        max_active = 1 + List.length !initial + !activations;
+        inversion_bound = n_notify + 1 } in
     Ok (constants, records)
   with Cannot_express (line, reason) -> Error (line, reason)
 
@@ -218,12 +178,9 @@ let trace_module name (records : (Tla.t * int) list) =
   Buffer.contents b
 
 let agents_of path =
-  match read_lines path with
-  | (_, h) :: _ ->
-    (match get "agents" h with
-     | Some (`List l) when l <> [] -> List.filter_map (function `Assoc a -> Some (get_str "name" a) | _ -> None) l
-     | _ -> failwith (Printf.sprintf "%s:1:1: error: the first line is not a trace header naming the agents" path))
-  | [] -> failwith (Printf.sprintf "%s:1:1: error: the trace is empty" path)
+  match read path with
+  | ({ agents = _ :: _ as l; _ }, _) -> List.map fst l
+  | _ -> failwith (Printf.sprintf "%s:1:1: error: the first line is not a trace header naming the agents" path)
 
 let trace ?keep path =
   List.map (fun agent ->

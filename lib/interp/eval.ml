@@ -9,14 +9,6 @@ module V = Value
 
 type message = { perf : string; content : V.t; sender : string }
 
-type event =
-  | Log of string
-  | Invoke of { meth : string; cls : string; args : V.t list; result : V.t }
-  | Sent of { perf : string; content : V.t; receivers : string list }
-  | Activated of string
-  | Deactivated of int
-  | Error of Source.region * string
-
 (* A property: its value and its declared type, to which assignments convert
    (integer to float or double). *)
 type cell = { mutable v : V.t; ty : Ty.t }
@@ -33,6 +25,15 @@ type beh = {
   mhandlers : T.handler array;
   action : Ast.block option;
 }
+
+type event =
+  | Log of string
+  | Invoke of { meth : string; cls : string; args : V.t list; result : V.t }
+  | Sent of { perf : string; content : V.t; receivers : string list }
+  | Activated of string
+  | Deactivated of int
+  | Error of Source.region * string
+  | Ran of { handler : int option; effects : beh Semantics.Machine.effect list }
 
 (* Local variables: few per frame, so an association list of cells is
    cheaper than a hash table (frames are made for every guard evaluated). *)
@@ -68,10 +69,6 @@ type agent = {
   mutable effects : beh Semantics.Machine.effect list;
   mutable fuel_limit : int;
   mutable pending : (int * int * frame) option;
-  mutable last_action_effects : string list option;
-  mutable last_handler : int option;
-  mutable last_effects : string list;
-  mutable last_behaviour : string;
 }
 
 (* What a running body sees. *)
@@ -558,20 +555,18 @@ let protect (a : agent) body = try body () with x -> recover a x
 (* The same for a block, without a closure (a handler body, once per percept). *)
 let protect_block (a : agent) f b = try block f b with x -> recover a x
 
-let describe_effect = function
-  | Semantics.Machine.Activate b -> "activate " ^ b.btype.b_name
-  | Semantics.Machine.Deactivate -> "deactivate"
-
-(* The effects of the body that just ran, for the machine; remembered for the
-   trace. *)
+(* The effects of the body that just ran, for the machine. *)
 let take_effects a =
   match a.effects with
-  | [] -> (match a.last_effects with [] -> () | _ -> a.last_effects <- []); []
-  | effs ->
-    let e = List.rev effs in
-    a.effects <- [];
-    a.last_effects <- List.map describe_effect e;
-    e
+  | [] -> []
+  | effs -> a.effects <- []; List.rev effs
+
+(* The same, recorded with the body that ran them (the trace's [effects],
+   [action_effects] and [handler]): [handler] is [None] for an action block. *)
+let take_ran a handler =
+  let effects = take_effects a in
+  a.events <- Ran { handler; effects } :: a.events;
+  effects
 
 (* The value of a when condition [g] (or of its last conjunct). *)
 let condition_value (g : Ast.expr) = function
@@ -590,8 +585,7 @@ let create_agent env ~name ~atype ~args ~fuel =
   | None -> raise (Runtime_error (Source.no_region, Printf.sprintf "unknown agent type %s" atype))
   | Some at ->
     let a = { env; name; atype = at; props = Names.create 16; acache = []; outbox = []; events = [];
-              effects = []; fuel_limit = fuel; pending = None; last_action_effects = None;
-              last_handler = None; last_effects = []; last_behaviour = "" } in
+              effects = []; fuel_limit = fuel; pending = None } in
     let f = frame a () in
     let params = match T.agent_create env atype with Some r -> r.r_params | None -> [] in
     if List.length params <> List.length args then
@@ -686,22 +680,14 @@ module Bodies = struct
         a.pending <- None; f.fuel := a.fuel_limit; f
       | Some _ -> a.pending <- None; frame a ~beh:b ~id ~content:p ()
       | None -> frame a ~beh:b ~id ~content:p () in
-    if a.last_behaviour != b.btype.b_name then a.last_behaviour <- b.btype.b_name;
     protect_block a f b.phandlers.(h - 1).h_body;
-    (match a.last_handler with Some k when k = h -> () | _ -> a.last_handler <- Some h);
-    (a, take_effects a)
+    (a, take_ran a (Some h))
 
   let run_action a ~id b =
-    a.last_behaviour <- b.btype.b_name;
-    a.last_handler <- None;
-    a.last_effects <- [];
     (match b.action with
      | Some body -> protect a (fun () -> block (frame a ~beh:b ~id ()) body)
      | None -> ());
-    let effs = take_effects a in
-    a.last_action_effects <- Some a.last_effects;
-    a.last_effects <- [];
-    (a, effs)
+    (a, take_ran a None)
 
   let perf_ok (h : T.handler) (m : message) = match h.h_kind with
     | T.On_message (Some p) -> p = m.perf
@@ -717,13 +703,11 @@ module Bodies = struct
   let run_message_handler a ~id b h (m : message) =
     let hd = b.mhandlers.(h - 1) in
     let f = frame a ~beh:b ~id ~content:m.content ~message:m () in
-    a.last_behaviour <- b.btype.b_name;
     protect a (fun () ->
         (* the guard again, for its pattern variables *)
         ignore (guard_holds f hd);
         block f hd.h_body);
-    a.last_handler <- Some h;
-    (a, take_effects a)
+    (a, take_ran a (Some h))
 
   let take_outbox a = let o = List.rev a.outbox in a.outbox <- []; (a, o)
 end

@@ -19,6 +19,9 @@ type message = {
   sender : string;     (** an agent's name, or ["host"] *)
 }
 
+type beh
+(** A behaviour instance: its type and its properties. *)
+
 type event =
   | Log of string
   | Invoke of { meth : string; cls : string; args : Value.t list; result : Value.t }
@@ -26,9 +29,10 @@ type event =
   | Activated of string          (** the behaviour type *)
   | Deactivated of int           (** the instance id *)
   | Error of Syntax.Source.region * string
-
-type beh
-(** A behaviour instance: its type and its properties. *)
+  | Ran of { handler : int option; effects : beh Semantics.Machine.effect list }
+      (** a handler ([Some h]) or an action block ([None]) of a behaviour
+          ended, with these effects on the behaviours (R5g, R5h); not a
+          trace line, but what the trace says of the rule that ran it *)
 
 type frame
 (** What a running body sees: its agent, behaviour, locals, content or
@@ -55,15 +59,6 @@ type agent = {
   mutable pending : (int * int * frame) option;
       (** the frame of the last applicable percept guard (instance, handler):
           its body runs in it, with the guard's bindings *)
-  mutable last_action_effects : string list option;
-      (** the effects of the action block in the last behaviour step
-          (["activate B"], ["deactivate"]), if it had one *)
-  mutable last_handler : int option;
-      (** the message (or native percept) handler that ran in the last step *)
-  mutable last_effects : string list;
-      (** the effects of the last handler body that ran *)
-  mutable last_behaviour : string;
-      (** the behaviour type of the last body that ran (for the trace) *)
 }
 
 val property : agent -> string -> Value.t option

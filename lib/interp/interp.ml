@@ -1,4 +1,6 @@
 module Value = Interp_eval.Value
 module Eval = Interp_eval.Eval
+module Tracer = Tracer
+module Events = Events
 module Runtime = Runtime
 module Oracle = Oracle

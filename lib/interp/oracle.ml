@@ -34,15 +34,8 @@ let load root =
         expect = (match List.assoc_opt "expect" meta with Some (`List l) -> l | _ -> []) })
 
 let read_trace path =
-  read_file path |> String.split_on_char '\n'
-  |> List.filter (fun l -> String.trim l <> "")
-  |> List.rev_map (fun l -> match Yojson.Safe.from_string l with
-      | j -> j
-      | exception Yojson.Json_error m -> failwith (path ^ ": " ^ m))
-  |> List.rev
-  |> (function
-      | `Assoc h :: rest when List.mem_assoc "trace" h -> rest
-      | l -> l)
+  List.rev (Trace.fold_file path (fun acc n j ->
+      ignore n; if acc = [] && Trace.is_header j then acc else j :: acc) [])
 
 let fields = function `Assoc f -> f | _ -> []
 
@@ -96,7 +89,7 @@ type outcome =
   | Diverge of { index : int; expected : string; got : string }
   | Failed of string
 
-let strip ev = `Assoc (List.filter (fun (k, _) -> k <> "step") (fields ev))
+let strip = Trace.without_step
 
 let compare_traces ~expected ~got =
   let rec go i = function
@@ -120,17 +113,17 @@ let sorted_fields j =
 let header_problem ~expected (line : string) =
   match Yojson.Safe.from_string line with
   | exception Yojson.Json_error _ -> Some "its first line is not JSON (a header is required, docs/trace-format.md)"
-  | `Assoc f as got ->
-    (match List.assoc_opt "trace" f, List.assoc_opt "version" f with
-     | Some (`String "jadescript-ref"), Some (`Int 1) ->
+  | `Assoc _ as got ->
+    (match Trace.header_version got with
+     | Some (`Int v) when v = Trace.version ->
        if Yojson.Safe.equal (sorted_fields expected) (sorted_fields got) then None
        else Some (Printf.sprintf "its header differs: expected %s, got %s" (show expected) (show got))
-     | Some (`String "jadescript-ref"), Some v ->
-       Some (Printf.sprintf "its header has version %s; this oracle reads version 1" (show v))
-     | _ -> Some "its first line is not a header ({\"trace\":\"jadescript-ref\",\"version\":1,...})")
+     | Some v ->
+       Some (Printf.sprintf "its header has version %s; this oracle reads version %d" (show v) Trace.version)
+     | None -> Some "its first line is not a header ({\"trace\":\"jadescript-ref\",\"version\":1,...})")
   | _ -> Some "its first line is not a header object"
 
-let has_error_event evs = List.exists (fun e -> List.assoc_opt "event" (fields e) = Some (`String "error")) evs
+let has_error_event evs = List.exists Trace.is_error evs
 
 (* Compare the trace file [got] with the expected events, reading it one line
    at a time: memory is bounded by the expected trace, whatever [got] holds. *)

@@ -387,6 +387,9 @@ let show_event = function
   | Interp.Eval.Activated b -> "activate " ^ b
   | Interp.Eval.Deactivated i -> "deactivate " ^ string_of_int i
   | Interp.Eval.Error (at, m) -> Printf.sprintf "error %s %s" (Source.string_of_region at) m
+  | Interp.Eval.Ran { handler; effects } ->
+    Printf.sprintf "ran %s: %d effects" (match handler with Some h -> string_of_int h | None -> "action")
+      (List.length effects)
 
 let show_config (c : RM.t) =
   Printf.sprintf "phase=%s o2a=%d pq=[%s] next_seq=%d dispatched=%d active=[%s] ready=[%s] blocked=[%s] pos=%d last=%s"

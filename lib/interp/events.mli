@@ -1,0 +1,34 @@
+(** The host's events file of [jadescript-ref run --events] (JSON lines,
+    docs/trace-format.md): what the host does, in order. The file is read
+    one line at a time, twice: {!check} reads every line and reports every
+    bad one before anything runs; {!iter} reads it again and hands each
+    event over as it is read. Memory does not grow with the file. *)
+
+type t =
+  | Notify of { agent : string; percept : Value.t; default : int; priority : int option }
+      (** notifyEvent (R2): the percept, its type's default priority (R1a),
+          and the override (R2a) *)
+  | Put of { agent : string; obj : Value.t }          (** putO2AObject (R2c) *)
+  | Message of { agent : string; perf : string; content : Value.t }   (** from ["host"] (R5e) *)
+  | Run of int                                         (** that many rounds (R6) *)
+  | Run_idle                                           (** until every agent is idle *)
+
+val parse_line :
+  Typing.Tenv.t -> agents:(string * string) list -> file:string -> string ->
+  (t option, (int * string) list) result
+(** One line: [Ok None] for a blank line or a [#] comment; [Error] with
+    every problem found (column, message). [agents]: name and type of every
+    agent of the run. *)
+
+val check :
+  Typing.Tenv.t -> agents:(string * string) list -> string ->
+  report:(line:int -> col:int -> string -> unit) -> int
+(** Reads every line of the file and reports each problem; returns how many
+    there were. @raise Sys_error when the file cannot be read. *)
+
+val iter :
+  Typing.Tenv.t -> agents:(string * string) list -> string ->
+  report:(line:int -> col:int -> string -> unit) -> (t -> unit) -> bool
+(** Hands each event of the file over in order, as it is read. A line that
+    is bad now (the file changed since {!check}) is reported and ends the
+    reading: [false]. *)

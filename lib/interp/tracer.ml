@@ -1,0 +1,130 @@
+(* From a run to its trace events. *)
+
+module Mc = Semantics.Machine
+module T = Typing.Tenv
+module V = Value
+
+type config = (V.t, Eval.message, V.t, Eval.beh, Eval.agent) Mc.config
+type label = (V.t, Eval.message, V.t) Mc.label
+
+type t = {
+  w : Trace.writer;
+  on_body : string -> Eval.event -> unit;
+  names : (string * int, string) Hashtbl.t;
+      (* (agent, instance id) -> the behaviour type the instance had when
+         last seen active: a Skip may name an instance deactivated earlier
+         in its dispatch *)
+}
+
+let create w ~on_body = { w; on_body; names = Hashtbl.create 16 }
+let writer t = t.w
+
+let header t env (p : Mc.params) ~seed agents =
+  let behaviours = List.map (fun (b : T.behaviour) ->
+      let hs = T.behaviour_handlers env b.b_name in
+      let percept (h : T.handler) = h.h_kind = T.On_percept in
+      { Trace.name = b.b_name;
+        kind = (match b.b_kind with Syntax.Ast.Cyclic -> "cyclic" | Syntax.Ast.OneShot -> "oneshot");
+        has_action = T.behaviour_action env b.b_name <> None;
+        percept_handlers = List.length (List.filter percept hs);
+        message_handlers = List.length (List.filter (fun h -> not (percept h)) hs) }) (T.behaviours env) in
+  Trace.write_header t.w {
+    variant = Mc.string_of_variant p.variant;
+    tie_policy = (match p.tie with Mc.Stable -> "stable" | Mc.Unstable -> "unstable");
+    budget = p.budget; o2a_capacity = p.o2a_capacity; seed; agents; behaviours;
+    percepts = List.filter_map (fun (s : T.schema) ->
+        if s.s_percept then Some (s.s_name, s.s_priority) else None) (T.schemas env) }
+
+let entry (e : V.t Mc.entry) = { Trace.percept = V.to_literal e.p; priority = e.prio; seq = e.seq }
+
+let message (m : Eval.message) =
+  { Trace.performative = m.perf; content = V.to_literal m.content; from = m.sender }
+
+let effect = function
+  | Mc.Activate b -> Trace.Activated (Eval.beh_type b)
+  | Mc.Deactivate -> Trace.Deactivated
+
+let body (e : Eval.event) : Trace.body option =
+  match e with
+  | Eval.Log s -> Some (Trace.Log s)
+  | Eval.Invoke { meth; cls; args; result } ->
+    Some (Trace.Invoke { meth; obj = cls; args = List.map V.to_literal args; result = V.to_literal result })
+  | Eval.Sent { perf; content; receivers } ->
+    Some (Trace.Send { performative = perf; content = V.to_literal content; receivers })
+  | Eval.Activated b -> Some (Trace.Activate b)
+  | Eval.Deactivated id -> Some (Trace.Deactivate id)
+  | Eval.Error (at, message) -> Some (Trace.Error { at = Syntax.Source.string_of_region at; message })
+  | Eval.Ran _ -> None
+
+let bodies t agent action evs =
+  List.iter (fun e -> match body e with
+      | Some b -> t.on_body agent e; Trace.write t.w ~agent (Trace.Body { action; body = b })
+      | None -> ()) evs
+
+let note_active t agent (c : config) =
+  List.iter (fun (a : Eval.beh Mc.instance) -> Hashtbl.replace t.names (agent, a.id) (Eval.beh_type a.beh))
+    c.active
+
+let name t agent id = Option.value (Hashtbl.find_opt t.names (agent, id)) ~default:"?"
+
+(* The effects of the body that ran as [which] in this step. *)
+let ran which evs =
+  List.find_map (function
+      | Eval.Ran { handler; effects } when which handler -> Some (handler, List.map effect effects)
+      | _ -> None) evs
+
+let created t ~agent ~agent_type args behs a =
+  Trace.write t.w ~agent (Trace.Create { agent_type; args = List.map V.to_literal args;
+                                          behaviours = List.map Eval.beh_type behs });
+  bodies t agent "Init" (Eval.take_events a)
+
+let label_event t agent (c : config) (l : label) evs : Trace.event =
+  match l with
+  | Mc.Init -> Semantics.Fault.crash "Tracer: Init is not a rule of the run"
+  | Mc.Notify e -> Trace.Notify { entry = entry e; overridden = false }
+  | Mc.Notify_with e -> Trace.Notify { entry = entry e; overridden = true }
+  | Mc.Put o -> Trace.Put { obj = V.to_literal o; index = c.puts }
+  | Mc.Send (m, seq) -> Trace.Deliver { message = message m; seq }
+  | Mc.Transfer n -> Trace.Transfer n
+  | Mc.Transfer_one e -> Trace.Transfer_one (entry e)
+  | Mc.Transfer_spin o -> Trace.Transfer_spin (V.to_literal o)
+  | Mc.Transfer_end -> Trace.Transfer_end
+  | Mc.Dequeue e -> Trace.Dequeue (entry e)
+  | Mc.Handle { id; h; p; seq } ->
+    Trace.Handle { instance = id; behaviour = name t agent id; handler = h; percept = V.to_literal p; seq;
+                   effects = (match ran (fun _ -> true) evs with Some (_, e) -> e | None -> []) }
+  | Mc.Skip { id; h } -> Trace.Skip { instance = id; behaviour = name t agent id; handler = h }
+  | Mc.End_dispatch { seq; discarded } -> Trace.End_dispatch { seq; discarded }
+  | Mc.Behaviour_step { id; msg } ->
+    Trace.Behaviour_step {
+      instance = id; behaviour = name t agent id;
+      taken = (match msg with
+          | None -> None
+          | Some (Mc.M_message { m; mseq }) -> Some (Trace.Took_message (message m, mseq))
+          | Some (Mc.M_percept e) -> Some (Trace.Took_percept (entry e)));
+      action_effects = Option.map snd (ran (fun h -> h = None) evs);
+      handler = (match msg, ran (fun h -> h <> None) evs with
+          | Some _, Some (Some h, e) -> Some (h, e)
+          | _ -> None) }
+  | Mc.Next_iteration -> Trace.Next_iteration
+  | Mc.Idle -> Trace.Idle
+
+let host t ~agent (c : config) = Trace.write t.w ~agent (label_event t agent c c.last [])
+
+let refused t ~agent v =
+  Trace.write t.w ~agent (Trace.Refused { percept = V.to_literal v; reason = "the O2A queue is full (R2d)" })
+
+let undeliverable t ~sender ~receiver (m : Eval.message) =
+  Trace.write t.w ~agent:sender
+    (Trace.Undeliverable { receiver; performative = m.perf; content = V.to_literal m.content })
+
+let step t ~agent ~before ~after l =
+  note_active t agent before;
+  let evs = Eval.take_events after.Mc.world in
+  Trace.write t.w ~agent (label_event t agent after l evs);
+  note_active t agent after;
+  bodies t agent (Mc.action_name l) evs
+
+let destroyed t ~agent a =
+  Trace.write t.w ~agent Trace.Destroy;
+  bodies t agent "destroy" (Eval.take_events a)

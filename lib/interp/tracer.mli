@@ -1,0 +1,39 @@
+(** Turning a run into trace events ({!Trace}): what the runtime and the
+    playground write, from the machine's labels, the configurations before
+    and after each rule, and the events of the bodies. Nothing passes from
+    the bodies to the trace but the events they record in the agent's state
+    ({!Eval.take_events}). *)
+
+type t
+
+val create : Trace.writer -> on_body:(string -> Eval.event -> unit) -> t
+(** [on_body agent e] sees every event of a body as it is written (the
+    runtime prints logs and errors there). *)
+
+val writer : t -> Trace.writer
+
+val header :
+  t -> Typing.Tenv.t -> Semantics.Machine.params -> seed:int option -> (string * string) list -> unit
+(** The header line: the run's parameters, its agents (name, type) and the
+    program's behaviours and percept types. *)
+
+type config = (Value.t, Eval.message, Value.t, Eval.beh, Eval.agent) Semantics.Machine.config
+type label = (Value.t, Eval.message, Value.t) Semantics.Machine.label
+
+val created : t -> agent:string -> agent_type:string -> Value.t list -> Eval.beh list -> Eval.agent -> unit
+(** The [create] line of an agent, then the events of its [on create]. *)
+
+val host : t -> agent:string -> config -> unit
+(** The line of a host rule (Notify, NotifyWith, Put, Send), from the
+    configuration it reached. *)
+
+val refused : t -> agent:string -> Value.t -> unit
+(** A notification refused (R2d). *)
+
+val undeliverable : t -> sender:string -> receiver:string -> Eval.message -> unit
+
+val step : t -> agent:string -> before:config -> after:config -> label -> unit
+(** The line of an agent rule, then the events of the bodies it ran. *)
+
+val destroyed : t -> agent:string -> Eval.agent -> unit
+(** The [destroy] line, then the events of [on destroy]. *)

@@ -1,0 +1,326 @@
+(* The trace's events and their JSON: docs/trace-format.md. The order of the
+   fields of each line is part of the format. *)
+
+type entry = { percept : string; priority : int; seq : int }
+type message = { performative : string; content : string; from : string }
+type effect = Activated of string | Deactivated
+type taken = Took_message of message * int | Took_percept of entry
+
+type body =
+  | Log of string
+  | Invoke of { meth : string; obj : string; args : string list; result : string }
+  | Send of { performative : string; content : string; receivers : string list }
+  | Activate of string
+  | Deactivate of int
+  | Error of { at : string; message : string }
+
+type event =
+  | Create of { agent_type : string; args : string list; behaviours : string list }
+  | Notify of { entry : entry; overridden : bool }
+  | Refused of { percept : string; reason : string }
+  | Put of { obj : string; index : int }
+  | Deliver of { message : message; seq : int }
+  | Undeliverable of { receiver : string; performative : string; content : string }
+  | Transfer of int
+  | Transfer_one of entry
+  | Transfer_spin of string
+  | Transfer_end
+  | Dequeue of entry
+  | Handle of { instance : int; behaviour : string; handler : int; percept : string; seq : int;
+                effects : effect list }
+  | Skip of { instance : int; behaviour : string; handler : int }
+  | End_dispatch of { seq : int; discarded : bool }
+  | Behaviour_step of { instance : int; behaviour : string; taken : taken option;
+                        action_effects : effect list option; handler : (int * effect list) option }
+  | Next_iteration
+  | Idle
+  | Destroy
+  | Body of { action : string; body : body }
+
+type line = { step : int; agent : string; event : event }
+
+let event_name = function
+  | Create _ -> "create" | Notify _ -> "notify" | Refused _ -> "refused" | Put _ -> "put"
+  | Deliver _ -> "deliver" | Undeliverable _ -> "undeliverable" | Transfer _ -> "transfer"
+  | Transfer_one _ -> "transfer_one" | Transfer_spin _ -> "transfer_spin"
+  | Transfer_end -> "transfer_end" | Dequeue _ -> "dequeue" | Handle _ -> "handle"
+  | Skip _ -> "skip" | End_dispatch { discarded = true; _ } -> "discard"
+  | End_dispatch { discarded = false; _ } -> "end_dispatch"
+  | Behaviour_step _ -> "behaviour_step" | Next_iteration -> "next_iteration" | Idle -> "idle"
+  | Destroy -> "destroy"
+  | Body { body; _ } ->
+    (match body with
+     | Log _ -> "log" | Invoke _ -> "invoke" | Send _ -> "send" | Activate _ -> "activate"
+     | Deactivate _ -> "deactivate" | Error _ -> "error")
+
+let action = function
+  | Create _ -> Some "Init"
+  | Notify { overridden; _ } -> Some (if overridden then "NotifyWith" else "Notify")
+  | Refused _ | Undeliverable _ | Destroy -> None
+  | Put _ -> Some "Put" | Deliver _ -> Some "Send" | Transfer _ -> Some "Transfer"
+  | Transfer_one _ -> Some "TransferOne" | Transfer_spin _ -> Some "TransferSpin"
+  | Transfer_end -> Some "TransferEnd" | Dequeue _ -> Some "Dequeue" | Handle _ -> Some "Handle"
+  | Skip _ -> Some "Skip" | End_dispatch _ -> Some "EndDispatch"
+  | Behaviour_step _ -> Some "BehaviourStep" | Next_iteration -> Some "NextIteration"
+  | Idle -> Some "Idle"
+  | Body { action; _ } -> Some action
+
+type behaviour_info = { name : string; kind : string; has_action : bool;
+                        percept_handlers : int; message_handlers : int }
+
+type header = {
+  variant : string; tie_policy : string; budget : int; o2a_capacity : int option;
+  seed : int option; agents : (string * string) list;
+  behaviours : behaviour_info list; percepts : (string * int) list;
+}
+
+(* ------------------------------------------------------------ encoding *)
+
+let version = 1
+
+let str s = `String s
+let int i = `Int i
+let strs l = `List (List.map str l)
+let opt_int = function Some i -> `Int i | None -> `Null
+
+let effect_to_string = function Activated b -> "activate " ^ b | Deactivated -> "deactivate"
+let effects l = strs (List.map effect_to_string l)
+
+let entry_fields e = [ "percept", str e.percept; "priority", int e.priority; "seq", int e.seq ]
+let message_fields m = [ "performative", str m.performative; "content", str m.content; "from", str m.from ]
+
+let fields = function
+  | Create { agent_type; args; behaviours } ->
+    [ "type", str agent_type; "args", strs args; "behaviours", strs behaviours ]
+  | Notify { entry; _ } | Transfer_one entry | Dequeue entry -> entry_fields entry
+  | Refused { percept; reason } -> [ "percept", str percept; "reason", str reason ]
+  | Put { obj; index } -> [ "object", str obj; "index", int index ]
+  | Deliver { message; seq } -> message_fields message @ [ "seq", int seq ]
+  | Undeliverable { receiver; performative; content } ->
+    [ "to", str receiver; "performative", str performative; "content", str content ]
+  | Transfer n -> [ "moved", int n ]
+  | Transfer_spin o -> [ "object", str o ]
+  | Transfer_end | Next_iteration | Idle | Destroy -> []
+  | Handle { instance; behaviour; handler; percept; seq; effects = e } ->
+    [ "instance", int instance; "behaviour", str behaviour; "handler", int handler;
+      "percept", str percept; "seq", int seq; "effects", effects e ]
+  | Skip { instance; behaviour; handler } ->
+    [ "instance", int instance; "behaviour", str behaviour; "handler", int handler ]
+  | End_dispatch { seq; _ } -> [ "seq", int seq ]
+  | Behaviour_step { instance; behaviour; taken; action_effects; handler } ->
+    [ "instance", int instance; "behaviour", str behaviour;
+      "message", (match taken with
+          | None -> `Null
+          | Some (Took_message (m, seq)) -> `Assoc (message_fields m @ [ "seq", int seq ])
+          | Some (Took_percept e) -> `Assoc (entry_fields e)) ]
+    @ (match action_effects with Some e -> [ "action_effects", effects e ] | None -> [])
+    @ (match handler with Some (h, e) -> [ "handler", int h; "effects", effects e ] | None -> [])
+  | Body { body; _ } ->
+    (match body with
+     | Log s -> [ "text", str s ]
+     | Invoke { meth; obj; args; result } ->
+       [ "method", str meth; "object", str obj; "args", strs args; "result", str result ]
+     | Send { performative; content; receivers } ->
+       [ "performative", str performative; "content", str content; "to", strs receivers ]
+     | Activate b -> [ "behaviour", str b ]
+     | Deactivate id -> [ "instance", int id ]
+     | Error { at; message } -> [ "at", str at; "message", str message ])
+
+let line_to_json l =
+  `Assoc ([ "step", int l.step; "agent", str l.agent; "event", str (event_name l.event);
+            "action", (match action l.event with Some a -> str a | None -> `Null) ]
+          @ fields l.event)
+
+let header_to_json h =
+  `Assoc [
+    "trace", str "jadescript-ref"; "version", int version;
+    "variant", str h.variant; "tie_policy", str h.tie_policy; "budget", int h.budget;
+    "o2a_capacity", opt_int h.o2a_capacity; "seed", opt_int h.seed;
+    "agents", `List (List.map (fun (n, ty) -> `Assoc [ "name", str n; "type", str ty ]) h.agents);
+    "program", `Assoc [
+      "behaviours", `List (List.map (fun b ->
+          `Assoc [ "name", str b.name; "kind", str b.kind; "action", `Bool b.has_action;
+                   "percept_handlers", int b.percept_handlers;
+                   "message_handlers", int b.message_handlers ]) h.behaviours);
+      "percepts", `Assoc (List.map (fun (n, k) -> (n, int k)) h.percepts) ] ]
+
+let is_header = function
+  | `Assoc f -> List.mem_assoc "trace" f
+  | _ -> false
+
+let header_version = function
+  | `Assoc f when List.assoc_opt "trace" f = Some (`String "jadescript-ref") ->
+    Some (Option.value (List.assoc_opt "version" f) ~default:`Null)
+  | _ -> None
+
+let is_error = function
+  | `Assoc f -> List.assoc_opt "event" f = Some (`String "error")
+  | _ -> false
+
+let without_step = function
+  | `Assoc f -> `Assoc (List.remove_assoc "step" f)
+  | j -> j
+
+(* ------------------------------------------------------------ decoding *)
+
+exception Bad of string
+
+let bad fmt = Printf.ksprintf (fun s -> raise (Bad s)) fmt
+
+let field f fs = match List.assoc_opt f fs with Some v -> v | None -> bad "no field %S" f
+let get_str f fs = match field f fs with `String s -> s | _ -> bad "field %S is not a string" f
+let get_int f fs = match field f fs with `Int i -> i | _ -> bad "field %S is not an integer" f
+let get_bool f fs = match field f fs with `Bool b -> b | _ -> bad "field %S is not a boolean" f
+let get_strs f fs = match field f fs with
+  | `List l -> List.map (function `String s -> s | _ -> bad "field %S holds a non-string" f) l
+  | _ -> bad "field %S is not a list" f
+let get_opt_int f fs = match List.assoc_opt f fs with
+  | None | Some `Null -> None | Some (`Int i) -> Some i | Some _ -> bad "field %S is not an integer" f
+let get_obj f fs = match field f fs with `Assoc o -> o | _ -> bad "field %S is not an object" f
+
+let effect_of_string s =
+  match String.split_on_char ' ' s with
+  | [ "deactivate" ] -> Deactivated
+  | [ "activate"; b ] -> Activated b
+  | _ -> bad "unknown effect %S" s
+
+let get_effects f fs = List.map effect_of_string (get_strs f fs)
+
+let entry_of fs = { percept = get_str "percept" fs; priority = get_int "priority" fs; seq = get_int "seq" fs }
+let message_of fs = { performative = get_str "performative" fs; content = get_str "content" fs; from = get_str "from" fs }
+
+let event_of name fs =
+  let action = match List.assoc_opt "action" fs with Some (`String a) -> a | _ -> "" in
+  match name with
+  | "create" -> Create { agent_type = get_str "type" fs; args = get_strs "args" fs;
+                         behaviours = get_strs "behaviours" fs }
+  | "notify" -> Notify { entry = entry_of fs; overridden = action = "NotifyWith" }
+  | "refused" -> Refused { percept = get_str "percept" fs; reason = get_str "reason" fs }
+  | "put" -> Put { obj = get_str "object" fs; index = get_int "index" fs }
+  | "deliver" -> Deliver { message = message_of fs; seq = get_int "seq" fs }
+  | "undeliverable" -> Undeliverable { receiver = get_str "to" fs; performative = get_str "performative" fs;
+                                       content = get_str "content" fs }
+  | "transfer" -> Transfer (get_int "moved" fs)
+  | "transfer_one" -> Transfer_one (entry_of fs)
+  | "transfer_spin" -> Transfer_spin (get_str "object" fs)
+  | "transfer_end" -> Transfer_end
+  | "dequeue" -> Dequeue (entry_of fs)
+  | "handle" -> Handle { instance = get_int "instance" fs; behaviour = get_str "behaviour" fs;
+                         handler = get_int "handler" fs; percept = get_str "percept" fs;
+                         seq = get_int "seq" fs; effects = get_effects "effects" fs }
+  | "skip" -> Skip { instance = get_int "instance" fs; behaviour = get_str "behaviour" fs;
+                     handler = get_int "handler" fs }
+  | "discard" | "end_dispatch" -> End_dispatch { seq = get_int "seq" fs; discarded = name = "discard" }
+  | "behaviour_step" ->
+    let taken = match field "message" fs with
+      | `Null -> None
+      | `Assoc m when List.mem_assoc "performative" m -> Some (Took_message (message_of m, get_int "seq" m))
+      | `Assoc m -> Some (Took_percept (entry_of m))
+      | _ -> bad "field \"message\" is not an object" in
+    Behaviour_step {
+      instance = get_int "instance" fs; behaviour = get_str "behaviour" fs; taken;
+      action_effects = (if List.mem_assoc "action_effects" fs then Some (get_effects "action_effects" fs) else None);
+      handler = (if List.mem_assoc "handler" fs then Some (get_int "handler" fs, get_effects "effects" fs) else None) }
+  | "next_iteration" -> Next_iteration
+  | "idle" -> Idle
+  | "destroy" -> Destroy
+  | "log" -> Body { action; body = Log (get_str "text" fs) }
+  | "invoke" -> Body { action; body = Invoke { meth = get_str "method" fs; obj = get_str "object" fs;
+                                               args = get_strs "args" fs; result = get_str "result" fs } }
+  | "send" -> Body { action; body = Send { performative = get_str "performative" fs;
+                                           content = get_str "content" fs; receivers = get_strs "to" fs } }
+  | "activate" -> Body { action; body = Activate (get_str "behaviour" fs) }
+  | "deactivate" -> Body { action; body = Deactivate (get_int "instance" fs) }
+  | "error" -> Body { action; body = Error { at = get_str "at" fs; message = get_str "message" fs } }
+  | e -> bad "unknown event %S" e
+
+let line_of_json j =
+  match j with
+  | `Assoc fs ->
+    (try Ok { step = get_int "step" fs; agent = get_str "agent" fs; event = event_of (get_str "event" fs) fs }
+     with Bad m -> Error m)
+  | _ -> Error "a trace line is a JSON object"
+
+let header_of_json j =
+  match j with
+  | `Assoc fs when is_header j ->
+    (try
+       if get_str "trace" fs <> "jadescript-ref" then bad "not a jadescript-ref trace";
+       let program = get_obj "program" fs in
+       Ok { variant = get_str "variant" fs; tie_policy = get_str "tie_policy" fs;
+            budget = get_int "budget" fs; o2a_capacity = get_opt_int "o2a_capacity" fs;
+            seed = get_opt_int "seed" fs;
+            agents = (match field "agents" fs with
+                | `List l -> List.map (function
+                    | `Assoc a -> (get_str "name" a, get_str "type" a)
+                    | _ -> bad "an agent is an object") l
+                | _ -> bad "field \"agents\" is not a list");
+            behaviours = (match field "behaviours" program with
+                | `List l -> List.map (function
+                    | `Assoc b -> { name = get_str "name" b; kind = get_str "kind" b;
+                                    has_action = get_bool "action" b;
+                                    percept_handlers = get_int "percept_handlers" b;
+                                    message_handlers = get_int "message_handlers" b }
+                    | _ -> bad "a behaviour is an object") l
+                | _ -> bad "field \"behaviours\" is not a list");
+            percepts = List.map (function
+                | (n, `Int k) -> (n, k)
+                | (n, _) -> bad "the priority of %s is not an integer" n) (get_obj "percepts" program) }
+     with Bad m -> Error m)
+  | _ -> Error "not a jadescript-ref trace (no header line)"
+
+(* ------------------------------------------------------------- writing *)
+
+type writer = { emit : (string -> unit) option; mutable lines : int }
+
+let writer emit = { emit = Some emit; lines = 0 }
+let to_channel oc = writer (fun s -> output_string oc s; flush oc)
+let nowhere () = { emit = None; lines = 0 }
+
+let write_header w h =
+  match w.emit with
+  | Some emit -> emit (Yojson.Safe.to_string (header_to_json h) ^ "\n")
+  | None -> ()
+
+let write w ~agent event =
+  w.lines <- w.lines + 1;
+  match w.emit with
+  | Some emit -> emit (Yojson.Safe.to_string (line_to_json { step = w.lines; agent; event }) ^ "\n")
+  | None -> ()
+
+let lines_written w = w.lines
+
+(* ------------------------------------------------------------- reading *)
+
+let fold_file path f init =
+  let ic = open_in_bin path in
+  Fun.protect ~finally:(fun () -> close_in_noerr ic) (fun () ->
+      let rec go acc n =
+        match input_line ic with
+        | exception End_of_file -> acc
+        | l ->
+          if String.trim l = "" then go acc (n + 1)
+          else match Yojson.Safe.from_string l with
+            | j -> go (f acc n j) (n + 1)
+            | exception Yojson.Json_error m ->
+              failwith (Printf.sprintf "%s:%d:1: error: not JSON: %s" path n
+                          (String.concat " " (String.split_on_char '\n' m))) in
+      go init 1)
+
+let read_file path =
+  match
+    fold_file path (fun (h, acc) n j ->
+        match h with
+        | None ->
+          (match header_of_json j with
+           | Ok h -> (Some h, acc)
+           | Error m -> failwith (Printf.sprintf "%s:%d:1: error: %s" path n m))
+        | Some _ ->
+          (match line_of_json j with
+           | Ok l -> (h, (n, l) :: acc)
+           | Error m -> failwith (Printf.sprintf "%s:%d:1: error: %s" path n m))) (None, [])
+  with
+  | (Some h, lines) -> Ok (h, List.rev lines)
+  | (None, _) -> Error (Printf.sprintf "%s:1:1: error: not a jadescript-ref trace (no header line)" path)
+  | exception Failure m -> Error m
+  | exception Sys_error m -> Error (Printf.sprintf "%s:1:1: error: %s" path m)

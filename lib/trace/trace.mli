@@ -1,0 +1,140 @@
+(** The trace of a run (R8, docs/trace-format.md): one typed event per line,
+    and its one JSON codec. [jadescript-ref run] and the playground write
+    traces with it; [validate], the conformance oracle and [conform] read
+    them with it. The format is the contract between implementations: the
+    JSON this module writes is, byte for byte, what
+    [conformance/*/expected.jsonl] hold. *)
+
+(** {1 Events} *)
+
+type entry = { percept : string; priority : int; seq : int }
+(** A percept entry: the percept as a Jadescript literal, its effective
+    priority (R2a), its seq (R2b). *)
+
+type message = { performative : string; content : string; from : string }
+(** A message: [content] as a Jadescript literal; [from] an agent's name or
+    ["host"]. *)
+
+type effect =
+  | Activated of string      (** ["activate B"]: an instance of B (R5g) *)
+  | Deactivated              (** ["deactivate"] (R5h) *)
+
+type taken =
+  | Took_message of message * int   (** a message and its seq *)
+  | Took_percept of entry           (** [native]: a percept *)
+
+(** What a body did, as it happened (R8). *)
+type body =
+  | Log of string
+  | Invoke of { meth : string; obj : string; args : string list; result : string }
+      (** a native method of a host object; [obj] is its class *)
+  | Send of { performative : string; content : string; receivers : string list }
+  | Activate of string             (** the behaviour type *)
+  | Deactivate of int              (** the instance id *)
+  | Error of { at : string; message : string }
+      (** a run-time error (R7): [FILE:LINE:COL] and the message *)
+
+type event =
+  | Create of { agent_type : string; args : string list; behaviours : string list }
+  | Notify of { entry : entry; overridden : bool }   (** [NotifyWith] when overridden *)
+  | Refused of { percept : string; reason : string } (** R2d *)
+  | Put of { obj : string; index : int }
+  | Deliver of { message : message; seq : int }
+  | Undeliverable of { receiver : string; performative : string; content : string }
+      (** on the sender's line *)
+  | Transfer of int
+  | Transfer_one of entry
+  | Transfer_spin of string
+  | Transfer_end
+  | Dequeue of entry
+  | Handle of { instance : int; behaviour : string; handler : int; percept : string; seq : int;
+                effects : effect list }
+  | Skip of { instance : int; behaviour : string; handler : int }
+  | End_dispatch of { seq : int; discarded : bool }   (** ["discard"] when discarded *)
+  | Behaviour_step of { instance : int; behaviour : string; taken : taken option;
+                        action_effects : effect list option;
+                            (** the action block's, when the behaviour has one *)
+                        handler : (int * effect list) option
+                            (** the handler that took [taken], and its effects *) }
+  | Next_iteration
+  | Idle
+  | Destroy
+  | Body of { action : string; body : body }
+      (** during the rule [action] (a TLA+ action name), ["Init"] for
+          [on create], ["destroy"] for [on destroy] *)
+
+type line = { step : int; agent : string; event : event }
+(** [step] numbers the lines of a trace from 1, after the header. *)
+
+val event_name : event -> string
+(** The [event] field: ["create"], ["notify"], ..., ["log"], ["error"]. *)
+
+val action : event -> string option
+(** The [action] field: the TLA+ action ([None]: [null]). *)
+
+(** {1 The header} *)
+
+type behaviour_info = { name : string; kind : string; has_action : bool;
+                        percept_handlers : int; message_handlers : int }
+
+type header = {
+  variant : string;
+  tie_policy : string;            (** ["stable"] or ["unstable"] *)
+  budget : int;
+  o2a_capacity : int option;
+  seed : int option;
+  agents : (string * string) list;          (** name, type *)
+  behaviours : behaviour_info list;
+  percepts : (string * int) list;           (** percept type, default priority *)
+}
+
+(** {1 JSON} *)
+
+val line_to_json : line -> Yojson.Safe.t
+val line_of_json : Yojson.Safe.t -> (line, string) result
+val header_to_json : header -> Yojson.Safe.t
+val header_of_json : Yojson.Safe.t -> (header, string) result
+val is_header : Yojson.Safe.t -> bool
+(** Is this JSON value a trace header (its [trace] field)? *)
+
+val version : int
+(** The version of the format this module reads and writes: 1. *)
+
+val header_version : Yojson.Safe.t -> Yojson.Safe.t option
+(** [Some v] when the value is a jadescript-ref header ([trace] is
+    ["jadescript-ref"]): its [version] field ([`Null] if it has none). *)
+
+val is_error : Yojson.Safe.t -> bool
+(** Is this line an [error] event (a run-time error, R7)? *)
+
+val without_step : Yojson.Safe.t -> Yojson.Safe.t
+(** A line's JSON without its [step] field (traces are compared so). *)
+
+(** {1 Writing} *)
+
+type writer
+(** Numbers the lines and hands each, as one line of text with its newline,
+    to an output function. *)
+
+val writer : (string -> unit) -> writer
+val to_channel : out_channel -> writer
+(** Writes to the channel, and flushes it after every line (a run that
+    dies leaves every event before its death). *)
+
+val nowhere : unit -> writer
+(** Numbers the lines and writes nothing. *)
+
+val write_header : writer -> header -> unit
+val write : writer -> agent:string -> event -> unit
+val lines_written : writer -> int
+
+(** {1 Reading} *)
+
+val fold_file : string -> ('a -> int -> Yojson.Safe.t -> 'a) -> 'a -> 'a
+(** [fold_file path f init]: every non-blank line of the file as JSON, with
+    its line number, one at a time (memory does not grow with the file).
+    @raise Failure ["PATH:LINE:1: error: not JSON: ..."] *)
+
+val read_file : string -> (header * (int * line) list, string) result
+(** A whole trace: its header and its lines with their line numbers.
+    [Error "PATH:LINE:COL: error: message"] on the first bad line. *)
