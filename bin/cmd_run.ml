@@ -66,7 +66,7 @@ let agent_spec env spec =
           (match Interp.Eval.literal_value env (Parse.expr ~file:"--agent" a) with
            | v -> v
            | exception Diag.Failed d -> fail d.message
-           | exception Interp.Eval.Runtime_error (_, m) -> fail m)) (split_args args) in
+           | exception (Interp.Eval.Trap (_, m) | Interp.Eval.Link (_, m)) -> fail m)) (split_args args) in
     (name, ty, values)
 
 (* The events file, first pass: every line is checked, and every bad one
@@ -88,6 +88,10 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
       | Some v -> v
       | None -> prerr_endline ("error: unknown variant " ^ variant ^ " (printed, reference, budgeted, native)"); raise (Stop 1) in
     let trace = Option.map open_out_bin trace_file in
+    (* a run stopped by a signal (a timeout, ^C) ends through exit, which
+       flushes the trace: every event before the signal is in it *)
+    List.iter (fun (s, code) -> Sys.set_signal s (Sys.Signal_handle (fun _ -> exit code)))
+      [ (Sys.sigterm, 143); (Sys.sigint, 130); (Sys.sighup, 129) ];
     Interp.Runtime.tune_gc ();
     let params = { Mc.default_params with variant; o2a_capacity = capacity } in
     (* R7: a run-time error is recorded and the run carries on; it is also
@@ -95,18 +99,18 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
        with no place in the program (recursion too deep) is put at the start
        of the first file. *)
     let run_errors = ref 0 in
-    let on_error (at : Syntax.Source.region) msg =
+    let on_error kind (at : Syntax.Source.region) msg =
       incr run_errors;
       let (file, line, col) =
         if at.left.line = 0 then (List.hd files, 1, 1) else (at.left.file, at.left.line, at.left.column) in
       flush stdout;
-      report_at file line col msg in
+      report_at file line col (Interp.Eval.wording kind msg) in
     let opts = { Interp.Runtime.params; seed; fuel; max_steps; trace;
                  on_log = (fun a s -> print_string (a ^ ": " ^ s ^ "\n"));
                  on_error } in
     let rt = match Interp.Runtime.create env opts specs with
       | rt -> rt
-      | exception Interp.Eval.Runtime_error (_, m) -> prerr_endline ("error: " ^ m); raise (Stop 1) in
+      | exception Interp.Eval.Link (_, m) -> prerr_endline ("error: " ^ m); raise (Stop 1) in
     let host_error = ref false in
     let check = function
       | Ok () -> ()
@@ -132,6 +136,11 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
   with
   | code -> code
   | exception Stop code -> code
+  | exception Semantics.Fault.Crash m ->
+    (* a broken invariant of ours, never the program's or the host's fault *)
+    flush stdout;
+    report_at (match files with f :: _ -> f | [] -> "run") 1 1 ("internal error (a broken invariant): " ^ m);
+    125
 
 let cmd =
   let files = Arg.(non_empty & pos_all string [] & info [] ~docv:"FILE" ~doc:"The program's files.") in

@@ -87,18 +87,10 @@ let make_with ?program:(path = program ()) ~record () : (module Agent.AGENT) =
       { params; c = M.init params ~world:a behs }
 
     let notify t p ~priority =
-      match priority with
-      | Some k when k < 0 -> Error (Printf.sprintf "priority %d is not a natural number (R2a)" k)
-      | _ ->
-        if not (M.o2a_has_room t.params t.c) then Error "the O2A queue is full (R2d)"
-        else begin
-          let v = value_of_percept p in
-          t.c <- (match priority with
-              | None -> M.notify t.params t.c v (Agent.default_priority p)
-              | Some k -> M.notify_with t.params t.c v k);
-          record t.c.last;
-          Ok t.c.next_seq
-        end
+      match M.notify_event t.params t.c (value_of_percept p) ~default:(Agent.default_priority p) ~priority with
+      | Error (Mc.Negative_priority k) -> Error (Printf.sprintf "priority %d is not a natural number (R2a)" k)
+      | Error Mc.O2a_full -> Error "the O2A queue is full (R2d)"
+      | Ok c -> t.c <- c; record c.last; Ok c.next_seq
 
     let take t =
       match Interp.Runtime.E.step t.params t.c with

@@ -81,18 +81,10 @@ let log t = List.rev t.log_rev
 let record t l = if t.logging then t.log_rev <- l :: t.log_rev
 
 let notify t p ~priority =
-  match priority with
-  | Some k when k < 0 -> Error (Printf.sprintf "priority %d is not a natural number (R2a)" k)
-  | _ ->
-    if not (M.o2a_has_room t.params t.c) then Error "the O2A queue is full (R2d)"
-    else begin
-      let c = match priority with
-        | None -> M.notify t.params t.c p (Agent.default_priority p)
-        | Some k -> M.notify_with t.params t.c p k in
-      t.c <- c;
-      record t c.last;
-      Ok c.next_seq
-    end
+  match M.notify_event t.params t.c p ~default:(Agent.default_priority p) ~priority with
+  | Error (Machine.Negative_priority k) -> Error (Printf.sprintf "priority %d is not a natural number (R2a)" k)
+  | Error Machine.O2a_full -> Error "the O2A queue is full (R2d)"
+  | Ok c -> t.c <- c; record t c.last; Ok c.next_seq
 
 let take t =
   match E.step t.params t.c with

@@ -89,10 +89,10 @@ let int i = `Int i
 
 let first_file = ref "program.jade"
 
-let on_error st (at : Source.region) msg =
+let on_error st kind (at : Source.region) msg =
   let (file, line, col) =
     if at.left.line = 0 then (!first_file, 1, 1) else (at.left.file, at.left.line, at.left.column) in
-  st.out <- Printf.sprintf "%s:%d:%d: error: %s" file line col msg :: st.out
+  st.out <- Printf.sprintf "%s:%d:%d: error: %s" file line col (E.wording kind msg) :: st.out
 
 (* The session's tracer: its lines go to [st.lines], logs and errors to what
    run prints. *)
@@ -100,7 +100,7 @@ let tracer st =
   let w = Trace.writer (fun line -> st.lines <- String.sub line 0 (String.length line - 1) :: st.lines) in
   Interp.Tracer.create w ~on_body:(fun agent -> function
       | E.Log s -> st.out <- (agent ^ ": " ^ s) :: st.out
-      | E.Error (at, msg) -> on_error st at msg
+      | E.Error (kind, at, msg) -> on_error st kind at msg
       | _ -> ())
 
 let world st i = st.platform.agents.(i).config.world
@@ -175,7 +175,7 @@ let agent_spec env spec =
           (match E.literal_value env (Parse.expr ~file:"--agent" a) with
            | v -> v
            | exception Diag.Failed d -> fail d.message
-           | exception E.Runtime_error (_, m) -> fail m)) (split_args args) in
+           | exception (E.Trap (_, m) | E.Link (_, m)) -> fail m)) (split_args args) in
     (name, ty, values)
 
 let params_of (s : setup) =
@@ -203,7 +203,7 @@ let boot (s : setup) : (state, string list) result =
         let created = List.map (fun (name, ty, args) ->
             let (a, behs) =
               try E.create_agent env ~name ~atype:ty ~args ~fuel:s.fuel
-              with E.Runtime_error (_, m) -> raise (Bad ("error: " ^ m)) in
+              with E.Link (_, m) -> raise (Bad ("error: " ^ m)) in
             Interp.Tracer.created st.tr ~agent:name ~agent_type:ty args behs a;
             (name, M.init st.params ~world:a behs)) specs in
         st.platform <- P.create created;
@@ -225,7 +225,7 @@ let boot (s : setup) : (state, string list) result =
 let set_config st i c =
   let agents = Array.copy st.platform.agents in
   agents.(i) <- { (agents.(i)) with config = c };
-  st.platform <- { st.platform with agents }
+  st.platform <- { P.agents }
 
 let located what (d : Diag.t) =
   Printf.sprintf "%s:%d:%d: error: %s" what d.at.left.line d.at.left.column d.message
@@ -243,23 +243,18 @@ let do_host st (h : host_action) : (unit, string) result =
       | e ->
         (match k e with
          | r -> r
-         | exception E.Runtime_error (at, m) ->
+         | exception (E.Trap (at, m) | E.Link (at, m)) ->
            Error (Printf.sprintf "%s:%d:%d: error: %s" what (max 1 at.left.line) (max 1 at.left.column) m)) in
     match h with
     | Notify { percept; priority; _ } ->
       parse "notify" percept (fun e ->
           let (v, default) = E.percept_value st.env ~agent_type:atype e in
-          match priority with
-          | Some k when k < 0 -> Error (Printf.sprintf "host: priority %d is negative (R2a)" k)
-          | _ when not (M.o2a_has_room st.params c) ->
+          match M.notify_event st.params c v ~default ~priority with
+          | Error (Mc.Negative_priority k) -> Error (Printf.sprintf "host: priority %d is negative (R2a)" k)
+          | Error Mc.O2a_full ->
             Interp.Tracer.refused st.tr ~agent v;
             Error "host: the O2A queue is full (R2d)"
-          | None ->
-            let c = M.notify st.params c v default in
-            set_config st i c; Interp.Tracer.host st.tr ~agent c; Ok ()
-          | Some k ->
-            let c = M.notify_with st.params c v k in
-            set_config st i c; Interp.Tracer.host st.tr ~agent c; Ok ())
+          | Ok c -> set_config st i c; Interp.Tracer.host st.tr ~agent c; Ok ())
     | Put { obj; _ } ->
       parse "put" obj (fun e ->
           let v = E.literal_value st.env e in
@@ -281,19 +276,6 @@ let do_host st (h : host_action) : (unit, string) result =
 
 (* ------------------------------------------------------------ rules *)
 
-(* A round's order (R6), as Runtime.order draws it. *)
-let order_with rand n =
-  let idx = List.init n Fun.id in
-  match rand with
-  | None -> idx
-  | Some r ->
-    let a = Array.of_list idx in
-    for k = n - 1 downto 1 do
-      let j = Random.State.int r (k + 1) in
-      let x = a.(k) in a.(k) <- a.(j); a.(j) <- x
-    done;
-    Array.to_list a
-
 let idle st i = M.is_idle st.platform.agents.(i).config
 
 (* The next agent; [commit] makes the choice (pops the round, draws the seed). *)
@@ -309,7 +291,7 @@ let pick ?(refill = true) ~commit st =
         if fresh || not refill || P.all_idle st.platform then None
         else
           let rand = if commit then st.rand else Option.map Random.State.copy st.rand in
-          from_round (order_with rand (Array.length st.platform.agents)) true in
+          from_round (P.round rand st.platform) true in
     match from_round st.round false with
     | None -> (if commit then st.round <- []); None
     | Some (i, rest) -> (if commit then (st.round <- rest; st.current <- Some i)); Some i
@@ -353,6 +335,7 @@ let guarded f =
   | Stack_overflow -> Error "error: the evaluation went too deep (stack overflow)"
   | Out_of_memory -> Error "error: out of memory"
   | Invalid_argument m | Failure m -> Error ("internal error: " ^ m)
+  | Semantics.Fault.Crash m -> Error ("internal error (a broken invariant): " ^ m)
   | Not_found -> Error "internal error: Not_found"
 
 let host t h =
@@ -392,7 +375,7 @@ let run_idle ?(limit = 5000) t =
    agent is idle, as Runtime.run_rounds does). *)
 let round_cmds st =
   if st.current = None && st.round = [] then
-    st.round <- order_with st.rand (Array.length st.platform.agents)
+    st.round <- P.round st.rand st.platform
 
 let run_rounds t n =
   for _ = 1 to n do

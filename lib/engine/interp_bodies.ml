@@ -119,8 +119,7 @@ let percept_applicable (a : Eval.agent) ~id b h p =
       let ok = match frest with
         | None -> true
         | Some r ->
-          (try Eval.condition_part f ~whole:g r
-           with Eval.Runtime_error (at, msg) -> a.events <- Eval.Error (at, msg) :: a.events; false) in
+          (try Eval.condition_part f ~whole:g r with x when Eval.record_error a x -> false) in
       a.pending <- (if ok then Some (id, h, f) else None);
       (a, ok)
     | _ -> Eval.Bodies.percept_applicable a ~id b h p

@@ -13,9 +13,6 @@ type t =
   | Rec of (string * t) list     (** [[f |-> v, ...]]; canonical: sorted fields *)
   | Fn of (t * t) list           (** [(k :> v @@ ...)]; canonical: sorted keys *)
 
-val canon : t -> t
-(** The canonical form: fields, set elements and function keys sorted. *)
-
 val set : t list -> t
 val record : (string * t) list -> t
 (** Canonical constructors. *)

@@ -29,7 +29,3 @@ val trace : ?keep:string -> string -> verdict list
 (** One verdict per agent of the trace file. [keep]: also write the generated
     modules into that folder.
     @raise Failure on a file that is not a trace (with the line), Tlc.Error *)
-
-val model_of_trace : string -> agent:string -> ((string * Tla.t) list * (Tla.t * int) list, int * string) result
-(** The constants and the [last] values (with their trace lines) of one agent;
-    [Error (line, reason)] when the run cannot be expressed. *)

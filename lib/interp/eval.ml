@@ -9,6 +9,9 @@ module V = Value
 
 type message = { perf : string; content : V.t; sender : string }
 
+(* The kinds of run-time errors (the exceptions Trap, Exhaustion, Link below). *)
+type error_kind = Trap_error | Exhaustion_error | Link_error
+
 (* A property: its value and its declared type, to which assignments convert
    (integer to float or double). *)
 type cell = { mutable v : V.t; ty : Ty.t }
@@ -32,7 +35,7 @@ type event =
   | Sent of { perf : string; content : V.t; receivers : string list }
   | Activated of string
   | Deactivated of int
-  | Error of Source.region * string
+  | Error of error_kind * Source.region * string
   | Ran of { handler : int option; effects : beh Semantics.Machine.effect list }
 
 (* Local variables: few per frame, so an association list of cells is
@@ -80,18 +83,42 @@ and frame = {
   content : V.t option;
   message : message option;
   fuel : int ref;
+  depth : int;               (* nested calls of functions and procedures *)
 }
 
 let property a x = match Names.find_opt a.props x with Some c -> Some c.v | None -> None
 
 let take_events a = let e = List.rev a.events in a.events <- []; e
 
-exception Runtime_error of Source.region * string
+(* Run-time errors, one exception per kind (as the WebAssembly reference
+   interpreter's util/error.ml): the kind decides the wording of a report,
+   never the trace line, which is the same [error] event for all three. A
+   broken invariant of the implementation is Semantics.Fault.Crash. *)
+exception Trap of Source.region * string
+exception Exhaustion of Source.region * string
+exception Link of Source.region * string
+
+let wording kind msg = match kind with
+  | Trap_error -> msg
+  | Exhaustion_error -> "exhaustion: " ^ msg
+  | Link_error -> "link error: " ^ msg
+
+let error_of_exn = function
+  | Trap (at, m) -> Some (Trap_error, at, m)
+  | Exhaustion (at, m) -> Some (Exhaustion_error, at, m)
+  | Link (at, m) -> Some (Link_error, at, m)
+  | _ -> None
+
 exception Return of V.t
 exception Break
 exception Continue
 
-let err at fmt = Printf.ksprintf (fun s -> raise (Runtime_error (at, s))) fmt
+let err at fmt = Printf.ksprintf (fun s -> raise (Trap (at, s))) fmt
+let link at fmt = Printf.ksprintf (fun s -> raise (Link (at, s))) fmt
+
+(* Nested calls of Jadescript functions and procedures one body may make:
+   deeper recursion is an exhaustion error, never an OCaml stack overflow. *)
+let max_call_depth = 200
 
 let uids = ref 0
 
@@ -102,7 +129,7 @@ let uids = ref 0
 let tick (f : frame) at =
   decr f.fuel;
   if !(f.fuel) < 0 then
-    err at "step budget exhausted: more than %d statements in one handler or step (--fuel)" f.ag.fuel_limit
+    raise (Exhaustion (at, Printf.sprintf "step budget exhausted: more than %d statements in one handler or step (--fuel)" f.ag.fuel_limit))
 
 (* ------------------------------------------------------- conversions *)
 
@@ -226,12 +253,12 @@ let arith at (op : Ast.binop) a b =
      | Add -> V.int32 (x + y) | Sub -> V.int32 (x - y) | Mul -> V.int32 (x * y)
      | Div -> if y = 0 then err at "division by zero" else V.int32 (x / y)
      | Mod -> if y = 0 then err at "division by zero (%%)" else V.int32 (x mod y)
-     | _ -> assert false)
+     | _ -> Semantics.Fault.crash "Eval.arith: the operator is not arithmetic")
   | kind, _, _ ->
     let x = to_f a and y = to_f b in
     let r = match op with
       | Add -> x +. y | Sub -> x -. y | Mul -> x *. y | Div -> x /. y
-      | Mod -> Float.rem x y | _ -> assert false in
+      | Mod -> Float.rem x y | _ -> Semantics.Fault.crash "Eval.arith: the operator is not arithmetic" in
     if kind = `Float then V.Float (V.float32 r) else V.Double r
 
 let compare_values at (op : Ast.binop) a b =
@@ -240,7 +267,9 @@ let compare_values at (op : Ast.binop) a b =
     | (V.Int _ | V.Float _ | V.Double _), (V.Int _ | V.Float _ | V.Double _) -> compare (to_f a) (to_f b)
     | V.Text x, V.Text y -> compare x y
     | _ -> err at "cannot compare %s with %s" (V.type_name a) (V.type_name b) in
-  V.Bool (match op with Lt -> c < 0 | Gt -> c > 0 | Le -> c <= 0 | Ge -> c >= 0 | _ -> assert false)
+  V.Bool (match op with
+      | Lt -> c < 0 | Gt -> c > 0 | Le -> c <= 0 | Ge -> c >= 0
+      | _ -> Semantics.Fault.crash "Eval.compare_values: the operator is not a comparison")
 
 (* ------------------------------------------------------- patterns *)
 
@@ -368,6 +397,9 @@ and call (f : frame) at g args =
 
 and run_routine (f : frame) at (r : T.routine) beh args : V.t option =
   tick f at;
+  if f.depth >= max_call_depth then
+    raise (Exhaustion (at, Printf.sprintf "recursion too deep: more than %d nested calls of functions and procedures"
+                         max_call_depth));
   let locals = new_locals () in
   (match args with
    | `Positional vs ->
@@ -379,7 +411,7 @@ and run_routine (f : frame) at (r : T.routine) beh args : V.t option =
          match List.assoc_opt n kvs with
          | Some v -> local_set locals n (coerce ty v)
          | None -> err at "missing argument %s" n) r.r_params);
-  let f' = { f with beh; locals; content = None; message = None;
+  let f' = { f with beh; locals; content = None; message = None; depth = f.depth + 1;
                     id = (match beh with Some _ -> f.id | None -> 0) } in
   match block f' r.r_body with
   | () -> None
@@ -391,11 +423,12 @@ and invoke (f : frame) at (i : Ast.invoke) =
   match target with
   | V.Native n ->
     (match List.assoc_opt i.meth.it n.methods with
-     | None -> err i.meth.at "%s has no method %S" n.cls i.meth.it
+     | None -> link i.meth.at "%s has no method %S" n.cls i.meth.it
      | Some m ->
        let result = try m args with
-         | Runtime_error _ as x -> raise x
-         | Failure msg | Invalid_argument msg -> err at "%s.%s failed: %s" n.cls i.meth.it msg in
+         | (Trap _ | Exhaustion _ | Link _) as x -> raise x
+         | Invalid_argument msg -> link at "%s.%s failed: %s" n.cls i.meth.it msg
+         | Failure msg -> err at "%s.%s failed: %s" n.cls i.meth.it msg in
        f.ag.events <- Invoke { meth = i.meth.it; cls = n.cls; args; result } :: f.ag.events;
        result)
   | v -> err i.target.at "invoke needs a host object (any), not a %s" (V.type_name v)
@@ -541,14 +574,21 @@ and default_value (ty : Ty.t) = match Ty.repr ty with
 (* -------------------------------------------------------- running *)
 
 let frame ag ?beh ?(id = 0) ?content ?message () =
-  { ag; beh; id; locals = new_locals (); content; message; fuel = ref ag.fuel_limit }
+  { ag; beh; id; locals = new_locals (); content; message; fuel = ref ag.fuel_limit; depth = 0 }
 
 (* Run a body: a run-time error stops it and is recorded (R7). *)
+let record_error (a : agent) x =
+  match error_of_exn x with
+  | Some (kind, at, msg) -> a.events <- Error (kind, at, msg) :: a.events; true
+  | None -> false
+
 let recover (a : agent) = function
-  | Runtime_error (at, msg) -> a.events <- Error (at, msg) :: a.events
   | Return _ | Break | Continue -> ()
-  | Stack_overflow -> a.events <- Error (Source.no_region, "recursion too deep") :: a.events
-  | x -> raise x
+  | Stack_overflow ->
+    (* what max_call_depth does not bound (an expression nested too deeply;
+       a smaller stack, as in a browser) *)
+    a.events <- Error (Exhaustion_error, Source.no_region, "recursion too deep") :: a.events
+  | x -> if not (record_error a x) then raise x
 
 let protect (a : agent) body = try body () with x -> recover a x
 
@@ -582,19 +622,18 @@ let guard_holds (f : frame) (h : T.handler) =
 
 let create_agent env ~name ~atype ~args ~fuel =
   match T.agent env atype with
-  | None -> raise (Runtime_error (Source.no_region, Printf.sprintf "unknown agent type %s" atype))
+  | None -> link Source.no_region "unknown agent type %s" atype
   | Some at ->
     let a = { env; name; atype = at; props = Names.create 16; acache = []; outbox = []; events = [];
               effects = []; fuel_limit = fuel; pending = None } in
     let f = frame a () in
     let params = match T.agent_create env atype with Some r -> r.r_params | None -> [] in
     if List.length params <> List.length args then
-      raise (Runtime_error (Source.no_region, Printf.sprintf "agent type %s takes %d creation argument%s, not %d"
-                              atype (List.length params) (if List.length params = 1 then "" else "s") (List.length args)));
+      link Source.no_region "agent type %s takes %d creation argument%s, not %d"
+        atype (List.length params) (if List.length params = 1 then "" else "s") (List.length args);
     let args = List.map2 (fun (n, ty) v -> match coerce_param ty v with
         | Some v -> v
-        | None -> raise (Runtime_error (Source.no_region,
-                                        Printf.sprintf "creation argument %s of %s is a %s, not a %s" n atype (Ty.to_string ty) (V.type_name v))))
+        | None -> link Source.no_region "creation argument %s of %s is a %s, not a %s" n atype (Ty.to_string ty) (V.type_name v))
         params args in
     protect a (fun () ->
         List.iter (fun (p : T.property) ->
@@ -667,8 +706,7 @@ module Bodies = struct
      body. *)
   let percept_applicable a ~id b h p =
     let f = frame a ~beh:b ~id ~content:p () in
-    let ok = try guard_holds f b.phandlers.(h - 1)
-      with Runtime_error (at, msg) -> a.events <- Error (at, msg) :: a.events; false in
+    let ok = try guard_holds f b.phandlers.(h - 1) with x when record_error a x -> false in
     a.pending <- (if ok then Some (id, h, f) else None);
     (a, ok)
 
@@ -698,7 +736,7 @@ module Bodies = struct
     let hd = b.mhandlers.(h - 1) in
     perf_ok hd m
     && (let f = frame a ~beh:b ~id ~content:m.content ~message:m () in
-        try guard_holds f hd with Runtime_error (at, msg) -> a.events <- Error (at, msg) :: a.events; false)
+        try guard_holds f hd with x when record_error a x -> false)
 
   let run_message_handler a ~id b h (m : message) =
     let hd = b.mhandlers.(h - 1) in

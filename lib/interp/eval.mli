@@ -22,13 +22,49 @@ type message = {
 type beh
 (** A behaviour instance: its type and its properties. *)
 
+(** {1 Run-time errors}
+
+    One exception per kind, as the WebAssembly reference interpreter has
+    them. A body that raises one stops; the error is recorded as an [Error]
+    event (R7) and the run carries on. The trace's [error] line is the same
+    for all three kinds (its [message] is the exception's); the kind decides
+    how a report words it ({!wording}). A broken invariant of the
+    implementation is {!Semantics.Fault.Crash}, never recorded. *)
+
+exception Trap of Syntax.Source.region * string
+(** R7: the program did what the language does not allow (a division by
+    zero, an index out of bounds, a missing map key, a value of the wrong
+    type). *)
+
+exception Exhaustion of Syntax.Source.region * string
+(** A resource ran out: the step budget of one handler or step ([--fuel]),
+    or the depth of nested calls of functions and procedures
+    ({!max_call_depth}: deep recursion never becomes an OCaml stack
+    overflow). *)
+
+exception Link of Syntax.Source.region * string
+(** Something the host gave does not fit: a host object without the native
+    method invoked, a native method given arguments it does not take, an
+    agent type that does not exist or creation arguments that do not fit its
+    parameters. *)
+
+type error_kind = Trap_error | Exhaustion_error | Link_error
+
+val wording : error_kind -> string -> string
+(** A report of an error of this kind: a trap's message as it is,
+    ["exhaustion: "] or ["link error: "] before the others'. *)
+
+val max_call_depth : int
+(** 200 nested calls: what a browser's JavaScript stack holds (the playground
+    must report what [run] reports), with room to spare. *)
+
 type event =
   | Log of string
   | Invoke of { meth : string; cls : string; args : Value.t list; result : Value.t }
   | Sent of { perf : string; content : Value.t; receivers : string list }
   | Activated of string          (** the behaviour type *)
   | Deactivated of int           (** the instance id *)
-  | Error of Syntax.Source.region * string
+  | Error of error_kind * Syntax.Source.region * string
   | Ran of { handler : int option; effects : beh Semantics.Machine.effect list }
       (** a handler ([Some h]) or an action block ([None]) of a behaviour
           ended, with these effects on the behaviours (R5g, R5h); not a
@@ -67,8 +103,6 @@ val property : agent -> string -> Value.t option
 val take_events : agent -> event list
 (** The events since the last call, oldest first. *)
 
-exception Runtime_error of Syntax.Source.region * string
-
 val create_agent :
   Typing.Tenv.t -> name:string -> atype:string -> args:Value.t list -> fuel:int ->
   agent * beh list
@@ -76,8 +110,8 @@ val create_agent :
     then its [on create] with [args] (R5g). Returns the behaviours that
     [on create] activated, in activation order. An error in [on create] is an
     [Error] event, as in a handler.
-    @raise Runtime_error when the agent type does not exist or the arguments do
-    not fit the parameters (the host's mistake, reported to the host). *)
+    @raise Link when the agent type does not exist or the arguments do not
+    fit the parameters (the host's mistake, reported to the host). *)
 
 val destroy_agent : agent -> unit
 (** Runs [on destroy], if any. *)
@@ -87,16 +121,12 @@ val percept_value : Typing.Tenv.t -> agent_type:string -> Syntax.Ast.expr -> Val
     line): it must construct a percept type visible to the agent, with
     arguments of the slots' types (integers widen, R1c). Returns the value and
     its type's default priority (R1a).
-    @raise Runtime_error otherwise. *)
+    @raise Trap otherwise. *)
 
 val literal_value : Typing.Tenv.t -> Syntax.Ast.expr -> Value.t
 (** A literal value given by the host (an agent's creation arguments, a [put]):
     numbers, texts, booleans, lists, maps, [aid("r")] and schema
-    constructions. @raise Runtime_error *)
-
-val coerce_param : Typing.Types.t -> Value.t -> Value.t option
-(** The value converted to a parameter or slot type (integer to float or
-    double), or [None] if it does not fit. *)
+    constructions. @raise Trap *)
 
 (** {1 For the fast engine}
 
@@ -110,12 +140,16 @@ val guard_frame : agent -> id:int -> beh -> Value.t -> frame
 (** The frame a percept guard of the instance is evaluated in, for this
     percept (a fresh step budget). *)
 
+val record_error : agent -> exn -> bool
+(** Records a run-time error (a trap, an exhaustion or a link error) as an
+    [Error] event of the agent: [true]; any other exception: [false]. *)
+
 val bind_local : frame -> string -> Value.t -> unit
 (** Binds a pattern variable, as a pattern does. *)
 
 val condition_part : frame -> whole:Syntax.Ast.expr -> Syntax.Ast.expr -> bool
 (** The value of [part], a conjunct of the [when] condition [whole], which
-    must be a boolean. @raise Runtime_error *)
+    must be a boolean. @raise Trap *)
 
 (** {1 The bodies}
 

@@ -29,7 +29,7 @@ let parse_line env ~agents ~file line : (t option, (int * string) list) result =
           | exception Syntax.Diag.Failed d -> bad d.at.left.column (what ^ ": " ^ d.message) in
         let value e = match Eval.literal_value env e with
           | v -> Some v
-          | exception Eval.Runtime_error (at, m) -> bad at.left.column m in
+          | exception (Eval.Trap (at, m) | Eval.Link (at, m)) -> bad at.left.column m in
         (match get "notify", get "put", get "message", get "run" with
          | Some (`String p), None, None, None ->
            (match agent () with
@@ -44,7 +44,7 @@ let parse_line env ~agents ~file line : (t option, (int * string) list) result =
                      | None -> Some (Notify { agent = a; percept = v; default; priority = None })
                      | Some (`Int k) when k >= 0 -> Some (Notify { agent = a; percept = v; default; priority = Some k })
                      | Some _ -> bad 1 "\"priority\" is a natural number (R2a)")
-                  | exception Eval.Runtime_error (at, m) -> bad at.left.column m)))
+                  | exception (Eval.Trap (at, m) | Eval.Link (at, m)) -> bad at.left.column m)))
          | None, Some (`String o), None, None ->
            (* the object is read before the agent, as the messages' order has always been *)
            let e = expr "the object" o in

@@ -13,13 +13,6 @@ type t =
   | Run of int                                         (** that many rounds (R6) *)
   | Run_idle                                           (** until every agent is idle *)
 
-val parse_line :
-  Typing.Tenv.t -> agents:(string * string) list -> file:string -> string ->
-  (t option, (int * string) list) result
-(** One line: [Ok None] for a blank line or a [#] comment; [Error] with
-    every problem found (column, message). [agents]: name and type of every
-    agent of the run. *)
-
 val check :
   Typing.Tenv.t -> agents:(string * string) list -> string ->
   report:(line:int -> col:int -> string -> unit) -> int

@@ -91,16 +91,6 @@ type outcome =
 
 let strip = Trace.without_step
 
-let compare_traces ~expected ~got =
-  let rec go i = function
-    | [], [] -> Pass
-    | e :: es, g :: gs ->
-      if Yojson.Safe.equal (strip e) (strip g) then go (i + 1) (es, gs)
-      else Diverge { index = i; expected = show (strip e); got = show (strip g) }
-    | e :: _, [] -> Diverge { index = i; expected = show (strip e); got = "(the trace ends)" }
-    | [], g :: _ -> Diverge { index = i; expected = "(the trace ends)"; got = show (strip g) } in
-  go 1 (expected, got)
-
 (* ------------------------------------------------- judging a run *)
 
 let sorted_fields j =

@@ -42,9 +42,6 @@ type outcome =
       (** the first event (1-based, after the header) that differs *)
   | Failed of string   (** the implementation failed or wrote no trace *)
 
-val compare_traces : expected:Yojson.Safe.t list -> got:Yojson.Safe.t list -> outcome
-(** Event by event, ignoring [step]. *)
-
 val run_vector : ?timeout:float -> ?keep:string -> impl:string -> vector -> outcome
 (** Runs [impl FILES ARGS --events events.jsonl --trace TMP] in the vector's
     folder and judges what it did (docs/trace-format.md, "Conformance"):

@@ -11,7 +11,7 @@ type options = {
   max_steps : int;
   trace : out_channel option;
   on_log : string -> string -> unit;
-  on_error : Syntax.Source.region -> string -> unit;
+  on_error : Eval.error_kind -> Syntax.Source.region -> string -> unit;
 }
 
 type t = {
@@ -30,8 +30,6 @@ let find t name = P.find t.platform name
 let index t name = match find t name with
   | Some i -> i
   | None -> Semantics.Fault.crash "Runtime: no agent %s on the platform" name
-
-let world t i = t.platform.agents.(i).config.world
 
 (* An event of the platform, with the platform right after it. [t.platform]
    is still the one before it: the configuration a rule started from. *)
@@ -53,7 +51,7 @@ let create env opts specs =
   let w = match opts.trace with Some oc -> Trace.to_channel oc | None -> Trace.nowhere () in
   let on_body agent = function
     | Eval.Log s -> opts.on_log agent s
-    | Eval.Error (at, msg) -> opts.on_error at msg
+    | Eval.Error (kind, at, msg) -> opts.on_error kind at msg
     | _ -> () in
   let t = { env; opts; platform = P.create []; steps = 0;
             rand = Option.map (fun s -> Random.State.make [| s |]) opts.seed;
@@ -82,21 +80,16 @@ let with_agent t agent k =
 let set_config t i c =
   let agents = Array.copy t.platform.agents in
   agents.(i) <- { (agents.(i)) with config = c };
-  t.platform <- { t.platform with agents }
+  t.platform <- { P.agents }
 
 let notify t ~agent v ~default ~priority =
   with_agent t agent (fun i c ->
-      match priority with
-      | Some k when k < 0 -> Error (Printf.sprintf "priority %d is negative (R2a)" k)
-      | _ when not (M.o2a_has_room t.opts.params c) ->
+      match M.notify_event t.opts.params c v ~default ~priority with
+      | Error (Mc.Negative_priority k) -> Error (Printf.sprintf "priority %d is negative (R2a)" k)
+      | Error Mc.O2a_full ->
         Tracer.refused t.tr ~agent v;
         Error "the O2A queue is full (R2d)"
-      | None ->
-        let c = M.notify t.opts.params c v default in
-        set_config t i c; Tracer.host t.tr ~agent c; Ok ()
-      | Some k ->
-        let c = M.notify_with t.opts.params c v k in
-        set_config t i c; Tracer.host t.tr ~agent c; Ok ())
+      | Ok c -> set_config t i c; Tracer.host t.tr ~agent c; Ok ())
 
 let put t ~agent v =
   with_agent t agent (fun i c ->
@@ -125,22 +118,9 @@ let iterate t i =
     t.steps <- t.steps + List.length (List.filter (function P.Step _ -> true | _ -> false) evs)
   end
 
-let order t =
-  let n = Array.length t.platform.agents in
-  let idx = List.init n Fun.id in
-  match t.rand with
-  | None -> idx
-  | Some r ->
-    let a = Array.of_list idx in
-    for k = n - 1 downto 1 do
-      let j = Random.State.int r (k + 1) in
-      let x = a.(k) in a.(k) <- a.(j); a.(j) <- x
-    done;
-    Array.to_list a
-
 let run_rounds t n =
   for _ = 1 to n do
-    List.iter (fun i -> if not (M.is_idle t.platform.agents.(i).config) then iterate t i) (order t)
+    List.iter (fun i -> if not (M.is_idle t.platform.agents.(i).config) then iterate t i) (P.round t.rand t.platform)
   done
 
 let run_until_idle t =
@@ -158,7 +138,6 @@ let finish t =
   match t.opts.trace with Some oc -> flush oc | None -> ()
 
 let steps t = t.steps
-let agent_state t name = Option.map (fun i -> world t i) (find t name)
 let platform t = t.platform
 let env t = t.env
 

@@ -18,16 +18,16 @@ type options = {
   max_steps : int;            (** agent steps in the whole run *)
   trace : out_channel option;
   on_log : string -> string -> unit;   (** agent name, text: [log e] *)
-  on_error : Syntax.Source.region -> string -> unit;
-      (** a run-time error (R7), as it is recorded: where, and the message;
-          the run carries on *)
+  on_error : Eval.error_kind -> Syntax.Source.region -> string -> unit;
+      (** a run-time error (R7), as it is recorded: its kind, where, and
+          the message; the run carries on *)
 }
 
 val create :
   Typing.Tenv.t -> options -> (string * string * Value.t list) list -> t
 (** Boots the agents (name, type, creation arguments) in order (R5g);
     messages sent by their [on create] are delivered once all exist.
-    @raise Eval.Runtime_error when the host's request is wrong (an unknown agent
+    @raise Eval.Link when the host's request is wrong (an unknown agent
     type, arguments that do not fit). *)
 
 val notify : t -> agent:string -> Value.t -> default:int -> priority:int option -> (unit, string) result
@@ -49,7 +49,6 @@ val finish : t -> unit
 (** Runs every agent's [on destroy], in creation order, and closes the trace. *)
 
 val steps : t -> int
-val agent_state : t -> string -> Eval.agent option
 val platform : t -> P.t
 val env : t -> Typing.Tenv.t
 

@@ -53,7 +53,7 @@ let body (e : Eval.event) : Trace.body option =
     Some (Trace.Send { performative = perf; content = V.to_literal content; receivers })
   | Eval.Activated b -> Some (Trace.Activate b)
   | Eval.Deactivated id -> Some (Trace.Deactivate id)
-  | Eval.Error (at, message) -> Some (Trace.Error { at = Syntax.Source.string_of_region at; message })
+  | Eval.Error (_, at, message) -> Some (Trace.Error { at = Syntax.Source.string_of_region at; message })
   | Eval.Ran _ -> None
 
 let bodies t agent action evs =

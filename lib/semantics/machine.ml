@@ -8,6 +8,8 @@
      Init ............... init                [Configurations]
      Notify(p) .......... notify              [Host rules]
      NotifyWith(p, k) ... notify_with         [Host rules]
+     CanNotify + Notify / NotifyWith, the host's notifyEvent(p[, k]) ..
+                          notify_event        [Host rules]
      Put(o) ............. put                 [Host rules]
      Send(m) ............ send                [Host rules]
      Transfer ........... transfer            [Agent rules]
@@ -138,6 +140,8 @@ module type BODIES = sig
   val run_message_handler : world -> id:int -> beh -> int -> message -> world * beh effect list
   val take_outbox : world -> world * (string * message) list
 end
+
+type refusal = Negative_priority of int | O2a_full
 
 module Make (B : BODIES) = struct
   type t = (B.percept, B.message, B.obj, B.beh, B.world) config
@@ -309,6 +313,16 @@ module Make (B : BODIES) = struct
 
   (* NotifyWith(p, k) (R2a). *)
   let notify_with p c percept prio = notify_effect p c percept prio (fun e -> Notify_with e)
+
+  (* What the host's notifyEvent(p) or notifyEvent(p, k) does: refused with a
+     negative k (R2a) or a full O2A queue (R2d; a refusal changes nothing),
+     else Notify or NotifyWith. *)
+  let notify_event p (c : t) percept ~default ~priority : (t, refusal) result =
+    match priority with
+    | Some k when k < 0 -> Error (Negative_priority k)
+    | _ when not (o2a_has_room p c) -> Error O2a_full
+    | None -> Ok (notify p c percept default)
+    | Some k -> Ok (notify_with p c percept k)
 
   (* Put(o) (R2c): does not wake an idle agent (D3). *)
   let put _p (c : t) o : t =

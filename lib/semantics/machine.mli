@@ -166,6 +166,11 @@ module type BODIES = sig
       names, in order; the platform delivers them (R5e). *)
 end
 
+(** Why the host's notification was refused. *)
+type refusal =
+  | Negative_priority of int    (** R2a: a priority is a natural number *)
+  | O2a_full                    (** R2d *)
+
 module Make (B : BODIES) : sig
   type t = (B.percept, B.message, B.obj, B.beh, B.world) config
   type lbl = (B.percept, B.message, B.obj) label
@@ -185,6 +190,12 @@ module Make (B : BODIES) : sig
 
   val notify_with : params -> t -> B.percept -> int -> t
   (** [NotifyWith]: the priority overridden (R2a). *)
+
+  val notify_event : params -> t -> B.percept -> default:int -> priority:int option -> (t, refusal) result
+  (** What the host's [notifyEvent(p)] ([priority = None]: the percept type's
+      [default], R1a) or [notifyEvent(p, k)] does: {!notify} or
+      {!notify_with}, or a refusal that changes nothing: a negative [k]
+      (R2a), a full O2A queue (R2d). *)
 
   val put : params -> t -> B.obj -> t
   (** [Put] (R2c). *)
@@ -271,9 +282,6 @@ module Make (B : BODIES) : sig
 
   val find_instance : int -> B.beh instance list -> B.beh option
   (** The behaviour of an instance, if it is active. *)
-
-  val handlers_of : t -> (int * int) list
-  (** HandlersOf(active) (R4a). *)
 
   val bump_waits : params -> t -> B.percept entry -> (int * int * int) list
   (** BumpWaits (ghost). *)

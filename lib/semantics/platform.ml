@@ -2,14 +2,14 @@ module Make (B : Machine.BODIES) = struct
   module M = Machine.Make (B)
 
   type agent = { name : string; config : M.t }
-  type t = { agents : agent array; next : int }
+  type t = { agents : agent array }
 
   type event =
     | Step of string * M.lbl
     | Delivered of { sender : string; receiver : string; message : B.message }
     | Undeliverable of { sender : string; receiver : string; message : B.message }
 
-  let create l = { agents = Array.of_list (List.map (fun (name, config) -> { name; config }) l); next = 0 }
+  let create l = { agents = Array.of_list (List.map (fun (name, config) -> { name; config }) l) }
 
   let find t name =
     let r = ref None in
@@ -19,7 +19,7 @@ module Make (B : Machine.BODIES) = struct
   let set t i config =
     let agents = Array.copy t.agents in
     agents.(i) <- { (agents.(i)) with config };
-    { t with agents }
+    { agents }
 
   let deliver p t ~sender ~receiver message =
     match find t receiver with
@@ -45,7 +45,6 @@ module Make (B : Machine.BODIES) = struct
 
   let iteration ?(max_steps = 1_000_000) ?(on_event = fun _ _ -> ()) ?(step = M.step) p t i =
     let name = t.agents.(i).name in
-    let t = { t with next = (i + 1) mod Array.length t.agents } in
     let rec go t n acc =
       if n >= max_steps then (t, List.rev acc)
       else match step p t.agents.(i).config with
@@ -58,19 +57,20 @@ module Make (B : Machine.BODIES) = struct
           if ends_iteration l then (t, List.rev acc) else go t (n + 1) acc in
     go t 0 []
 
-  type policy = Round_robin | Seeded of Random.State.t
-
   let all_idle t = Array.for_all (fun a -> M.is_idle a.config) t.agents
 
-  let schedule policy t =
+  (* R6: creation order, or a permutation drawn from the seed (Fisher-Yates
+     from the last index down, as docs/trace-format.md states it). *)
+  let round rand t =
     let n = Array.length t.agents in
-    let busy = List.filter (fun i -> not (M.is_idle t.agents.(i).config)) (List.init n Fun.id) in
-    match busy, policy with
-    | [], _ -> None
-    | _, Round_robin ->
-      let rec from k = if k >= 2 * n then None
-        else let i = (t.next + k) mod n in
-          if List.mem i busy then Some i else from (k + 1) in
-      from 0
-    | _, Seeded r -> Some (List.nth busy (Random.State.int r (List.length busy)))
+    let idx = List.init n Fun.id in
+    match rand with
+    | None -> idx
+    | Some r ->
+      let a = Array.of_list idx in
+      for k = n - 1 downto 1 do
+        let j = Random.State.int r (k + 1) in
+        let x = a.(k) in a.(k) <- a.(j); a.(j) <- x
+      done;
+      Array.to_list a
 end

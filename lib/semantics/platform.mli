@@ -7,9 +7,10 @@
     NextIteration) or until it idles. Messages its bodies send are delivered at
     once, at the end of the step that sent them, to the receivers' message
     queues (R5e: first in, first out per receiver); a message to an unknown
-    agent is not delivered and is reported. {!schedule} picks the next agent to
-    run: round-robin in creation order, or seeded random choice among the agents
-    that are not idle. *)
+    agent is not delivered and is reported. {!round} orders the agents for one
+    round: creation order, or a permutation drawn from a seed (R6); the
+    runtime and the playground run the agents that are not idle in that
+    order. *)
 
 module Make (B : Machine.BODIES) : sig
   module M : module type of Machine.Make (B)
@@ -18,7 +19,6 @@ module Make (B : Machine.BODIES) : sig
 
   type t = {
     agents : agent array;      (** in creation order (R5g) *)
-    next : int;                (** round-robin position *)
   }
 
   type event =
@@ -46,10 +46,10 @@ module Make (B : Machine.BODIES) : sig
       by default; the runtime passes the fast engine's, which answers the
       same. *)
 
-  type policy = Round_robin | Seeded of Random.State.t
-
-  val schedule : policy -> t -> int option
-  (** The next agent that is not idle, or [None] when all are idle. *)
+  val round : Random.State.t option -> t -> int list
+  (** The order of one round (R6): the agents' indices in creation order
+      ([None]), or a permutation drawn from the random state (Fisher-Yates
+      from the last index down, docs/trace-format.md). *)
 
   val all_idle : t -> bool
 end

@@ -274,7 +274,12 @@ let header_of_json j =
 type writer = { emit : (string -> unit) option; mutable lines : int }
 
 let writer emit = { emit = Some emit; lines = 0 }
-let to_channel oc = writer (fun s -> output_string oc s; flush oc)
+let to_channel oc =
+  (* buffered; flushed by the channel when its buffer fills, and when the
+     program ends: normally, by [exit] (a signal handler may call it), or by
+     an uncaught exception *)
+  at_exit (fun () -> try flush oc with Sys_error _ -> ());
+  writer (output_string oc)
 let nowhere () = { emit = None; lines = 0 }
 
 let write_header w h =

@@ -118,8 +118,10 @@ type writer
 
 val writer : (string -> unit) -> writer
 val to_channel : out_channel -> writer
-(** Writes to the channel, and flushes it after every line (a run that
-    dies leaves every event before its death). *)
+(** Writes to the channel, buffered, and flushes it when the program ends,
+    however it ends ([exit], an uncaught exception; a command that turns
+    signals into [exit], as [run] does, too): a run that dies leaves every
+    event before its death. *)
 
 val nowhere : unit -> writer
 (** Numbers the lines and writes nothing. *)

@@ -473,8 +473,15 @@ def bad_host_input_never_breaks_the_page():
     set_value("source", prog)
     set_value("agents", "a:A")
     click("load")
-    equal(B.js("return document.getElementById('output').textContent"),
-          "robome.jade:1:1: error: recursion too deep", "endless recursion")
+    d = tempfile.mkdtemp(prefix="jsref-rec-")
+    with open(os.path.join(d, "robome.jade"), "w") as f:
+        f.write(prog)
+    r = subprocess.run([ARGS.cli, "run", "robome.jade", "--agent", "a:A"], cwd=d, capture_output=True, text=True, timeout=60)
+    equal(r.stderr.strip(),
+          "robome.jade:3:10: error: exhaustion: recursion too deep: more than 200 nested calls of functions and procedures",
+          "endless recursion: an exhaustion error at the call (run)")
+    equal(B.js("return document.getElementById('output').textContent"), r.stderr.strip(),
+          "endless recursion, as run reports it")
     prog = "agent A\n\ton create do\n\t\tlog \"before\"\n\t\twhile true do\n\t\t\tx = 1\n"
     set_value("source", prog)
     click("load")

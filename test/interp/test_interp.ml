@@ -21,7 +21,7 @@ let run_program ?(variant = Mc.Reference) ?(fuel = 10_000) ?(events = fun _ -> (
   let oc = open_out_bin trace in
   let params = { Mc.default_params with variant } in
   let opts = { Interp.Runtime.params; seed = None; fuel; max_steps = 100_000; trace = Some oc;
-               on_log = (fun a s -> logs := (a ^ ": " ^ s) :: !logs); on_error = (fun _ _ -> ()) } in
+               on_log = (fun a s -> logs := (a ^ ": " ^ s) :: !logs); on_error = (fun _ _ _ -> ()) } in
   let rt = Interp.Runtime.create env opts agents in
   events rt;
   Interp.Runtime.run_until_idle rt;
@@ -200,6 +200,65 @@ let cli_runtime_error () =
           Alcotest.(check int) "exit 1" 1 status;
           Alcotest.(check string) "the other handlers ran" "a: 10\na: -10\n" out;
           Alcotest.(check string) "one located line" (p ^ ":10:7: error: division by zero\n")  (* the division, 10 / (2 - n) *) err))
+
+(* The kinds of run-time errors (R7): each its own exception and wording;
+   the trace's error line the same for all. Deep recursion is an exhaustion
+   error at the call, never an OCaml stack overflow (even on a small stack);
+   a host object without the method is a link error; a broken invariant of
+   the machine is a crash. *)
+let error_kinds () =
+  let deep = "agent A\n\tfunction f(n as integer) as integer do\n\t\treturn f(n + 1)\n\n\ton create do\n\t\tlog f(1)\n" in
+  with_file "jsref_deep.jade" deep (fun p ->
+      (* 8 MB of stack is the default; 1 MB is enough for the call depth *)
+      let (status, _, err) = run_command (Printf.sprintf "ulimit -s 1024; %s run %s --agent a:A" exe p) in
+      Alcotest.(check int) "exit 1 (D15)" 1 status;
+      Alcotest.(check string) "an exhaustion error, located at the call"
+        (Printf.sprintf "%s:3:10: error: exhaustion: recursion too deep: more than %d nested calls of functions and procedures\n"
+           p Interp.Eval.max_call_depth) err);
+  let (_, evs) = run_program deep [ ("a", "A", []) ] in
+  let msg e = match e with `Assoc f -> (match List.assoc_opt "message" f with Some (`String m) -> m | _ -> "") | _ -> "" in
+  Alcotest.(check (list string)) "the trace's error line: the message alone"
+    [ Printf.sprintf "recursion too deep: more than %d nested calls of functions and procedures" Interp.Eval.max_call_depth ]
+    (List.map msg (error_events evs));
+  let link = "agent A\n\tproperty r as any\n\ton create with r as any do\n\t\tinvoke \"fly\" on r\n" in
+  with_file "jsref_link.jade" link (fun p ->
+      let (status, _, err) = run_command (Printf.sprintf "%s run %s --agent a:A:@robome" exe p) in
+      Alcotest.(check int) "exit 1 (D15)" 1 status;
+      Alcotest.(check string) "a link error" (p ^ ":4:10: error: link error: RoboMe has no method \"fly\"\n") err);
+  let fuel = program "\t\twhile true do\n\t\t\tx = 1\n" in
+  with_file "jsref_fuel.jade" fuel (fun p ->
+      let (_, _, err) = run_command (Printf.sprintf "%s run %s --agent a:A --fuel 50" exe p) in
+      Alcotest.(check string) "fuel: an exhaustion error"
+        (p ^ ":4:4: error: exhaustion: step budget exhausted: more than 50 statements in one handler or step (--fuel)\n") err);
+  Alcotest.(check bool) "a trap is worded as its message" true
+    (Interp.Eval.wording Interp.Eval.Trap_error "division by zero" = "division by zero");
+  let p = Mc.default_params in
+  let (a, behs) = Interp.Eval.create_agent (fst (Typing.check [ Parse.string ~file:"c.jade" "agent A\n" ])) ~name:"a" ~atype:"A" ~args:[] ~fuel:10 in
+  let module RM = Interp.Runtime.P.M in
+  let c = { (RM.init p ~world:a behs) with phase = Mc.Handle_phase; cur = None } in
+  Alcotest.check_raises "a broken invariant is a crash"
+    (Semantics.Fault.Crash "Machine: phase handle without a dispatch in progress")
+    (fun () -> ignore (RM.step p c))
+
+(* A run that dies leaves every event before its death: stopped by a signal
+   in the middle of an endless run, its trace is whole lines, numbered 1, 2,
+   ... without a gap, and long. *)
+let trace_survives_death () =
+  let prog = program "\t\tactivate behaviour Spin\n\ncyclic behaviour Spin\n\tdo\n\t\tlog \"spin\"\n" in
+  with_file "jsref_spin.jade" prog (fun p ->
+      let trace = Filename.temp_file "jsref-spin" ".jsonl" in
+      let (status, _, _) = run_command (Printf.sprintf "timeout --preserve-status -s TERM 2 %s run %s --agent a:A --max-steps 100000000 --trace %s"
+                                          exe p (Filename.quote trace)) in
+      Alcotest.(check int) "stopped by the signal (exit 143)" 143 status;
+      (* the header, then lines numbered 1, 2, ...: count those in order *)
+      let (n, gap) = Trace.fold_file trace (fun (n, gap) k j ->
+          if k = 1 then (n, gap)
+          else match j with
+            | `Assoc f when List.assoc_opt "step" f = Some (`Int (n + 1)) -> (n + 1, gap)
+            | _ -> (n + 1, true)) (0, false) in
+      Sys.remove trace;
+      Alcotest.(check bool) (Printf.sprintf "many events (%d)" n) true (n > 1000);
+      Alcotest.(check bool) "every event, whole and numbered without a gap" false gap)
 
 let cli_logs () =
   with_file "jsref_ev.jsonl" "{\"agent\": \"r\", \"notify\": \"falling\"}\n" (fun ev ->
@@ -386,7 +445,7 @@ let show_event = function
     Printf.sprintf "send %s %s to %s" perf (V.to_literal content) (String.concat "," receivers)
   | Interp.Eval.Activated b -> "activate " ^ b
   | Interp.Eval.Deactivated i -> "deactivate " ^ string_of_int i
-  | Interp.Eval.Error (at, m) -> Printf.sprintf "error %s %s" (Source.string_of_region at) m
+  | Interp.Eval.Error (_, at, m) -> Printf.sprintf "error %s %s" (Source.string_of_region at) m
   | Interp.Eval.Ran { handler; effects } ->
     Printf.sprintf "ran %s: %d effects" (match handler with Some h -> string_of_int h | None -> "action")
       (List.length effects)
@@ -506,7 +565,9 @@ let () =
         Alcotest.test_case "bad events lines, each located, nothing runs" `Quick cli_bad_events;
         Alcotest.test_case "bad programs and agents" `Quick cli_bad_program;
         Alcotest.test_case "log prints NAME: text" `Quick cli_logs;
-        Alcotest.test_case "D15 run-time errors on stderr, exit 1" `Quick cli_runtime_error ]);
+        Alcotest.test_case "D15 run-time errors on stderr, exit 1" `Quick cli_runtime_error;
+        Alcotest.test_case "R7 error kinds: trap, exhaustion, link, crash" `Quick error_kinds;
+        Alcotest.test_case "a run that dies leaves its events in the trace" `Quick trace_survives_death ]);
     ("tlc", [
         Alcotest.test_case "paper runs validated; tampering rejected" `Slow paper_run_validated;
         Alcotest.test_case "conformance vectors' traces validated" `Slow vectors_validated;

@@ -337,11 +337,14 @@ let platform_ping_pong () =
   let p = Mc.default_params in
   let w = { Ping.outbox = []; got = [] } in
   let t = P.create [ ("a", P.M.init p ~world:w [ Ping.Pinger ]); ("b", P.M.init p ~world:w [ Ping.Ponger ]) ] in
+  (* rounds of R6, the agents that are not idle in creation order *)
   let rec run t n acc =
-    if n = 0 then (t, List.rev acc)
-    else match P.schedule P.Round_robin t with
-      | None -> (t, List.rev acc)
-      | Some i -> let (t, evs) = P.iteration p t i in run t (n - 1) (List.rev_append evs acc) in
+    if n = 0 || P.all_idle t then (t, List.rev acc)
+    else
+      let (t, acc) = List.fold_left (fun (t, acc) i ->
+          if P.M.is_idle t.P.agents.(i).config then (t, acc)
+          else let (t, evs) = P.iteration p t i in (t, List.rev_append evs acc)) (t, acc) (P.round None t) in
+      run t (n - 1) acc in
   let (t, evs) = run t 20 [] in
   let delivered = List.filter_map (function
       | P.Delivered { sender; receiver; message } -> Some (sender ^ ">" ^ receiver ^ ":" ^ message)
