@@ -176,6 +176,8 @@ let drain ?(every = 0) ?(window = fun _ -> ()) c =
   let rec go (c : M.t) =
     match E.dispatch machine_params c with
     | Some c' ->
+      (* a caller reads the bodies' events after each dispatch *)
+      ignore (Interp.Eval.take_events c'.world);
       incr handled;
       if every > 0 && !handled mod every = 0 then window !handled;
       go c'
@@ -222,7 +224,7 @@ let interp_where env total =
   let words0 = Gc.minor_words () and minors0 = (Gc.quick_stat ()).minor_collections in
   let count l = incr steps; let i = rule l in counts.(i) <- counts.(i) + 1 in
   let rec go (c : M.t) = match E.dispatch ~observe:count machine_params c with
-    | Some c' -> go c'
+    | Some c' -> ignore (Interp.Eval.take_events c'.world); go c'
     | None -> match E.step machine_params c with
       | [] -> c
       | (l, c') :: _ -> count l; go c' in
@@ -426,6 +428,83 @@ let interp_bench () =
       Printf.printf "  target: at least 3,000,000 percepts/s and 3x JADE, flat under the flood\n"
   end
 
+(* ---------------------------------------------------- the JADE back end *)
+
+(* Run a command; keep the lines "TAG kind key=value ..." as (kind, bindings). *)
+let tagged_results ~tag cmd =
+  let out = Filename.temp_file "jsref-bench" ".out" in
+  let code = Sys.command (Printf.sprintf "%s > %s 2>&1" cmd (Filename.quote out)) in
+  let ic = open_in out in
+  let lines = ref [] in
+  (try while true do lines := input_line ic :: !lines done with End_of_file -> ());
+  close_in ic; Sys.remove out;
+  if code <> 0 then begin
+    Printf.printf "  (%s failed: exit %d; its last lines: %s)\n" cmd code
+      (String.concat " | " (List.filteri (fun i _ -> i < 3) !lines));
+    []
+  end else List.filter_map (fun l ->
+      match String.split_on_char ' ' l with
+      | t :: kind :: rest when t = tag ->
+        Some (kind, List.filter_map (fun w -> match String.index_opt w '=' with
+            | Some i -> Some (String.sub w 0 i, String.sub w (i + 1) (String.length w - i - 1))
+            | None -> None) rest)
+      | _ -> None) (List.rev !lines)
+
+let field res kind key = match List.assoc_opt kind res with
+  | Some kv -> (match List.assoc_opt key kv with Some v -> float_of_string_opt v | None -> None)
+  | None -> None
+
+(* The compiled percepts.jade on JADE (bench/compiled/), beside JADE's own
+   direct O2A path (Agent.putO2AObject, bench/jade/) and Jadescript 1.0's path
+   (each percept an INFORM message to the agent's own mailbox, put=native10),
+   in alternating rounds of the same run; then a flood. Goal (issue 13):
+   the compiled agent within 1.5x of JADE's direct path, and flat under the
+   flood. *)
+let jade_backend_bench () =
+  let quick = Sys.getenv_opt "JSREF_BENCH_QUICK" = Some "1" in
+  let root = let rec up d = if Sys.file_exists (Filename.concat d "bench/compiled/run.sh") then d
+               else let u = Filename.dirname d in if u = d then d else up u in up (Sys.getcwd ()) in
+  let n = if quick then 200_000 else 5_000_000 and nrounds = if quick then 3 else 5 in
+  let flood_n = if quick then 1_000_000 else 10_000_000 in
+  let compiled = Printf.sprintf "STEADY_N=%d FLOOD_N=%d bash %s" n flood_n
+      (Filename.quote (Filename.concat root "bench/compiled/run.sh")) in
+  let jade = Printf.sprintf "cd %s && mvn -q -B -Dstyle.color=never package >/dev/null 2>&1 && java -Xmx8g -Xms1g -XX:+UseG1GC -cp 'target/classes:target/lib/*' jsbench.Bench steady %d 1024"
+      (Filename.quote (Filename.concat root "bench/jade")) n in
+  Printf.printf "JADE back end: bench/programs/percepts.jade compiled by jadescript-ref compile --target jade,\n";
+  Printf.printf "  on JADE 4.3 (runtime/jade), free running, no trace; 1,024 percepts in flight, %d per run\n%!" n;
+  let rounds = List.init nrounds (fun i ->
+      let ours = field (tagged_results ~tag:"COMPILED" (compiled ^ " --steady-only")) "steady" "percepts_per_second" in
+      let direct = field (tagged_results ~tag:"JADE" (jade ^ " put=direct")) "steady" "percepts_per_second" in
+      let native = field (tagged_results ~tag:"NATIVE10" (jade ^ " put=native10")) "steady" "percepts_per_second" in
+      let show = function Some r -> Printf.sprintf "%.0f" r | None -> "failed" in
+      Printf.printf "  round %d: compiled %s, JADE direct O2A %s, Jadescript 1.0 path %s percepts/s%s\n%!"
+        (i + 1) (show ours) (show direct) (show native)
+        (match ours, direct with Some o, Some d -> Printf.sprintf "; JADE direct / compiled = %.2fx" (d /. o) | _ -> "");
+      (ours, direct, native)) in
+  let median l = match List.sort compare l with [] -> nan | l -> List.nth l (List.length l / 2) in
+  let ratios = List.filter_map (function (Some o, Some d, _) -> Some (d /. o) | _ -> None) rounds in
+  Printf.printf "  %-46s compiled %.0f, direct %.0f, Jadescript 1.0 %.0f percepts/s\n"
+    "steady, medians of the rounds"
+    (median (List.filter_map (fun (o, _, _) -> o) rounds))
+    (median (List.filter_map (fun (_, d, _) -> d) rounds))
+    (median (List.filter_map (fun (_, _, x) -> x) rounds));
+  if ratios <> [] then
+    Printf.printf "  %-46s median %.2fx (lowest %.2fx, highest %.2fx); goal: at most 1.5x\n%!"
+      "JADE direct / compiled" (median ratios) (List.fold_left min infinity ratios) (List.fold_left max 0. ratios);
+  let res = tagged_results ~tag:"COMPILED" (compiled ^ " --flood-only") in
+  (match List.assoc_opt "flood" res, field res "flood" "percepts_per_second" with
+   | Some kv, Some r ->
+     let ws = List.filter_map float_of_string_opt
+         (String.split_on_char ',' (Option.value (List.assoc_opt "windows" kv) ~default:"")) in
+     let lo = List.fold_left min infinity ws and hi = List.fold_left max 0. ws in
+     Printf.printf "  %-46s %12.0f percepts/s overall; tenths of the flood %s percepts/s\n"
+       (Printf.sprintf "compiled, flood of %d" flood_n) r
+       (String.concat ", " (List.map (Printf.sprintf "%.0f") ws));
+     if ws <> [] then
+       Printf.printf "  %-46s slowest tenth %.0f, fastest %.0f: ratio %.1f (JADE's own O2A queue: see the interpreter's section)\n%!"
+         "flatness under the flood" lo hi (hi /. lo)
+   | _ -> Printf.printf "  compiled flood: no result\n%!")
+
 (* ------------------------------------------------------ simulation *)
 
 let sim_bench () =
@@ -446,6 +525,7 @@ let () =
   | "explorer" -> explorer_bench ()
   | "interp" -> interp_bench ()
   | "sim" -> sim_bench ()
+  | "jade" -> jade_backend_bench ()
   | "all" -> parser_bench (); print_newline (); explorer_bench (); print_newline (); interp_bench ();
-    print_newline (); sim_bench ()
-  | other -> Printf.eprintf "bench: unknown benchmark %s (known: parser, explorer, interp, sim, all)\n" other; exit 2
+    print_newline (); jade_backend_bench (); print_newline (); sim_bench ()
+  | other -> Printf.eprintf "bench: unknown benchmark %s (known: parser, explorer, interp, jade, sim, all)\n" other; exit 2

@@ -62,14 +62,17 @@ let info_of env (h : T.handler) =
    environment starts afresh. *)
 let known : (T.t * (T.handler * info) list ref) option ref = ref None
 
+(* By address, allocating nothing once the handler is known. *)
+let rec find_info (h : T.handler) = function
+  | (h', i) :: rest -> if h' == h then i else find_info h rest
+  | [] -> raise Not_found
+
 let info (a : Eval.agent) (h : T.handler) =
   let tbl = match !known with
     | Some (env, tbl) when env == a.env -> tbl
     | _ -> let tbl = ref [] in known := Some (a.env, tbl); tbl in
-  let rec find = function
-    | (h', i) :: rest -> if h' == h then i else find rest
-    | [] -> let i = info_of a.env h in tbl := (h, i) :: !tbl; i in
-  find !tbl
+  try find_info h !tbl
+  with Not_found -> let i = info_of a.env h in tbl := (h, i) :: !tbl; i
 
 let wrong_pretest = ref false
 

@@ -36,7 +36,7 @@ type event =
   | Activated of string
   | Deactivated of int
   | Error of error_kind * Source.region * string
-  | Ran of { handler : int option; effects : beh Semantics.Machine.effect list }
+  | Ran of { handler : int; effects : beh Semantics.Machine.effect list }
 
 (* Local variables: few per frame, so an association list of cells is
    cheaper than a hash table (frames are made for every guard evaluated). *)
@@ -88,7 +88,10 @@ and frame = {
 
 let property a x = match Names.find_opt a.props x with Some c -> Some c.v | None -> None
 
-let take_events a = let e = List.rev a.events in a.events <- []; e
+let take_events a = match a.events with
+  | [] -> []
+  | [ _ ] as e -> a.events <- []; e
+  | e -> a.events <- []; List.rev e
 
 (* Run-time errors, one exception per kind (as the WebAssembly reference
    interpreter's util/error.ml): the kind decides the wording of a report,
@@ -602,7 +605,7 @@ let take_effects a =
   | effs -> a.effects <- []; List.rev effs
 
 (* The same, recorded with the body that ran them (the trace's [effects],
-   [action_effects] and [handler]): [handler] is [None] for an action block. *)
+   [action_effects] and [handler]): [handler] is 0 for an action block. *)
 let take_ran a handler =
   let effects = take_effects a in
   a.events <- Ran { handler; effects } :: a.events;
@@ -719,13 +722,13 @@ module Bodies = struct
       | Some _ -> a.pending <- None; frame a ~beh:b ~id ~content:p ()
       | None -> frame a ~beh:b ~id ~content:p () in
     protect_block a f b.phandlers.(h - 1).h_body;
-    (a, take_ran a (Some h))
+    (a, take_ran a h)
 
   let run_action a ~id b =
     (match b.action with
      | Some body -> protect a (fun () -> block (frame a ~beh:b ~id ()) body)
      | None -> ());
-    (a, take_ran a None)
+    (a, take_ran a 0)
 
   let perf_ok (h : T.handler) (m : message) = match h.h_kind with
     | T.On_message (Some p) -> p = m.perf
@@ -745,7 +748,7 @@ module Bodies = struct
         (* the guard again, for its pattern variables *)
         ignore (guard_holds f hd);
         block f hd.h_body);
-    (a, take_ran a (Some h))
+    (a, take_ran a h)
 
   let take_outbox a = let o = List.rev a.outbox in a.outbox <- []; (a, o)
 end

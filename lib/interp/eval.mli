@@ -65,8 +65,8 @@ type event =
   | Activated of string          (** the behaviour type *)
   | Deactivated of int           (** the instance id *)
   | Error of error_kind * Syntax.Source.region * string
-  | Ran of { handler : int option; effects : beh Semantics.Machine.effect list }
-      (** a handler ([Some h]) or an action block ([None]) of a behaviour
+  | Ran of { handler : int; effects : beh Semantics.Machine.effect list }
+      (** a handler ([h], from 1) or an action block ([0]) of a behaviour
           ended, with these effects on the behaviours (R5g, R5h); not a
           trace line, but what the trace says of the rule that ran it *)
 

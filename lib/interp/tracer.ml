@@ -102,9 +102,9 @@ let label_event t agent (c : config) (l : label) evs : Trace.event =
           | None -> None
           | Some (Mc.M_message { m; mseq }) -> Some (Trace.Took_message (message m, mseq))
           | Some (Mc.M_percept e) -> Some (Trace.Took_percept (entry e)));
-      action_effects = Option.map snd (ran (fun h -> h = None) evs);
-      handler = (match msg, ran (fun h -> h <> None) evs with
-          | Some _, Some (Some h, e) -> Some (h, e)
+      action_effects = Option.map snd (ran (fun h -> h = 0) evs);
+      handler = (match msg, ran (fun h -> h > 0) evs with
+          | Some _, Some (h, e) -> Some (h, e)
           | _ -> None) }
   | Mc.Next_iteration -> Trace.Next_iteration
   | Mc.Idle -> Trace.Idle

@@ -447,7 +447,7 @@ let show_event = function
   | Interp.Eval.Deactivated i -> "deactivate " ^ string_of_int i
   | Interp.Eval.Error (_, at, m) -> Printf.sprintf "error %s %s" (Source.string_of_region at) m
   | Interp.Eval.Ran { handler; effects } ->
-    Printf.sprintf "ran %s: %d effects" (match handler with Some h -> string_of_int h | None -> "action")
+    Printf.sprintf "ran %s: %d effects" (if handler > 0 then string_of_int handler else "action")
       (List.length effects)
 
 let show_config (c : RM.t) =
