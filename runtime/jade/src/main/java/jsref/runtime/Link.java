@@ -1,0 +1,88 @@
+package jsref.runtime;
+
+import java.io.BufferedReader;
+import java.io.IOException;
+import java.io.InputStreamReader;
+import java.io.OutputStream;
+import java.io.UncheckedIOException;
+import java.net.Socket;
+import java.nio.charset.StandardCharsets;
+import java.util.ArrayDeque;
+import java.util.Map;
+import java.util.function.Consumer;
+
+/** The control link between the host harness (main container's JVM) and a
+    peripheral container's JVM: JSON lines over one TCP connection on
+    127.0.0.1 (docs/jade.md, "Two containers").
+
+    <p>Each side writes lines and a reader thread dispatches what comes in:
+    a reply (field {@code r}) goes to whoever waits for it, in order; every
+    other line is a notice handed to the side's handler at once, in the order
+    received (trace events, deliveries, sync requests, commands). One
+    connection keeps everything in order: the trace lines an iteration wrote
+    reach the harness before the reply that ends it. */
+final class Link {
+  private final Socket socket;
+  private final OutputStream out;
+  private final BufferedReader in;
+  private final ArrayDeque<Map<?, ?>> replies = new ArrayDeque<>();
+  private volatile boolean closed;
+
+  Link(Socket socket) throws IOException {
+    this.socket = socket;
+    socket.setTcpNoDelay(true);
+    this.out = socket.getOutputStream();
+    this.in = new BufferedReader(new InputStreamReader(socket.getInputStream(), StandardCharsets.UTF_8));
+  }
+
+  /** Start reading: replies are queued, notices go to {@code notices}.
+      @param name the reader thread's name @param notices the handler */
+  void start(String name, Consumer<Map<?, ?>> notices) {
+    Thread t = new Thread(() -> {
+      try {
+        String line;
+        while ((line = in.readLine()) != null) {
+          Object j;
+          try { j = Json.parse(line); } catch (Json.Error e) { continue; }
+          if (!(j instanceof Map<?, ?> m)) continue;
+          if (m.containsKey("r")) synchronized (replies) { replies.add(m); replies.notifyAll(); }
+          else notices.accept(m);
+        }
+      } catch (IOException e) {
+        // the other side is gone
+      } finally {
+        closed = true;
+        synchronized (replies) { replies.notifyAll(); }
+      }
+    }, name);
+    t.setDaemon(true);
+    t.start();
+  }
+
+  /** Send one line. @param o the object */
+  void send(Json.Obj o) {
+    byte[] b = (o.toString() + "\n").getBytes(StandardCharsets.UTF_8);
+    synchronized (out) {
+      try { out.write(b); out.flush(); } catch (IOException e) { throw new UncheckedIOException(e); }
+    }
+  }
+
+  /** Send a request and wait for its reply (requests are answered in order).
+      @param o the request @return the reply @throws InterruptedException if interrupted */
+  Map<?, ?> call(Json.Obj o) throws InterruptedException {
+    synchronized (this) {
+      send(o);
+      synchronized (replies) {
+        while (replies.isEmpty()) {
+          if (closed) throw new IllegalStateException("the peripheral container's JVM is gone");
+          replies.wait();
+        }
+        return replies.poll();
+      }
+    }
+  }
+
+  void close() {
+    try { socket.close(); } catch (IOException e) { /* closing anyway */ }
+  }
+}

@@ -1,0 +1,495 @@
+package jsref.runtime;
+
+import jade.core.Profile;
+import jade.core.ProfileImpl;
+import jade.wrapper.ContainerController;
+import java.io.FileOutputStream;
+import java.io.IOException;
+import java.io.OutputStream;
+import java.io.PrintStream;
+import java.net.ServerSocket;
+import java.nio.charset.StandardCharsets;
+import java.nio.file.Files;
+import java.nio.file.Path;
+import java.util.ArrayList;
+import java.util.List;
+import java.util.Map;
+import java.util.logging.Handler;
+import java.util.logging.Level;
+import java.util.logging.Logger;
+import jsref.values.LiteralError;
+import jsref.values.Literals;
+import jsref.values.Schema;
+
+/** The host harness: {@code jadescript-ref run} on JADE. It starts a JADE
+    main container in this JVM (no GUI, no MTP, a free port on 127.0.0.1),
+    creates the agents in order through JADE, applies the events file and
+    writes the trace (docs/trace-format.md), driving the agents from its own
+    thread as the paper's Android application did.
+
+    <pre>
+    java -cp RUNTIME:JADE:GENERATED jsref.runtime.Main --program jsgen.Program
+         --agent NAME:TYPE[:ARGS] ... [--events F] [--trace F] [--seed N]
+         [--max-steps N] [--variant V] [--fuel N] [--o2a-capacity N]
+         [--budget N] [--free]
+    </pre>
+
+    <p>By default the agents run in lock step (R6): the harness grants one
+    loop iteration at a time, to the agents that are not idle, round robin in
+    creation order or in the seeded order of {@code Runtime.order}, and counts
+    rules against {@code --max-steps}. With {@code --free} they run on their
+    own JADE threads and each {@code run} line waits until all are idle.
+
+    <p>Exit status: 0, or 1 when a run-time error was recorded (D15) or the
+    input is bad (one line {@code FILE:LINE:COL: error: message}). */
+public final class Main {
+  private Main() {}
+
+  /** A bad input: reported as one line, exit status 1. */
+  static final class Stop extends Exception {
+    private static final long serialVersionUID = 1L;
+    Stop(String line) { super(line, null, false, false); }
+  }
+
+  private sealed interface HostEvent permits Notify, Put, Msg, Run, RunIdle {}
+  private record Notify(String agent, Schema percept, Integer priority) implements HostEvent {}
+  private record Put(String agent, Object value) implements HostEvent {}
+  private record Msg(String agent, String performative, Object content) implements HostEvent {}
+  private record Run(long rounds) implements HostEvent {}
+  private record RunIdle() implements HostEvent {}
+
+  private record Spec(String name, String type, List<Object> args) {}
+
+  /** Runs the harness. @param argv the command line */
+  public static void main(String[] argv) {
+    PrintStream out = new PrintStream(new FileOutputStream(java.io.FileDescriptor.out), false, StandardCharsets.UTF_8);
+    int code;
+    try {
+      code = run(argv, out);
+    } catch (Stop s) {
+      out.flush();
+      System.err.println(s.getMessage());
+      code = 1;
+    } catch (Throwable t) {
+      out.flush();
+      System.err.println("jsref: error: " + t);
+      code = 2;
+    }
+    out.flush();
+    System.err.flush();
+    Runtime.getRuntime().halt(code);   // JADE's threads need not be shut down
+  }
+
+  private static String need(String[] a, int i) throws Stop {
+    if (i + 1 >= a.length) throw new Stop("error: option " + a[i] + " needs a value");
+    return a[i + 1];
+  }
+
+  private static int intArg(String opt, String v) throws Stop {
+    try { return Integer.parseInt(v); }
+    catch (NumberFormatException e) { throw new Stop("error: option " + opt + ": invalid value '" + v + "', expected an integer"); }
+  }
+
+  static int run(String[] argv, PrintStream out) throws Exception {
+    String programClass = null;
+    List<String> agentSpecs = new ArrayList<>();
+    String events = null, tracePath = null, variantName = "reference";
+    Integer seed = null, capacity = null;
+    int maxSteps = 1_000_000, fuel = 100_000, budget = 1;
+    boolean free = false, split = false;
+    java.util.Set<String> peripheral = new java.util.LinkedHashSet<>();
+    java.util.Set<String> seen = new java.util.HashSet<>();
+    for (int i = 0; i < argv.length; i++) {
+      String a = argv[i];
+      String v = null;
+      int eq = a.indexOf('=');
+      if (a.startsWith("--") && eq > 0) { v = a.substring(eq + 1); a = a.substring(0, eq); }
+      boolean takes = !a.equals("--free") && !a.equals("--split");
+      if (takes && v == null) { v = need(argv, i); i++; }
+      if (!a.equals("--agent") && !seen.add(a)) throw new Stop("error: option '" + a + "' cannot be repeated");
+      switch (a) {
+        case "--program" -> programClass = v;
+        case "--agent" -> agentSpecs.add(v);
+        case "--events" -> events = v;
+        case "--trace" -> tracePath = v;
+        case "--seed" -> seed = intArg(a, v);
+        case "--max-steps" -> maxSteps = intArg(a, v);
+        case "--variant" -> variantName = v;
+        case "--fuel" -> fuel = intArg(a, v);
+        case "--o2a-capacity" -> capacity = intArg(a, v);
+        case "--budget" -> budget = intArg(a, v);
+        case "--free" -> free = true;
+        case "--split" -> split = true;
+        case "--peripheral" -> peripheral.add(v);
+        default -> throw new Stop("error: unknown option " + a);
+      }
+    }
+    if (programClass == null) throw new Stop("error: no program: give --program CLASS");
+    ProgramInfo program;
+    try {
+      program = (ProgramInfo) Class.forName(programClass).getDeclaredConstructor().newInstance();
+    } catch (ReflectiveOperationException | ClassCastException | LinkageError e) {
+      throw new Stop("error: cannot load the program " + programClass + ": " + e);
+    }
+    List<Spec> specs = new ArrayList<>();
+    for (String s : agentSpecs) specs.add(agentSpec(program, s));
+    if (specs.isEmpty()) throw new Stop("error: no agent: give at least one --agent NAME:TYPE");
+    java.util.Set<String> names = new java.util.HashSet<>();
+    for (Spec s : specs) {
+      // JADE: agent names are unique in a platform, and ams and df are its own
+      if (s.name().equalsIgnoreCase("ams") || s.name().equalsIgnoreCase("df"))
+        throw new Stop("--agent " + s.name() + ":" + s.type() + ": error: the name " + s.name()
+            + " is JADE's own agent's (ams, df) in every platform");
+      if (!names.add(s.name()))
+        throw new Stop("--agent " + s.name() + ":" + s.type() + ": error: there is already an agent "
+            + s.name() + " (JADE's agent names are unique)");
+    }
+    List<HostEvent> evs = events == null ? List.of() : readEvents(program, specs, events);
+    Variant variant = Variant.of(variantName);
+    if (variant == null)
+      throw new Stop("error: unknown variant " + variantName + " (printed, reference, budgeted, native)");
+
+    OutputStream traceOut = null;
+    if (tracePath != null) {
+      try { traceOut = new FileOutputStream(tracePath); }
+      catch (IOException e) { throw new Stop(tracePath + ":1:1: error: cannot write the trace: " + e.getMessage()); }
+    }
+    Trace trace = new Trace(traceOut);
+    trace.header(header(program, variant, budget, capacity, seed, specs));
+    RunConfig cfg = new RunConfig(program, variant, budget, capacity, fuel, trace, !free, out, System.err);
+
+    if (free) cfg.holdCreateMessages();
+    ContainerController cc = boot();
+    // Two containers (docs/jade.md): --split puts every second agent, in
+    // creation order, in a peripheral container of its own JVM;
+    // --peripheral NAME puts that one there.
+    if (split) for (int i = 1; i < specs.size(); i += 2) peripheral.add(specs.get(i).name());
+    for (String n : peripheral)
+      if (!names.contains(n)) throw new Stop("--peripheral " + n + ": error: there is no agent " + n);
+    if (!peripheral.isEmpty() && free)
+      throw new Stop("error: --split and --peripheral run in lock step (not with --free)");
+    Link link = peripheral.isEmpty() ? null
+        : startPeripheral(programClass, variant, budget, capacity, fuel, trace);
+    List<HostedAgent> agents = new ArrayList<>();
+    for (Spec s : specs) {
+      if (link != null && peripheral.contains(s.name())) {
+        List<Object> lits = new ArrayList<>();
+        for (Object v : s.args()) lits.add(v instanceof RoboMe ? "@robome" : jsref.values.Text.literal(v));
+        Map<?, ?> r = link.call(new Json.Obj().put("op", "create").put("name", s.name()).put("type", s.type())
+            .put("args", lits));
+        if (r.get("error") instanceof String err) { trace.flush(); throw new Stop("error: " + err); }
+        agents.add(new RemoteAgent(link, s.name()));
+        continue;
+      }
+      Object[] args = new Object[s.args().size() + 1];
+      args[0] = cfg;
+      for (int i = 0; i < s.args().size(); i++) args[i + 1] = s.args().get(i);
+      try {
+        cc.createNewAgent(s.name(), program.agentClass(s.type()).getName(), args).start();
+      } catch (jade.wrapper.StaleProxyException e) {
+        // JADE's own agents (ams, df) hold their names in every platform
+        trace.flush();
+        throw new Stop("--agent " + s.name() + ":" + s.type() + ": error: JADE cannot create agent "
+            + s.name() + " (" + e.getMessage() + ")");
+      }
+      JadescriptAgent ag = cfg.awaitAgent(s.name(), 60_000);
+      if (ag == null) throw new Stop("error: JADE did not start agent " + s.name());
+      if (ag.setupError() != null) {
+        trace.flush();
+        throw new Stop("error: " + ag.setupError());
+      }
+      agents.add(ag);
+    }
+    Host h = new Host(agents, seed, maxSteps, !free);
+    if (!free) for (HostedAgent ag : agents) ag.deliverCreateMessages();   // D13
+    else cfg.allCreated();
+    for (HostEvent e : evs) {
+      if (e instanceof Notify n) {
+        HostedAgent ag = h.agent(n.agent());
+        boolean ok = n.priority() == null ? ag.notifyEvent(n.percept()) : ag.notifyEvent(n.percept(), n.priority());
+        if (!ok) { out.flush(); System.err.println("host: the O2A queue is full (R2d)"); }
+      } else if (e instanceof Put p) {
+        if (!h.agent(p.agent()).put(p.value())) { out.flush(); System.err.println("host: the O2A queue is full (R2d)"); }
+      } else if (e instanceof Msg m) {
+        h.agent(m.agent()).hostMessage(m.performative(), m.content());
+      } else if (e instanceof Run r) {
+        h.runRounds(r.rounds());
+      } else {
+        h.runUntilIdle();
+      }
+    }
+    h.runUntilIdle();
+    for (HostedAgent ag : agents) ag.finishRun();   // D14
+    int remoteErrors = 0;
+    if (link != null) {
+      Map<?, ?> r = link.call(new Json.Obj().put("op", "quit"));
+      remoteErrors = r.get("errors") instanceof Long k ? (int) (long) k : 0;
+      link.close();
+    }
+    trace.close();
+    return cfg.errors() + remoteErrors > 0 ? 1 : 0;
+  }
+
+  // ---------------------------------------------------------------- two containers
+
+  /** The port of this JVM's main container (a peripheral joins it there). */
+  private static int mainPort;
+
+  /** Start the peripheral container's JVM (jsref.runtime.Peripheral, the
+      same class path) and take its connection: its trace events are
+      numbered and written here, in the order they come, and deliveries and
+      syncs between the two JVMs go over it (docs/jade.md, "Two containers"). */
+  private static Link startPeripheral(String programClass, Variant variant, int budget, Integer capacity,
+                                      int fuel, Trace trace) throws Exception {
+    ServerSocket server = new ServerSocket(0, 1, java.net.InetAddress.getLoopbackAddress());
+    List<String> cmd = new ArrayList<>(List.of(
+        Path.of(System.getProperty("java.home"), "bin", "java").toString(),
+        "-cp", System.getProperty("java.class.path"), "jsref.runtime.Peripheral",
+        "--control", Integer.toString(server.getLocalPort()), "--main-port", Integer.toString(mainPort),
+        "--program", programClass, "--variant", variant.traceName(),
+        "--budget", Integer.toString(budget), "--fuel", Integer.toString(fuel)));
+    if (capacity != null) { cmd.add("--o2a-capacity"); cmd.add(Integer.toString(capacity)); }
+    Process proc = new ProcessBuilder(cmd).inheritIO().start();
+    server.setSoTimeout(60_000);
+    java.net.Socket s;
+    try {
+      s = server.accept();
+    } catch (java.net.SocketTimeoutException e) {
+      proc.destroyForcibly();
+      throw new Stop("error: the peripheral container's JVM did not connect within 60 s");
+    } finally {
+      server.close();
+    }
+    Link link = new Link(s);
+    JadescriptAgent.onRemoteArrival(id -> link.send(new Json.Obj().put("op", "delivered").put("id", id)));
+    link.start("jsref-main-link", m -> {
+      if (m.get("t") instanceof Map<?, ?> ev) {
+        Json.Obj o = new Json.Obj();
+        for (Map.Entry<?, ?> e : ev.entrySet()) o.put((String) e.getKey(), e.getValue());
+        trace.event(o);
+      } else if (m.get("delivered") instanceof Long id) {
+        JadescriptAgent.remoteDelivered(id);
+      } else if (m.get("sync") instanceof Long n) {
+        trace.flush();
+        link.send(new Json.Obj().put("op", "synced").put("n", n));
+      }
+    });
+    return link;
+  }
+
+  // ---------------------------------------------------------------- host
+
+  /** The host's scheduler of agents (Runtime.iterate, run_rounds, run_until_idle). */
+  private static final class Host {
+    final List<HostedAgent> agents;
+    final OcamlRandom rand;
+    final int maxSteps;
+    final boolean lockStep;
+    int steps;
+
+    Host(List<HostedAgent> agents, Integer seed, int maxSteps, boolean lockStep) {
+      this.agents = agents;
+      this.rand = seed == null ? null : new OcamlRandom(seed);
+      this.maxSteps = maxSteps;
+      this.lockStep = lockStep;
+    }
+
+    HostedAgent agent(String name) {
+      for (HostedAgent a : agents) if (a.getLocalName().equals(name)) return a;
+      throw new IllegalStateException(name);
+    }
+
+    int[] order() {
+      if (rand != null) return rand.order(agents.size());
+      int[] o = new int[agents.size()];
+      for (int i = 0; i < o.length; i++) o[i] = i;
+      return o;
+    }
+
+    void iterate(int i) throws InterruptedException {
+      int left = maxSteps - steps;
+      if (left > 0) steps += agents.get(i).runIteration(left);
+    }
+
+    boolean allIdle() {
+      for (HostedAgent a : agents) if (!a.isIdle()) return false;
+      return true;
+    }
+
+    void runRounds(long n) throws InterruptedException {
+      if (!lockStep) { awaitIdle(); return; }
+      for (long r = 0; r < n; r++)
+        for (int i : order()) if (!agents.get(i).isIdle()) iterate(i);
+    }
+
+    void runUntilIdle() throws InterruptedException {
+      if (!lockStep) { awaitIdle(); return; }
+      while (steps < maxSteps && !allIdle()) runRounds(1);
+    }
+
+    /** Free running: wait until every agent is asleep with nothing ready
+        and no message on its way, twice in a row 1 ms apart (at most a minute). */
+    void awaitIdle() throws InterruptedException {
+      long end = System.currentTimeMillis() + 60_000;
+      int quiet = 0;
+      while (quiet < 2 && System.currentTimeMillis() < end) {
+        boolean q = true;
+        for (HostedAgent a : agents) q &= a.isQuiet();
+        quiet = q ? quiet + 1 : 0;
+        if (quiet < 2) Thread.sleep(1);
+      }
+    }
+  }
+
+  // ---------------------------------------------------------------- JADE
+
+  static void quietLogging() {
+    Logger root = Logger.getLogger("");
+    root.setLevel(Level.SEVERE);
+    for (Handler hd : root.getHandlers()) hd.setLevel(Level.SEVERE);
+  }
+
+  /** A JADE main container in this JVM: no GUI, no MTP, IMTP on a free
+      port of 127.0.0.1 only. @return its controller @throws Exception if JADE fails */
+  static ContainerController boot() throws Exception {
+    quietLogging();
+    int port;
+    try (ServerSocket s = new ServerSocket(0, 1, java.net.InetAddress.getLoopbackAddress())) {
+      port = s.getLocalPort();
+    }
+    jade.core.Runtime rt = jade.core.Runtime.instance();
+    rt.setCloseVM(false);
+    Profile p = new ProfileImpl();
+    p.setParameter(Profile.MAIN, "true");
+    p.setParameter(Profile.GUI, "false");
+    p.setParameter(Profile.NO_MTP, "true");
+    p.setParameter(Profile.LOCAL_HOST, "127.0.0.1");
+    p.setParameter(Profile.LOCAL_PORT, Integer.toString(port));
+    p.setParameter("jade_imtp_leap_JICP_JICPServer_acceptlocalhostonly", "true");
+    p.setParameter(Profile.PLATFORM_ID, "jsref");
+    Path dir = Files.createTempDirectory("jsref-jade");
+    dir.toFile().deleteOnExit();
+    p.setParameter(Profile.FILE_DIR, dir + java.io.File.separator);
+    ContainerController cc = rt.createMainContainer(p);
+    mainPort = port;
+    if (cc == null) throw new IllegalStateException("JADE's main container did not start");
+    return cc;
+  }
+
+  // ---------------------------------------------------------------- header
+
+  static Json.Obj header(ProgramInfo program, Variant variant, int budget, Integer capacity, Integer seed,
+                         List<Spec> specs) {
+    List<Object> agents = new ArrayList<>();
+    for (Spec s : specs) agents.add(new Json.Obj().put("name", s.name()).put("type", s.type()));
+    List<Object> behs = new ArrayList<>();
+    for (BehaviourInfo b : program.behaviours())
+      behs.add(new Json.Obj().put("name", b.name()).put("kind", b.kind()).put("action", b.action())
+          .put("percept_handlers", b.perceptHandlers()).put("message_handlers", b.messageHandlers()));
+    Json.Obj percepts = new Json.Obj();
+    for (Map.Entry<String, Integer> e : program.percepts().entrySet()) percepts.put(e.getKey(), e.getValue());
+    return new Json.Obj().put("trace", "jadescript-ref").put("version", 1).put("variant", variant.traceName())
+        .put("tie_policy", "stable").put("budget", budget).put("o2a_capacity", capacity).put("seed", seed)
+        .put("agents", agents)
+        .put("program", new Json.Obj().put("behaviours", behs).put("percepts", percepts));
+  }
+
+  // ---------------------------------------------------------------- input
+
+  private static Spec agentSpec(ProgramInfo program, String spec) throws Stop {
+    int i = spec.indexOf(':');
+    if (i < 0) throw new Stop("--agent " + spec + ": error: expected NAME:TYPE[:ARG,...]");
+    String name = spec.substring(0, i);
+    String rest = spec.substring(i + 1);
+    int j = rest.indexOf(':');
+    String ty = j < 0 ? rest : rest.substring(0, j);
+    String args = j < 0 ? "" : rest.substring(j + 1);
+    if (name.isEmpty() || ty.isEmpty()) throw new Stop("--agent " + spec + ": error: expected NAME:TYPE[:ARG,...]");
+    if (program.agentClass(ty) == null) throw new Stop("--agent " + spec + ": error: there is no agent type " + ty);
+    List<Object> values = new ArrayList<>();
+    for (String a : Literals.split(args)) {
+      if (a.equals("@robome")) { values.add(new RoboMe()); continue; }
+      try {
+        values.add(Literals.parse(a, program, "--agent"));
+      } catch (LiteralError e) {
+        throw new Stop("--agent " + spec + ": error: " + e.message());
+      }
+    }
+    return new Spec(name, ty, values);
+  }
+
+  private static List<HostEvent> readEvents(ProgramInfo program, List<Spec> specs, String file) throws Stop {
+    String text;
+    try {
+      text = Files.readString(Path.of(file), StandardCharsets.UTF_8);
+    } catch (java.nio.file.NoSuchFileException e) {
+      throw new Stop(file + ":1:1: error: cannot read the events file: " + file + ": No such file or directory");
+    } catch (IOException | java.io.UncheckedIOException e) {
+      throw new Stop(file + ":1:1: error: cannot read the events file: " + e.getMessage());
+    }
+    String[] lines = text.split("\n", -1);
+    List<HostEvent> evs = new ArrayList<>();
+    List<String> errors = new ArrayList<>();
+    for (int k = 0; k < lines.length; k++) {
+      int n = k + 1;
+      String line = lines[k].strip();
+      if (line.isEmpty() || line.charAt(0) == '#') continue;
+      Object j;
+      try {
+        j = Json.parse(line);
+      } catch (Json.Error e) {
+        errors.add(file + ":" + n + ":1: error: not a JSON object: " + e.getMessage() + " at column " + e.column);
+        continue;
+      }
+      if (!(j instanceof Map<?, ?> m)) { errors.add(file + ":" + n + ":1: error: each line is a JSON object"); continue; }
+      Object notify = m.get("notify"), put = m.get("put"), msg = m.get("message"), run = m.get("run");
+      final int line_ = n;
+      java.util.function.BiConsumer<Integer, String> bad =
+          (col, s) -> errors.add(file + ":" + line_ + ":" + col + ": error: " + s);
+      if (notify instanceof String p && put == null && msg == null && run == null) {
+        Spec ag = eventAgent(m, specs, bad);
+        if (ag == null) continue;
+        Schema v;
+        try {
+          v = Literals.percept(p, program, ag.type(), file);
+        } catch (LiteralError e) { bad.accept(e.column(), e.message()); continue; }
+        Object pr = m.get("priority");
+        if (pr == null) evs.add(new Notify(ag.name(), v, null));
+        else if (pr instanceof Long k2 && k2 >= 0 && k2 <= Integer.MAX_VALUE) evs.add(new Notify(ag.name(), v, (int) (long) k2));
+        else bad.accept(1, "\"priority\" is a natural number (R2a)");
+      } else if (notify == null && put instanceof String o && msg == null && run == null) {
+        // as the reference: the object is read before the agent is looked up
+        Object v = null;
+        boolean ok = true;
+        try { v = Literals.parse(o, program, file); }
+        catch (LiteralError e) { bad.accept(e.column(), e.message()); ok = false; }
+        Spec ag = eventAgent(m, specs, bad);
+        if (ag != null && ok) evs.add(new Put(ag.name(), v));
+      } else if (notify == null && put == null && msg instanceof String c && run == null) {
+        String perf = m.get("performative") instanceof String s ? s : "inform";
+        Object v = null;
+        boolean ok = true;
+        try { v = Literals.parse(c, program, file); }
+        catch (LiteralError e) { bad.accept(e.column(), e.message()); ok = false; }
+        Spec ag = eventAgent(m, specs, bad);
+        if (ag != null && ok) evs.add(new Msg(ag.name(), perf, v));
+      } else if (notify == null && put == null && msg == null && run instanceof Long k2 && k2 >= 0) {
+        evs.add(new Run(k2));
+      } else if (notify == null && put == null && msg == null && "idle".equals(run)) {
+        evs.add(new RunIdle());
+      } else {
+        bad.accept(1, "expected one of \"notify\", \"put\", \"message\" (with \"agent\") or \"run\" (a number or \"idle\")");
+      }
+    }
+    if (!errors.isEmpty()) throw new Stop(String.join("\n", errors));
+    return evs;
+  }
+
+  private static Spec eventAgent(Map<?, ?> m, List<Spec> specs, java.util.function.BiConsumer<Integer, String> bad) {
+    Object a = m.get("agent");
+    if (!(a instanceof String name)) { bad.accept(1, "this line needs an \"agent\""); return null; }
+    for (Spec s : specs) if (s.name().equals(name)) return s;
+    bad.accept(1, "there is no agent " + name);
+    return null;
+  }
+}

@@ -1,0 +1,178 @@
+package jsref.runtime;
+
+import jade.core.Profile;
+import jade.core.ProfileImpl;
+import jade.wrapper.ContainerController;
+import java.io.FileOutputStream;
+import java.io.PrintStream;
+import java.net.InetAddress;
+import java.net.ServerSocket;
+import java.net.Socket;
+import java.nio.charset.StandardCharsets;
+import java.nio.file.Files;
+import java.nio.file.Path;
+import java.util.ArrayList;
+import java.util.HashMap;
+import java.util.List;
+import java.util.Map;
+import java.util.concurrent.LinkedBlockingQueue;
+import jsref.values.LiteralError;
+import jsref.values.Literals;
+
+/** The peripheral container's JVM of a split run (docs/jade.md, "Two
+    containers"): it joins the platform of the harness's main container over
+    127.0.0.1 as a JADE peripheral container, connects back to the harness's
+    control port, and creates and drives the agents the harness places here,
+    on the harness's requests ({@link RemoteAgent}). Its trace events go to the
+    harness, which writes the one trace of the run; messages between its agents
+    and those of the main container travel through JADE's IMTP.
+
+    <pre>
+    java -cp ... jsref.runtime.Peripheral --control PORT --main-port PORT
+         --program CLASS --variant V --budget N --fuel N [--o2a-capacity N]
+    </pre>
+
+    Started by {@link Main}; not meant to be started by hand. */
+public final class Peripheral {
+  private Peripheral() {}
+
+  /** Message ids of this JVM start here, apart from the main JVM's. */
+  static final long MESSAGE_ID_BASE = 1L << 40;
+
+  /** Runs the peripheral side. @param argv the command line */
+  public static void main(String[] argv) {
+    int code = 0;
+    try {
+      run(argv);
+    } catch (Throwable t) {
+      System.err.println("jsref: peripheral container: error: " + t);
+      code = 2;
+    }
+    System.out.flush();
+    System.err.flush();
+    Runtime.getRuntime().halt(code);
+  }
+
+  private static void run(String[] argv) throws Exception {
+    Map<String, String> o = new HashMap<>();
+    for (int i = 0; i + 1 < argv.length; i += 2) o.put(argv[i], argv[i + 1]);
+    ProgramInfo program = (ProgramInfo) Class.forName(o.get("--program")).getDeclaredConstructor().newInstance();
+    Variant variant = Variant.of(o.get("--variant"));
+    Integer capacity = o.containsKey("--o2a-capacity") ? Integer.valueOf(o.get("--o2a-capacity")) : null;
+    PrintStream out = new PrintStream(new FileOutputStream(java.io.FileDescriptor.out), true, StandardCharsets.UTF_8);
+
+    Socket s = new Socket(InetAddress.getLoopbackAddress(), Integer.parseInt(o.get("--control")));
+    Link link = new Link(s);
+    Object syncLock = new Object();
+    long[] synced = { 0 };
+    long[] asked = { 0 };
+    LinkedBlockingQueue<Map<?, ?>> requests = new LinkedBlockingQueue<>();
+    link.start("jsref-peripheral-link", m -> {
+      Object op = m.get("op");
+      if ("synced".equals(op)) {
+        synchronized (syncLock) { synced[0] = (Long) m.get("n"); syncLock.notifyAll(); }
+      } else if ("delivered".equals(op)) {
+        JadescriptAgent.remoteDelivered((Long) m.get("id"));
+      } else requests.add(m);
+    });
+
+    // The trace goes to the harness; before a message leaves this JVM, the
+    // harness has written every event before it (R8: the trace's order).
+    Trace trace = Trace.forwardingTo(ev -> link.send(new Json.Obj().put("t", ev)));
+    trace.onSync(() -> {
+      synchronized (syncLock) {
+        long n = ++asked[0];
+        link.send(new Json.Obj().put("sync", n));
+        while (synced[0] < n) {
+          try { syncLock.wait(); } catch (InterruptedException e) { Thread.currentThread().interrupt(); return; }
+        }
+      }
+    });
+    JadescriptAgent.messageIdBase(MESSAGE_ID_BASE);
+    JadescriptAgent.onRemoteArrival(id -> link.send(new Json.Obj().put("delivered", id)));
+    RunConfig cfg = new RunConfig(program, variant, Integer.parseInt(o.get("--budget")), capacity,
+        Integer.parseInt(o.get("--fuel")), trace, true, out, System.err);
+
+    ContainerController cc = boot(Integer.parseInt(o.get("--main-port")));
+    Map<String, JadescriptAgent> agents = new HashMap<>();
+    for (;;) {
+      Map<?, ?> r = requests.take();
+      String op = (String) r.get("op");
+      String name = (String) r.get("name");
+      JadescriptAgent a = name == null ? null : agents.get(name);
+      Json.Obj reply = new Json.Obj().put("r", op);
+      switch (op) {
+        case "create" -> {
+          List<Object> args = new ArrayList<>();
+          args.add(cfg);
+          String error = null;
+          for (Object lit : (List<?>) r.get("args")) {
+            if ("@robome".equals(lit)) { args.add(new RoboMe()); continue; }
+            try { args.add(Literals.parse((String) lit, program, "--agent")); }
+            catch (LiteralError e) { error = e.message(); }
+          }
+          if (error == null) {
+            cc.createNewAgent(name, program.agentClass((String) r.get("type")).getName(), args.toArray()).start();
+            JadescriptAgent ag = cfg.awaitAgent(name, 60_000);
+            if (ag == null) error = "JADE did not start agent " + name;
+            else if (ag.setupError() != null) error = ag.setupError();
+            else agents.put(name, ag);
+          }
+          trace.flush();
+          reply.put("error", error);
+        }
+        case "idle" -> reply.put("idle", a.isIdle());
+        case "iterate" -> reply.put("used", a.runIteration(((Long) r.get("max")).intValue()));
+        case "notify" -> {
+          Object p = literal(r.get("percept"), program);
+          Object k = r.get("priority");
+          reply.put("ok", k == null ? a.notifyEvent(p) : a.notifyEvent(p, ((Long) k).intValue()));
+        }
+        case "put" -> reply.put("ok", a.put(literal(r.get("object"), program)));
+        case "message" -> a.hostMessage((String) r.get("performative"), literal(r.get("content"), program));
+        case "create_messages" -> a.deliverCreateMessages();
+        case "finish" -> a.finishRun();
+        case "quit" -> {
+          trace.flush();
+          out.flush();
+          link.send(reply.put("errors", cfg.errors()));
+          link.close();
+          return;
+        }
+        default -> reply.put("error", "unknown request " + op);
+      }
+      trace.flush();
+      link.send(reply);
+    }
+  }
+
+  private static Object literal(Object lit, ProgramInfo program) {
+    try { return Literals.parse((String) lit, program, "--peripheral"); }
+    catch (LiteralError e) { throw new IllegalArgumentException(e.message()); }
+  }
+
+  /** A peripheral container joining the main container at 127.0.0.1:mainPort. */
+  private static ContainerController boot(int mainPort) throws Exception {
+    Main.quietLogging();
+    int port;
+    try (ServerSocket s = new ServerSocket(0, 1, InetAddress.getLoopbackAddress())) {
+      port = s.getLocalPort();
+    }
+    jade.core.Runtime rt = jade.core.Runtime.instance();
+    rt.setCloseVM(false);
+    Profile p = new ProfileImpl();
+    p.setParameter(Profile.MAIN, "false");
+    p.setParameter(Profile.MAIN_HOST, "127.0.0.1");
+    p.setParameter(Profile.MAIN_PORT, Integer.toString(mainPort));
+    p.setParameter(Profile.LOCAL_HOST, "127.0.0.1");
+    p.setParameter(Profile.LOCAL_PORT, Integer.toString(port));
+    p.setParameter("jade_imtp_leap_JICP_JICPServer_acceptlocalhostonly", "true");
+    p.setParameter(Profile.CONTAINER_NAME, "Peripheral-1");
+    Path dir = Files.createTempDirectory("jsref-jade-peripheral");
+    dir.toFile().deleteOnExit();
+    p.setParameter(Profile.FILE_DIR, dir + java.io.File.separator);
+    ContainerController cc = rt.createAgentContainer(p);
+    if (cc == null) throw new IllegalStateException("JADE's peripheral container did not join the platform");
+    return cc;
+  }
+}

@@ -1,0 +1,57 @@
+package jsref.runtime;
+
+import java.util.Map;
+import jsref.values.Text;
+
+/** The host's handle on an agent of a peripheral container in another JVM
+    (docs/jade.md, "Two containers"): each call is a request over the
+    {@link Link} to {@link Peripheral}, which makes the same call on the real
+    agent there. Values cross as Jadescript literals ({@link Text#literal}),
+    read back there with the program's ontologies. */
+final class RemoteAgent implements HostedAgent {
+  private final Link link;
+  private final String name;
+
+  RemoteAgent(Link link, String name) { this.link = link; this.name = name; }
+
+  private Map<?, ?> call(Json.Obj o) {
+    try {
+      return link.call(o.put("name", name));
+    } catch (InterruptedException e) {
+      Thread.currentThread().interrupt();
+      throw new IllegalStateException("interrupted while waiting for the peripheral container");
+    }
+  }
+
+  @Override public String getLocalName() { return name; }
+
+  @Override public boolean isIdle() { return Boolean.TRUE.equals(call(new Json.Obj().put("op", "idle")).get("idle")); }
+
+  @Override public boolean isQuiet() { return isIdle(); }
+
+  @Override public int runIteration(int maxRules) throws InterruptedException {
+    Map<?, ?> r = link.call(new Json.Obj().put("op", "iterate").put("max", maxRules).put("name", name));
+    return ((Long) r.get("used")).intValue();
+  }
+
+  @Override public boolean notifyEvent(Object p) {
+    return Boolean.TRUE.equals(call(new Json.Obj().put("op", "notify").put("percept", Text.literal(p))).get("ok"));
+  }
+
+  @Override public boolean notifyEvent(Object p, int k) {
+    return Boolean.TRUE.equals(call(new Json.Obj().put("op", "notify").put("percept", Text.literal(p))
+        .put("priority", k)).get("ok"));
+  }
+
+  @Override public boolean put(Object o) {
+    return Boolean.TRUE.equals(call(new Json.Obj().put("op", "put").put("object", Text.literal(o))).get("ok"));
+  }
+
+  @Override public void hostMessage(String performative, Object content) {
+    call(new Json.Obj().put("op", "message").put("performative", performative).put("content", Text.literal(content)));
+  }
+
+  @Override public void deliverCreateMessages() { call(new Json.Obj().put("op", "create_messages")); }
+
+  @Override public void finishRun() { call(new Json.Obj().put("op", "finish")); }
+}
