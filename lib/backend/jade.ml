@@ -695,12 +695,20 @@ let routine_method g owner cls_name ~counter ~matchers o kind (r : T.routine) =
     (String.concat ", " ("String at$" :: List.map (fun (_, j) -> "Object " ^ j) ps));
   indent o (fun () ->
       line o "%stick(at$);" (svc ctx);
-      List.iter2 (fun (_, j) (_, ty) ->
-          let c = coerce_to ty j in
-          if c <> j then line o "%s = %s;" j c) ps r.r_params;
-      with_body ctx o ~params:(List.map fst ps) ~exprs:[] ~stmts:r.r_body (fun body ->
-          block ctx body r.r_body);
-      if kind = `Function then line o "return Nothing.NOTHING;");
+      (* Eval.run_routine: more than max_call_depth nested calls is an
+         exhaustion error at the call, never a JVM stack overflow *)
+      line o "%senterCall(at$);" (svc ctx);
+      line o "try {";
+      indent o (fun () ->
+          List.iter2 (fun (_, j) (_, ty) ->
+              let c = coerce_to ty j in
+              if c <> j then line o "%s = %s;" j c) ps r.r_params;
+          with_body ctx o ~params:(List.map fst ps) ~exprs:[] ~stmts:r.r_body (fun body ->
+              block ctx body r.r_body);
+          if kind = `Function then line o "return Nothing.NOTHING;");
+      line o "} finally {";
+      indent o (fun () -> line o "%sexitCall();" (svc ctx));
+      line o "}");
   line o "}";
   line o ""
 
@@ -952,9 +960,15 @@ let agent_class g (a : T.agent) =
          line o "%sprotected void jsCreate$(Object[] args$) {" (if super = None then "" else "@Override ");
          indent o (fun () ->
              line o "tick(\":0:0\");";
-             List.iteri (fun i ((_, j), (_, ty)) ->
-                 line o "Object %s = %s;" j (coerce_to ty (Printf.sprintf "args$[%d]" i))) (List.combine ps r.r_params);
-             with_body ctx o ~params:(List.map fst ps) ~exprs:[] ~stmts:r.r_body (fun body -> block ctx body r.r_body));
+             line o "enterCall(\":0:0\");   // on create is a call (Eval.run_routine)";
+             line o "try {";
+             indent o (fun () ->
+                 List.iteri (fun i ((_, j), (_, ty)) ->
+                     line o "Object %s = %s;" j (coerce_to ty (Printf.sprintf "args$[%d]" i))) (List.combine ps r.r_params);
+                 with_body ctx o ~params:(List.map fst ps) ~exprs:[] ~stmts:r.r_body (fun body -> block ctx body r.r_body));
+             line o "} finally {";
+             indent o (fun () -> line o "exitCall();");
+             line o "}");
          line o "}";
          line o ""
        | None -> ());
@@ -1039,10 +1053,16 @@ let behaviour_class g (b : T.behaviour) =
          line o "@Override protected void onCreate(String[] names$, Object[] values$) {";
          indent o (fun () ->
              line o "agent().tick(jsCreateAt$);";
-             List.iter2 (fun (n, j) (_, ty) ->
-                 line o "Object %s = %s;" j (coerce_to ty (Printf.sprintf "Ops.named(jsCreateAt$, %s, names$, values$)" (java_string n))))
-               ps r.r_params;
-             with_body ctx o ~params:(List.map fst ps) ~exprs:[] ~stmts:r.r_body (fun body -> block ctx body r.r_body));
+             line o "agent().enterCall(jsCreateAt$);";
+             line o "try {";
+             indent o (fun () ->
+                 List.iter2 (fun (n, j) (_, ty) ->
+                     line o "Object %s = %s;" j (coerce_to ty (Printf.sprintf "Ops.named(jsCreateAt$, %s, names$, values$)" (java_string n))))
+                   ps r.r_params;
+                 with_body ctx o ~params:(List.map fst ps) ~exprs:[] ~stmts:r.r_body (fun body -> block ctx body r.r_body));
+             line o "} finally {";
+             indent o (fun () -> line o "agent().exitCall();");
+             line o "}");
          line o "}";
          line o ""
        | None -> ());

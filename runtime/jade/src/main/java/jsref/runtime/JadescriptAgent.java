@@ -201,6 +201,24 @@ public abstract class JadescriptAgent extends jade.core.Agent implements JadeHoo
           + " statements in one handler or step (--fuel)");
   }
 
+  /** At most this many nested calls of functions, procedures and
+      {@code on create} (Eval.max_call_depth): a deeper one is an exhaustion
+      error at its call, never a JVM stack overflow. */
+  public static final int MAX_CALL_DEPTH = 200;
+  private int depth;
+
+  /** A call of a function, procedure or behaviour's {@code on create}
+      begins (after its tick). @param at the call */
+  public final void enterCall(String at) {
+    if (depth >= MAX_CALL_DEPTH)
+      throw JadescriptError.at(at, "recursion too deep: more than " + MAX_CALL_DEPTH
+          + " nested calls of functions and procedures");
+    depth++;
+  }
+
+  /** The call begun by {@link #enterCall} is over. */
+  public final void exitCall() { depth--; }
+
   /** A fresh budget for a new body. */
   public final void freshFuel() { fuel = cfg.fuel; }
 
