@@ -165,6 +165,7 @@ let machine_params = Semantics.Machine.default_params
 
 let new_agent env =
   let (a, behs) = Interp.Eval.create_agent env ~name:"l" ~atype:"Loader" ~args:[] ~fuel:1000 in
+  a.record_ran <- false;   (* no trace is written *)
   M.init machine_params ~world:a behs
 
 (* Run the agent until idle on the fast engine, one [E.step] at a time

@@ -57,24 +57,14 @@ let info_of env (h : T.handler) =
           | Some x when T.schema env x <> None -> Some (x, ref [])
           | _ -> None) }
 
-(* What is known, per handler (by address: the type environment's handler
-   records live as long as the program), for the environment in use; a new
-   environment starts afresh. *)
-let known : (T.t * (T.handler * info) list ref) option ref = ref None
+(* What is known of each percept handler of a behaviour instance, kept with
+   the instance (Eval.keep) once first asked for. *)
+type Eval.engine_slot += Resolved of info array
 
-(* By address, allocating nothing once the handler is known. *)
-let rec find_info (h : T.handler) = function
-  | (h', i) :: rest -> if h' == h then i else find_info h rest
-  | [] -> raise Not_found
-
-let info (a : Eval.agent) (h : T.handler) =
-  let tbl = match !known with
-    | Some (env, tbl) when env == a.env -> tbl
-    | _ -> let tbl = ref [] in known := Some (a.env, tbl); tbl in
-  try find_info h !tbl
-  with Not_found -> let i = info_of a.env h in tbl := (h, i) :: !tbl; i
-
-let wrong_pretest = ref false
+let resolve (a : Eval.agent) (b : Eval.beh) =
+  let r = Array.map (info_of a.env) b.phandlers in
+  Eval.keep b (Resolved r);
+  r
 
 (* The memo's answer for the type named by the very string [n]: 1 (yes),
    0 (no), -1 (not there). *)
@@ -84,7 +74,6 @@ let rec memo_by_address n = function
 
 let may_apply (a : Eval.agent) (i : info) (p : V.t) =
   match i.required, p with
-  | Some _, _ when !wrong_pretest -> false
   | Some (x, memo), V.Schema s ->
     let n = s.sname in
     x == n
@@ -103,11 +92,14 @@ include (Eval.Bodies : Semantics.Machine.BODIES
          with type percept = V.t and type message = Eval.message and type obj = V.t
           and type beh = Eval.beh and type world = Eval.agent)
 
-let percept_may_apply a b h p = may_apply a (info a (Eval.percept_handler b h)) p
+let percept_may_apply a (b : Eval.beh) h p =
+  match b.kept with
+  | Resolved r -> may_apply a r.(h - 1) p
+  | _ -> may_apply a (resolve a b).(h - 1) p
 
 let percept_applicable (a : Eval.agent) ~id b h p =
-  let hd = Eval.percept_handler b h in
-  let i = info a hd in
+  let hd = b.Eval.phandlers.(h - 1) in
+  let i = match b.kept with Resolved r -> r.(h - 1) | _ -> (resolve a b).(h - 1) in
   if not (may_apply a i p) then begin
     (match a.pending with None -> () | Some _ -> a.pending <- None);
     (a, false)
@@ -116,9 +108,11 @@ let percept_applicable (a : Eval.agent) ~id b h p =
     | Some { fschema; fvars; frest }, V.Schema s, Some g
       when same_name s.sname fschema && Array.length s.slots = Array.length fvars ->
       let f = Eval.guard_frame a ~id b p in
-      Array.iteri (fun k x -> match x with
-          | Some x -> Eval.bind_local f x !(snd s.slots.(k))
-          | None -> ()) fvars;
+      for k = 0 to Array.length fvars - 1 do
+        match fvars.(k) with
+        | Some x -> Eval.bind_local f x !(snd s.slots.(k))
+        | None -> ()
+      done;
       let ok = match frest with
         | None -> true
         | Some r ->

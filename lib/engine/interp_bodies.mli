@@ -22,8 +22,3 @@ include Fast.BODIES
    and type obj = Interp_eval.Value.t
    and type beh = Interp_eval.Eval.beh
    and type world = Interp_eval.Eval.agent
-
-val wrong_pretest : bool ref
-(** For the tests only: [true] plants a wrong pre-test (it answers no for
-    every handler whose guard requires a schema, even on a percept of that
-    schema), to show that the equality tests catch it. [false] by default. *)

@@ -18,6 +18,11 @@ type cell = { mutable v : V.t; ty : Ty.t }
 
 module Names = Syntax.Strtbl
 
+(* What the fast engine (lib/engine) keeps with a behaviour instance; the
+   evaluation rules never look at it. *)
+type engine_slot = ..
+type engine_slot += Nothing_kept
+
 type beh = {
   uid : int;
   btype : T.behaviour;
@@ -27,6 +32,7 @@ type beh = {
   phandlers : T.handler array;
   mhandlers : T.handler array;
   action : Ast.block option;
+  mutable kept : engine_slot;
 }
 
 type event =
@@ -59,6 +65,7 @@ let local_set l x v =
   if r != no_local then r := v else l.vars <- (x, ref v) :: l.vars
 
 let beh_type b = b.btype.b_name
+let keep b x = b.kept <- x
 
 type agent = {
   env : T.t;
@@ -72,6 +79,7 @@ type agent = {
   mutable effects : beh Semantics.Machine.effect list;
   mutable fuel_limit : int;
   mutable pending : (int * int * frame) option;
+  mutable record_ran : bool;   (* record Ran events (for a trace) *)
 }
 
 (* What a running body sees. *)
@@ -553,7 +561,7 @@ and activate (f : frame) at name kvs =
     incr uids;
     let handlers = T.behaviour_handlers f.ag.env name in
     let phandlers = Array.of_list (List.filter (fun (h : T.handler) -> h.h_kind = T.On_percept) handlers) in
-    let b = { uid = !uids; btype = bt; bprops = Names.create 8; bcache = [];
+    let b = { uid = !uids; btype = bt; bprops = Names.create 8; bcache = []; kept = Nothing_kept;
               phandlers;
               mhandlers = Array.of_list (List.filter (fun (h : T.handler) -> h.h_kind <> T.On_percept) handlers);
               action = T.behaviour_action f.ag.env name } in
@@ -608,7 +616,7 @@ let take_effects a =
    [action_effects] and [handler]): [handler] is 0 for an action block. *)
 let take_ran a handler =
   let effects = take_effects a in
-  a.events <- Ran { handler; effects } :: a.events;
+  if a.record_ran then a.events <- Ran { handler; effects } :: a.events;
   effects
 
 (* The value of a when condition [g] (or of its last conjunct). *)
@@ -628,7 +636,7 @@ let create_agent env ~name ~atype ~args ~fuel =
   | None -> link Source.no_region "unknown agent type %s" atype
   | Some at ->
     let a = { env; name; atype = at; props = Names.create 16; acache = []; outbox = []; events = [];
-              effects = []; fuel_limit = fuel; pending = None } in
+              effects = []; fuel_limit = fuel; pending = None; record_ran = true } in
     let f = frame a () in
     let params = match T.agent_create env atype with Some r -> r.r_params | None -> [] in
     if List.length params <> List.length args then
@@ -688,6 +696,7 @@ let percept_value env ~agent_type (e : Ast.expr) =
 (* ------------------------------------------- for the fast engine *)
 
 let percept_handler b h = b.phandlers.(h - 1)
+let percept_handler_count b = Array.length b.phandlers
 let guard_frame a ~id b p = frame a ~beh:b ~id ~content:p ()
 let bind_local (f : frame) x v = local_set f.locals x v
 let condition_part (f : frame) ~(whole : Ast.expr) (part : Ast.expr) = condition_value whole (expr f part)

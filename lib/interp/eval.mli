@@ -19,8 +19,27 @@ type message = {
   sender : string;     (** an agent's name, or ["host"] *)
 }
 
-type beh
-(** A behaviour instance: its type and its properties. *)
+type cell = { mutable v : Value.t; ty : Typing.Types.t }
+(** A property of an agent or a behaviour: its value, and its declared type,
+    to which every assignment converts (an integer to float or double). *)
+
+(** What the fast engine keeps with a behaviour instance (its resolved
+    guards): a slot the evaluation rules never read. *)
+type engine_slot = ..
+type engine_slot += Nothing_kept
+
+type beh = private {
+  uid : int;
+  btype : Typing.Tenv.behaviour;
+  bprops : cell Syntax.Strtbl.t;          (** its properties *)
+  mutable bcache : (string * cell option) list;
+      (** properties its code found by name, by the name's address *)
+  phandlers : Typing.Tenv.handler array;  (** percept handlers, in order *)
+  mhandlers : Typing.Tenv.handler array;  (** message handlers, in order *)
+  action : Syntax.Ast.block option;
+  mutable kept : engine_slot;             (** the fast engine's, never read here *)
+}
+(** A behaviour instance: its type, its properties, its handlers. *)
 
 (** {1 Run-time errors}
 
@@ -76,9 +95,8 @@ type frame
 
 val beh_type : beh -> string
 
-type cell = { mutable v : Value.t; ty : Typing.Types.t }
-(** A property of an agent or a behaviour: its value, and its declared type,
-    to which every assignment converts (an integer to float or double). *)
+val keep : beh -> engine_slot -> unit
+(** Fills the instance's slot for the fast engine. *)
 
 type agent = {
   env : Typing.Tenv.t;
@@ -95,6 +113,10 @@ type agent = {
   mutable pending : (int * int * frame) option;
       (** the frame of the last applicable percept guard (instance, handler):
           its body runs in it, with the guard's bindings *)
+  mutable record_ran : bool;
+      (** record a [Ran] event after each handler and action block (what
+          the trace says of a rule's effects); [true] unless set otherwise
+          by a caller that writes no trace (the bench) *)
 }
 
 val property : agent -> string -> Value.t option
@@ -135,6 +157,8 @@ val literal_value : Typing.Tenv.t -> Syntax.Ast.expr -> Value.t
 
 val percept_handler : beh -> int -> Typing.Tenv.handler
 (** Percept handler [h] (from 1) of the instance, in declaration order. *)
+
+val percept_handler_count : beh -> int
 
 val guard_frame : agent -> id:int -> beh -> Value.t -> frame
 (** The frame a percept guard of the instance is evaluated in, for this
