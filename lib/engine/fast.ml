@@ -51,12 +51,16 @@ module Make (B : BODIES) = struct
       handlers_cache := Some (c.active, h, bs);
       (h, bs)
 
+  (* The ghosts, asked of the reference only when they are kept. *)
+  let bump_waits p (c : M.t) e = if p.ghosts && not p.flood then M.bump_waits p c e else c.waits
+  let add_done p (c : M.t) seq = if p.ghosts && not p.flood then M.add_done p c seq else c.done_
+
   (* Dequeue under stable ties without the flood abstraction: the top is the
      one candidate (seqs are unique); one pop. *)
   let dequeue_top p (c : M.t) e pq : M.lbl * M.t =
     let l = Dequeue e in
     (l, { c with pq; cur = Some { e; todo = fst (handlers_and_behs c); applied = false };
-                 waits = M.bump_waits p c e; phase = Handle_phase;
+                 waits = bump_waits p c e; phase = Handle_phase;
                  dispatched = c.dispatched + 1; last = l })
 
   let single_candidate p = p.variant <> Native && p.tie = Stable && not p.flood
@@ -118,7 +122,7 @@ module Make (B : BODIES) = struct
   let dispatch_end observe p (c : M.t) e ~pq ~waits ~dispatched (world, applied, bs) =
     let l = End_dispatch { seq = e.seq; discarded = not applied } in        (* end_dispatch *)
     (match observe with Some f -> f l | None -> ());
-    let c' = { c with pq; waits; dispatched; world; done_ = M.add_done p c e.seq; cur = None;
+    let c' = { c with pq; waits; dispatched; world; done_ = add_done p c e.seq; cur = None;
                       phase = Dispatch_phase; last = l } in
     match bs with Some s -> M.with_bs c' s | None -> c'
 
@@ -132,7 +136,7 @@ module Make (B : BODIES) = struct
        | Some (e, pq) ->
          (match observe with Some f -> f (Dequeue e) | None -> ());
          let (todo, behs) = handlers_and_behs c in
-         Some (dispatch_end observe p c e ~pq ~waits:(M.bump_waits p c e) ~dispatched:(c.dispatched + 1)
+         Some (dispatch_end observe p c e ~pq ~waits:(bump_waits p c e) ~dispatched:(c.dispatched + 1)
                  (dispatch_handlers observe p c e c.world false None todo behs))
        | None -> None)
     | _ -> None
