@@ -106,6 +106,7 @@ public abstract class JadescriptAgent extends jade.core.Agent implements JadeHoo
   private int msgSeq;                  // arrivals, under the message queue's lock
   private final transient ArrayList<JadescriptBehaviour> active = new ArrayList<>();
   private volatile boolean idle;
+  private volatile boolean parked;     // free running, --max-steps spent
   private int dispatched;
   private final transient AtomicInteger nativePercepts = new AtomicInteger();   // native: percepts in the message queue
   private final transient HashMap<Integer, String> known = new HashMap<>();
@@ -534,6 +535,7 @@ public abstract class JadescriptAgent extends jade.core.Agent implements JadeHoo
   /** Running freely: is the agent asleep, with nothing ready and no message
       of the run on its way anywhere? @return true if so */
   public final boolean isQuiet() {
+    if (parked) return true;
     synchronized (sched) { return idle && sched.readyCount() == 0 && PENDING.isEmpty(); }
   }
 
@@ -577,7 +579,13 @@ public abstract class JadescriptAgent extends jade.core.Agent implements JadeHoo
 
   /** One rule is about to be taken: in lock step, within the host's grant. */
   private void rule() throws InterruptedException {
-    if (!cfg.lockStep) return;
+    if (!cfg.lockStep) {
+      if (cfg.freeSteps.decrementAndGet() < 0) {   // --max-steps spent: stop here for good
+        parked = true;
+        synchronized (gate) { while (true) gate.wait(); }
+      }
+      return;
+    }
     synchronized (gate) {
       while (grant == 0) {
         granted = false;
@@ -791,6 +799,14 @@ public abstract class JadescriptAgent extends jade.core.Agent implements JadeHoo
   /** BehaviourStep (R5a-R5d): run by JADE's agent thread in the behaviour's
       {@code action()}. */
   final void step(JadescriptBehaviour b) {
+    // the step is atomic with respect to arrivals (R6): JADE's postMessage
+    // holds the queue's monitor, so a message arrives wholly before the step
+    // (and may be taken by it) or after it. (Plain JADE lets a message
+    // arrive during a step; see JadeRestartDuringStep.)
+    synchronized (queue) { stepAtomically(b); }
+  }
+
+  private void stepAtomically(JadescriptBehaviour b) {
     int id = b.id();
     reserved = List.of(id);
     running = b;

@@ -158,7 +158,7 @@ public final class Main {
     trace.header(header(program, variant, budget, capacity, seed, specs));
     RunConfig cfg = new RunConfig(program, variant, budget, capacity, fuel, trace, !free, out, System.err);
 
-    if (free) cfg.holdCreateMessages();
+    if (free) { cfg.holdCreateMessages(); cfg.limitFreeSteps(maxSteps); }
     ContainerController cc = boot();
     // Two containers (docs/jade.md): --split puts every second agent, in
     // creation order, in a peripheral container of its own JVM;

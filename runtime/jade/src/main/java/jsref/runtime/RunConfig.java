@@ -89,6 +89,14 @@ public final class RunConfig {
     return agents.get(name);
   }
 
+  /** Running freely: the rules all agents may still take together
+      ({@code --max-steps}); an agent that finds none left stops for good. */
+  final java.util.concurrent.atomic.AtomicLong freeSteps = new java.util.concurrent.atomic.AtomicLong(Long.MAX_VALUE);
+
+  /** Running freely, stop every agent after this many rules in all ({@code --max-steps}).
+      @param n the number of rules */
+  public void limitFreeSteps(long n) { freeSteps.set(n); }
+
   private boolean holding;
 
   /** Running freely, messages sent by {@code on create} wait until {@link
