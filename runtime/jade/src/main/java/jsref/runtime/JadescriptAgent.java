@@ -302,6 +302,7 @@ public abstract class JadescriptAgent extends jade.core.Agent implements JadeHoo
     bodyEvents.add(new Json.Obj().put("event", "activate").put("behaviour", b.typeName()));
     b.setId(newId());
     active.add(b);
+    b.jsActive = true;
     addBehaviour(b);
   }
 
@@ -315,7 +316,7 @@ public abstract class JadescriptAgent extends jade.core.Agent implements JadeHoo
     bodyEvents.add(new Json.Obj().put("event", "deactivate").put("instance", self.id()));
     if (initPhase) return;   // create_agent keeps only the activations
     JadescriptBehaviour target = running;
-    if (target != null && active.remove(target)) removeBehaviour(target);
+    if (target != null && active.remove(target)) { target.jsActive = false; removeBehaviour(target); }
   }
 
   /** A run-time error (R7), recorded now. @param e the error */
@@ -501,10 +502,15 @@ public abstract class JadescriptAgent extends jade.core.Agent implements JadeHoo
     return used < cfg.o2aCapacity;
   }
 
+  /** R3e: a notification or a message wakes an idle agent. The loop sets
+      {@code idle} holding the scheduler's monitor, after finding nothing to
+      do, so a wake-up that finds the agent not idle has nothing to notify. */
   private void wakeUp() {
     synchronized (sched) {
-      idle = false;
-      sched.notifyAll();
+      if (idle) {
+        idle = false;
+        sched.notifyAll();
+      }
     }
   }
 
@@ -752,20 +758,24 @@ public abstract class JadescriptAgent extends jade.core.Agent implements JadeHoo
       writeRule("dequeue", "Dequeue", () -> entryFields(e));
       // the registered handlers (R4a): active instances in activation order,
       // each one's handlers in declaration order (inherited first)
-      List<JadescriptBehaviour> insts = new ArrayList<>();
-      List<Integer> hs = new ArrayList<>();
+      int n = 0;
+      for (JadescriptBehaviour b : active) n += b.perceptHandlerCount();
+      if (snapB.length < n) { snapB = new JadescriptBehaviour[2 * n]; snapH = new int[2 * n]; }
+      final JadescriptBehaviour[] insts = snapB;
+      final int[] hs = snapH;
+      n = 0;
       for (JadescriptBehaviour b : active)
-        for (int h = 1; h <= b.perceptHandlerCount(); h++) { insts.add(b); hs.add(h); }
+        for (int h = 1; h <= b.perceptHandlerCount(); h++) { insts[n] = b; hs[n] = h; n++; }
       boolean applied = false;
-      for (int k = 0; k < insts.size(); k++) {
+      for (int k = 0; k < n; k++) {
         rule();
-        JadescriptBehaviour b = insts.get(k);
-        int h = hs.get(k);
-        if (!active.contains(b)) {   // R4b: deactivated since the snapshot
+        JadescriptBehaviour b = insts[k];
+        int h = hs[k];
+        if (!b.jsActive) {   // R4b: deactivated since the snapshot
           writeRule("skip", "Skip", () -> skipFields(b, h));
           continue;
         }
-        reserved = new SnapshotIds(insts, k);   // the snapshot's ids from here on (D2)
+        reserved = new SnapshotIds(insts, k, n);   // the snapshot's ids from here on (D2)
         running = b;
         effects.clear();
         freshFuel();
@@ -860,8 +870,8 @@ public abstract class JadescriptAgent extends jade.core.Agent implements JadeHoo
       reserved = List.of();
       effects.clear();
     }
-    if (!b.isCyclic()) active.remove(b);               // JADE removes it: done() (R5c, D1)
-    else if (!b.hasAction() && !taken && active.contains(b)) b.block();   // JADE blocks it (R5d)
+    if (!b.isCyclic()) { active.remove(b); b.jsActive = false; }   // JADE removes it: done() (R5c, D1)
+    else if (!b.hasAction() && !taken && b.jsActive) b.block();   // JADE blocks it (R5d)
     Json.Obj f = new Json.Obj().put("instance", id)
         .put("behaviour", lastBehaviour.isEmpty() ? known.getOrDefault(id, "?") : lastBehaviour)
         .put("message", msgField);
@@ -910,12 +920,18 @@ public abstract class JadescriptAgent extends jade.core.Agent implements JadeHoo
   /** The ids of a dispatch snapshot's instances from position {@code from}
       on: the reserved ids of D2, read only when an activation asks. */
   private static final class SnapshotIds extends java.util.AbstractList<Integer> {
-    private final List<JadescriptBehaviour> insts;
+    private final JadescriptBehaviour[] insts;
     private final int from;
-    SnapshotIds(List<JadescriptBehaviour> insts, int from) { this.insts = insts; this.from = from; }
-    @Override public Integer get(int i) { return insts.get(from + i).id(); }
-    @Override public int size() { return insts.size() - from; }
+    private final int to;
+    SnapshotIds(JadescriptBehaviour[] insts, int from, int to) { this.insts = insts; this.from = from; this.to = to; }
+    @Override public Integer get(int i) { return insts[from + i].id(); }
+    @Override public int size() { return to - from; }
   }
+
+  /** The registered handlers of the dispatch in progress (R4a), reused from
+      one percept to the next: instances and handler numbers. */
+  private transient JadescriptBehaviour[] snapB = new JadescriptBehaviour[16];
+  private transient int[] snapH = new int[16];
 
   /** NewId: the smallest positive id neither active nor reserved (D2). */
   private int newId() {

@@ -10,6 +10,11 @@ package jsref.runtime;
     removes it (R5c, D1). A step that took nothing, in a behaviour without a
     {@code do} block, ends with JADE's {@code block()} (R5d). */
 public abstract class JadescriptBehaviour extends jade.core.behaviours.Behaviour {
+  /** Is the instance among the agent's active behaviours (R4b)? Kept by the
+      runtime beside its list of active instances, so that a dispatch asks in
+      one read. */
+  transient boolean jsActive;
+
   private static final long serialVersionUID = 1L;
   private transient JadescriptAgent owner;
   private int uid;
