@@ -1,12 +1,6 @@
-import jade.core.Profile;
-import jade.core.ProfileImpl;
 import jade.wrapper.ContainerController;
-import java.net.ServerSocket;
 import java.util.List;
 import java.util.Locale;
-import java.util.logging.Handler;
-import java.util.logging.Level;
-import java.util.logging.Logger;
 import jsref.runtime.JadescriptAgent;
 import jsref.runtime.ProgramInfo;
 import jsref.runtime.RunConfig;
@@ -36,9 +30,6 @@ public final class CompiledBench {
 
   public static void main(String[] argv) throws Exception {
     Locale.setDefault(Locale.ROOT);
-    Logger root = Logger.getLogger("");
-    root.setLevel(Level.SEVERE);
-    for (Handler h : root.getHandlers()) h.setLevel(Level.SEVERE);
     ProgramInfo program = (ProgramInfo) Class.forName("jsgen.Program").getDeclaredConstructor().newInstance();
     RunConfig cfg = new RunConfig(program, Variant.REFERENCE, 1, null, 100_000, new Trace(null), false, null, null);
     ContainerController cc = boot();
@@ -130,23 +121,10 @@ public final class CompiledBench {
         n / s, a.perceptsDispatched() - base, s, w);
   }
 
+  /** JADE's main container in this JVM, as the harness boots it (no GUI, no
+      MTP, a free port of 127.0.0.1). */
   static ContainerController boot() throws Exception {
-    int port;
-    try (ServerSocket s = new ServerSocket(0, 1, java.net.InetAddress.getLoopbackAddress())) {
-      port = s.getLocalPort();
-    }
-    jade.core.Runtime rt = jade.core.Runtime.instance();
-    rt.setCloseVM(false);
-    Profile p = new ProfileImpl();
-    p.setParameter(Profile.MAIN, "true");
-    p.setParameter(Profile.GUI, "false");
-    p.setParameter(Profile.NO_MTP, "true");
-    p.setParameter(Profile.LOCAL_HOST, "127.0.0.1");
-    p.setParameter(Profile.LOCAL_PORT, Integer.toString(port));
-    p.setParameter("jade_imtp_leap_JICP_JICPServer_acceptlocalhostonly", "true");
-    p.setParameter(Profile.PLATFORM_ID, "jsbench");
-    java.io.File dir = java.nio.file.Files.createTempDirectory("jsref-bench").toFile();
-    p.setParameter(Profile.FILE_DIR, dir.getPath() + java.io.File.separator);
-    return rt.createMainContainer(p);
+    return jsref.runtime.Main.boot();
   }
+
 }

@@ -343,7 +343,7 @@ public final class Main {
 
   // ---------------------------------------------------------------- JADE
 
-  static void quietLogging() {
+  public static void quietLogging() {
     Logger root = Logger.getLogger("");
     root.setLevel(Level.SEVERE);
     for (Handler hd : root.getHandlers()) hd.setLevel(Level.SEVERE);
@@ -351,7 +351,7 @@ public final class Main {
 
   /** A JADE main container in this JVM: no GUI, no MTP, IMTP on a free
       port of 127.0.0.1 only. @return its controller @throws Exception if JADE fails */
-  static ContainerController boot() throws Exception {
+  public static ContainerController boot() throws Exception {
     quietLogging();
     int port;
     try (ServerSocket s = new ServerSocket(0, 1, java.net.InetAddress.getLoopbackAddress())) {
