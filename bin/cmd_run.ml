@@ -24,29 +24,6 @@ let load files =
   if errors <> [] then raise (Stop 1);
   env
 
-(* The host objects the command line offers: @robome records the RoboMe
-   SDK commands the paper's agent invokes (the simulation offers a real one). *)
-let host_objects () =
-  let calls = [ "startListening"; "callStop"; "callMoveForward"; "callMoveBackward";
-                "callTurnLeft"; "callTurnRight"; "callHeadTiltUp"; "callHeadTiltDown"; "callHeadReset" ] in
-  [ "@robome", V.Native { nid = 1; cls = "RoboMe"; methods = List.map (fun m -> (m, fun _ -> V.Unit)) calls } ]
-
-(* Split "a,b(1, 2),\"x,y\"" at the commas outside brackets and quotes. *)
-let split_args s =
-  let parts = ref [] and b = Buffer.create 16 and depth = ref 0 and quoted = ref false in
-  String.iteri (fun i c ->
-      if !quoted then begin
-        Buffer.add_char b c;
-        if c = '"' && (i = 0 || s.[i - 1] <> '\\') then quoted := false
-      end else match c with
-        | '"' -> quoted := true; Buffer.add_char b c
-        | '(' | '[' | '{' -> incr depth; Buffer.add_char b c
-        | ')' | ']' | '}' -> decr depth; Buffer.add_char b c
-        | ',' when !depth = 0 -> parts := Buffer.contents b :: !parts; Buffer.clear b
-        | c -> Buffer.add_char b c) s;
-  if Buffer.length b > 0 || !parts <> [] then parts := Buffer.contents b :: !parts;
-  List.rev_map String.trim !parts
-
 let agent_spec env spec =
   let fail msg = prerr_endline (Printf.sprintf "--agent %s: error: %s" spec msg); raise (Stop 1) in
   match String.index_opt spec ':' with
@@ -60,13 +37,13 @@ let agent_spec env spec =
     if name = "" || ty = "" then fail "expected NAME:TYPE[:ARG,...]";
     if Typing.Tenv.agent env ty = None then fail (Printf.sprintf "there is no agent type %s" ty);
     let values = List.map (fun a ->
-        match List.assoc_opt a (host_objects ()) with
+        match List.assoc_opt a (Interp.Host.objects ()) with
         | Some v -> v
         | None ->
           (match Interp.Eval.literal_value env (Parse.expr ~file:"--agent" a) with
            | v -> v
            | exception Diag.Failed d -> fail d.message
-           | exception (Interp.Eval.Trap (_, m) | Interp.Eval.Link (_, m)) -> fail m)) (split_args args) in
+           | exception (Interp.Eval.Trap (_, m) | Interp.Eval.Link (_, m)) -> fail m)) (Interp.Host.split_args args) in
     (name, ty, values)
 
 (* The events file, first pass: every line is checked, and every bad one

@@ -133,28 +133,6 @@ let on_event ?before st (pl : P.t) (e : P.event) =
 
 exception Bad of string
 
-(* The host object [run] offers as @robome: it records the RoboMe SDK commands. *)
-let host_objects () =
-  let calls = [ "startListening"; "callStop"; "callMoveForward"; "callMoveBackward";
-                "callTurnLeft"; "callTurnRight"; "callHeadTiltUp"; "callHeadTiltDown"; "callHeadReset" ] in
-  [ "@robome", V.Native { nid = 1; cls = "RoboMe"; methods = List.map (fun m -> (m, fun _ -> V.Unit)) calls } ]
-
-(* "a,b(1, 2),\"x,y\"" split at the commas outside brackets and quotes. *)
-let split_args s =
-  let parts = ref [] and b = Buffer.create 16 and depth = ref 0 and quoted = ref false in
-  String.iteri (fun i c ->
-      if !quoted then begin
-        Buffer.add_char b c;
-        if c = '"' && (i = 0 || s.[i - 1] <> '\\') then quoted := false
-      end else match c with
-        | '"' -> quoted := true; Buffer.add_char b c
-        | '(' | '[' | '{' -> incr depth; Buffer.add_char b c
-        | ')' | ']' | '}' -> decr depth; Buffer.add_char b c
-        | ',' when !depth = 0 -> parts := Buffer.contents b :: !parts; Buffer.clear b
-        | c -> Buffer.add_char b c) s;
-  if Buffer.length b > 0 || !parts <> [] then parts := Buffer.contents b :: !parts;
-  List.rev_map String.trim !parts
-
 let agent_spec env spec =
   let fail msg = raise (Bad (Printf.sprintf "--agent %s: error: %s" spec msg)) in
   match String.index_opt spec ':' with
@@ -169,13 +147,13 @@ let agent_spec env spec =
     if name = "" || ty = "" then fail "expected NAME:TYPE[:ARG,...]";
     if T.agent env ty = None then fail (Printf.sprintf "there is no agent type %s" ty);
     let values = List.map (fun a ->
-        match List.assoc_opt a (host_objects ()) with
+        match List.assoc_opt a (Interp.Host.objects ()) with
         | Some v -> v
         | None ->
           (match E.literal_value env (Parse.expr ~file:"--agent" a) with
            | v -> v
            | exception Diag.Failed d -> fail d.message
-           | exception (E.Trap (_, m) | E.Link (_, m)) -> fail m)) (split_args args) in
+           | exception (E.Trap (_, m) | E.Link (_, m)) -> fail m)) (Interp.Host.split_args args) in
     (name, ty, values)
 
 let params_of (s : setup) =
