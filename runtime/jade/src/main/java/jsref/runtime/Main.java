@@ -349,29 +349,39 @@ public final class Main {
     for (Handler hd : root.getHandlers()) hd.setLevel(Level.SEVERE);
   }
 
-  /** A JADE main container in this JVM: no GUI, no MTP, IMTP on a free
-      port of 127.0.0.1 only. @return its controller @throws Exception if JADE fails */
-  public static ContainerController boot() throws Exception {
+  /** A JADE container profile on 127.0.0.1 only: no GUI, no MTP, IMTP on a
+      free port accepting local connections only, JADE's files in a fresh
+      temporary folder. Shared by the main container and a peripheral one.
+      @param files the temporary folder's prefix @return the profile
+      @throws Exception if no port or folder can be had */
+  static Profile loopbackProfile(String files) throws Exception {
     quietLogging();
     int port;
     try (ServerSocket s = new ServerSocket(0, 1, java.net.InetAddress.getLoopbackAddress())) {
       port = s.getLocalPort();
     }
-    jade.core.Runtime rt = jade.core.Runtime.instance();
-    rt.setCloseVM(false);
     Profile p = new ProfileImpl();
-    p.setParameter(Profile.MAIN, "true");
     p.setParameter(Profile.GUI, "false");
     p.setParameter(Profile.NO_MTP, "true");
     p.setParameter(Profile.LOCAL_HOST, "127.0.0.1");
     p.setParameter(Profile.LOCAL_PORT, Integer.toString(port));
     p.setParameter("jade_imtp_leap_JICP_JICPServer_acceptlocalhostonly", "true");
-    p.setParameter(Profile.PLATFORM_ID, "jsref");
-    Path dir = Files.createTempDirectory("jsref-jade");
+    Path dir = Files.createTempDirectory(files);
     dir.toFile().deleteOnExit();
     p.setParameter(Profile.FILE_DIR, dir + java.io.File.separator);
+    return p;
+  }
+
+  /** A JADE main container in this JVM: no GUI, no MTP, IMTP on a free
+      port of 127.0.0.1 only. @return its controller @throws Exception if JADE fails */
+  public static ContainerController boot() throws Exception {
+    Profile p = loopbackProfile("jsref-jade");
+    p.setParameter(Profile.MAIN, "true");
+    p.setParameter(Profile.PLATFORM_ID, "jsref");
+    jade.core.Runtime rt = jade.core.Runtime.instance();
+    rt.setCloseVM(false);
     ContainerController cc = rt.createMainContainer(p);
-    mainPort = port;
+    mainPort = Integer.parseInt(p.getParameter(Profile.LOCAL_PORT, "0"));
     if (cc == null) throw new IllegalStateException("JADE's main container did not start");
     return cc;
   }

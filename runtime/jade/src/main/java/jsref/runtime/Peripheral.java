@@ -1,16 +1,12 @@
 package jsref.runtime;
 
 import jade.core.Profile;
-import jade.core.ProfileImpl;
 import jade.wrapper.ContainerController;
 import java.io.FileOutputStream;
 import java.io.PrintStream;
 import java.net.InetAddress;
-import java.net.ServerSocket;
 import java.net.Socket;
 import java.nio.charset.StandardCharsets;
-import java.nio.file.Files;
-import java.nio.file.Path;
 import java.util.ArrayList;
 import java.util.HashMap;
 import java.util.List;
@@ -153,24 +149,13 @@ public final class Peripheral {
 
   /** A peripheral container joining the main container at 127.0.0.1:mainPort. */
   private static ContainerController boot(int mainPort) throws Exception {
-    Main.quietLogging();
-    int port;
-    try (ServerSocket s = new ServerSocket(0, 1, InetAddress.getLoopbackAddress())) {
-      port = s.getLocalPort();
-    }
-    jade.core.Runtime rt = jade.core.Runtime.instance();
-    rt.setCloseVM(false);
-    Profile p = new ProfileImpl();
+    Profile p = Main.loopbackProfile("jsref-jade-peripheral");
     p.setParameter(Profile.MAIN, "false");
     p.setParameter(Profile.MAIN_HOST, "127.0.0.1");
     p.setParameter(Profile.MAIN_PORT, Integer.toString(mainPort));
-    p.setParameter(Profile.LOCAL_HOST, "127.0.0.1");
-    p.setParameter(Profile.LOCAL_PORT, Integer.toString(port));
-    p.setParameter("jade_imtp_leap_JICP_JICPServer_acceptlocalhostonly", "true");
     p.setParameter(Profile.CONTAINER_NAME, "Peripheral-1");
-    Path dir = Files.createTempDirectory("jsref-jade-peripheral");
-    dir.toFile().deleteOnExit();
-    p.setParameter(Profile.FILE_DIR, dir + java.io.File.separator);
+    jade.core.Runtime rt = jade.core.Runtime.instance();
+    rt.setCloseVM(false);
     ContainerController cc = rt.createAgentContainer(p);
     if (cc == null) throw new IllegalStateException("JADE's peripheral container did not join the platform");
     return cc;
