@@ -98,6 +98,7 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
       | Put { agent; obj } -> check (Interp.Runtime.put rt ~agent obj)
       | Message { agent; perf; content } -> check (Interp.Runtime.message rt ~agent ~perf content)
       | Run k -> Interp.Runtime.run_rounds rt k
+      | Run_rules k -> Interp.Runtime.run_rules rt k
       | Run_idle -> Interp.Runtime.run_until_idle rt in
     let complete = match events_file with
       | None -> true

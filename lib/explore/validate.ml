@@ -46,7 +46,7 @@ let model_of_trace path ~agent =
         match l.event with
         | Trace.Body { body = Trace.Deactivate id; _ } -> Hashtbl.replace deactivated id (); None
         | Trace.Body { body = Trace.Activate _; _ } -> Hashtbl.reset deactivated; None
-        | Trace.Body _ | Trace.Refused _ | Trace.Undeliverable _ | Trace.Destroy -> None
+        | Trace.Body _ | Trace.Refused _ | Trace.Refused_put _ | Trace.Undeliverable _ | Trace.Destroy -> None
         | Trace.Create { behaviours; _ } ->
           initial := behaviours;
           Some (Tla.record [ "act", str "Init" ], line)

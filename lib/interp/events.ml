@@ -5,6 +5,7 @@ type t =
   | Put of { agent : string; obj : Value.t }
   | Message of { agent : string; perf : string; content : Value.t }
   | Run of int
+  | Run_rules of int
   | Run_idle
 
 let parse_line env ~agents ~file line : (t option, (int * string) list) result =
@@ -59,7 +60,10 @@ let parse_line env ~agents ~file line : (t option, (int * string) list) result =
             | _ -> None)
          | None, None, None, Some (`Int k) when k >= 0 -> Some (Run k)
          | None, None, None, Some (`String "idle") -> Some Run_idle
-         | _ -> bad 1 "expected one of \"notify\", \"put\", \"message\" (with \"agent\") or \"run\" (a number or \"idle\")")
+         | None, None, None, Some (`Assoc [ ("rules", `Int k) ]) when k >= 0 -> Some (Run_rules k)
+         | None, None, None, Some (`Assoc _) -> bad 1 "\"run\": {\"rules\": N} takes one field, a natural number"
+
+         | _ -> bad 1 "expected one of \"notify\", \"put\", \"message\" (with \"agent\") or \"run\" (a number, \"idle\" or {\"rules\": N})")
       | _ -> bad 1 "each line is a JSON object" in
   match !errors with
   | [] -> Ok r

@@ -11,6 +11,9 @@ type t =
   | Put of { agent : string; obj : Value.t }          (** putO2AObject (R2c) *)
   | Message of { agent : string; perf : string; content : Value.t }   (** from ["host"] (R5e) *)
   | Run of int                                         (** that many rounds (R6) *)
+  | Run_rules of int
+      (** that many single rules of the first agent that is not idle, so
+          that the host can act between rules (R3d) *)
   | Run_idle                                           (** until every agent is idle *)
 
 val check :

@@ -14,9 +14,28 @@ type options = {
   on_error : Eval.error_kind -> Syntax.Source.region -> string -> unit;
 }
 
+(* The platform operations a run takes: the reference's, or a defective
+   implementation's (lib/defects) wrapped around them from the outside. *)
+type hooks = {
+  step : Mc.params -> M.t -> (M.lbl * M.t) list;
+  notify_event : Mc.params -> P.t -> int -> M.t -> Value.t -> default:int -> priority:int option ->
+    (M.t, Mc.refusal) result;
+  put : Mc.params -> P.t -> int -> M.t -> Value.t -> (M.t, Mc.refusal) result;
+  round : Random.State.t option -> P.t -> int list;
+}
+
+let reference_hooks = {
+  step = E.step;
+  notify_event = (fun p _ _ c v ~default ~priority -> M.notify_event p c v ~default ~priority);
+  (* R2d: a put into a full O2A queue is refused and changes nothing *)
+  put = (fun p _ _ c v -> if M.o2a_has_room p c then Ok (M.put p c v) else Error Mc.O2a_full);
+  round = P.round;
+}
+
 type t = {
   env : T.t;
   opts : options;
+  hooks : hooks;
   mutable platform : P.t;
   mutable steps : int;           (* agent steps so far *)
   rand : Random.State.t option;
@@ -47,13 +66,13 @@ let on_event t (pl : P.t) (e : P.event) =
 
 (* ---------------------------------------------------------- create *)
 
-let create env opts specs =
+let create ?(hooks = reference_hooks) env opts specs =
   let w = match opts.trace with Some oc -> Trace.to_channel oc | None -> Trace.nowhere () in
   let on_body agent = function
     | Eval.Log s -> opts.on_log agent s
     | Eval.Error (kind, at, msg) -> opts.on_error kind at msg
     | _ -> () in
-  let t = { env; opts; platform = P.create []; steps = 0;
+  let t = { env; opts; hooks; platform = P.create []; steps = 0;
             rand = Option.map (fun s -> Random.State.make [| s |]) opts.seed;
             tr = Tracer.create w ~on_body } in
   Tracer.header t.tr env opts.params ~seed:opts.seed (List.map (fun (n, ty, _) -> (n, ty)) specs);
@@ -84,22 +103,24 @@ let set_config t i c =
 
 let notify t ~agent v ~default ~priority =
   with_agent t agent (fun i c ->
-      match M.notify_event t.opts.params c v ~default ~priority with
+      match t.hooks.notify_event t.opts.params t.platform i c v ~default ~priority with
       | Error (Mc.Negative_priority k) -> Error (Printf.sprintf "priority %d is negative (R2a)" k)
       | Error Mc.O2a_full ->
         Tracer.refused t.tr ~agent v;
-        Error "the O2A queue is full (R2d)"
+        Error (Printf.sprintf "agent %s refused the percept %s: the O2A queue is full (R2d)" agent (Value.to_literal v))
       | Ok c -> set_config t i c; Tracer.host t.tr ~agent c; Ok ())
 
 let put t ~agent v =
   with_agent t agent (fun i c ->
-      if not (M.o2a_has_room t.opts.params c) then Error "the O2A queue is full (R2d)"
-      else begin
-        let c = M.put t.opts.params c v in
+      match t.hooks.put t.opts.params t.platform i c v with
+      | Error _ ->
+        (* R2d: refused, and recorded as [refused] with the object *)
+        Tracer.refused_put t.tr ~agent v;
+        Error (Printf.sprintf "agent %s refused the object %s: the O2A queue is full (R2d)" agent (Value.to_literal v))
+      | Ok c ->
         set_config t i c;
         Tracer.host t.tr ~agent c;
-        Ok ()
-      end)
+        Ok ())
 
 let message t ~agent ~perf content =
   with_agent t agent (fun _ _ ->
@@ -113,15 +134,34 @@ let message t ~agent ~perf content =
 let iterate t i =
   let left = t.opts.max_steps - t.steps in
   if left > 0 then begin
-    let (pl, evs) = P.iteration ~max_steps:left ~on_event:(on_event t) ~step:E.step t.opts.params t.platform i in
+    let (pl, evs) = P.iteration ~max_steps:left ~on_event:(on_event t) ~step:t.hooks.step t.opts.params t.platform i in
     t.platform <- pl;
     t.steps <- t.steps + List.length (List.filter (function P.Step _ -> true | _ -> false) evs)
   end
 
 let run_rounds t n =
   for _ = 1 to n do
-    List.iter (fun i -> if not (M.is_idle t.platform.agents.(i).config) then iterate t i) (P.round t.rand t.platform)
+    List.iter (fun i -> if not (M.is_idle t.platform.agents.(i).config) then iterate t i) (t.hooks.round t.rand t.platform)
   done
+
+(* {"run": {"rules": n}} (docs/trace-format.md): the first agent in creation
+   order that is not idle takes single rules, one at a time, n in all or
+   until it idles; the messages a rule sends are delivered after it. *)
+let run_rules t n =
+  let rec go k =
+    if k > 0 && t.steps < t.opts.max_steps then
+      let rec first i =
+        if i >= Array.length t.platform.agents then None
+        else if M.is_idle t.platform.agents.(i).config then first (i + 1) else Some i in
+      match first 0 with
+      | None -> ()
+      | Some i ->
+        let (pl, evs) = P.iteration ~max_steps:1 ~on_event:(on_event t) ~step:t.hooks.step t.opts.params t.platform i in
+        t.platform <- pl;
+        let n = List.length (List.filter (function P.Step _ -> true | _ -> false) evs) in
+        t.steps <- t.steps + n;
+        if n > 0 then go (k - 1) in
+  go n
 
 let run_until_idle t =
   let rec go () =

@@ -23,7 +23,27 @@ type options = {
           the message; the run carries on *)
 }
 
+(** The platform operations a run takes. {!reference_hooks} are the
+    rulings'; a deliberately defective implementation (lib/defects, the
+    conformance vectors' kill count) wraps them from the outside. *)
+type hooks = {
+  step : Semantics.Machine.params -> P.M.t -> (P.M.lbl * P.M.t) list;
+      (** the agent rules enabled in a configuration (the first is taken) *)
+  notify_event : Semantics.Machine.params -> P.t -> int -> P.M.t -> Value.t -> default:int ->
+    priority:int option -> (P.M.t, Semantics.Machine.refusal) result;
+      (** notifyEvent into agent [i] (R2a, R2d) *)
+  put : Semantics.Machine.params -> P.t -> int -> P.M.t -> Value.t ->
+    (P.M.t, Semantics.Machine.refusal) result;
+      (** putO2AObject into agent [i] (R2c, R2d) *)
+  round : Random.State.t option -> P.t -> int list;   (** the order of one round (R6) *)
+}
+
+val reference_hooks : hooks
+(** The fast engine's rules ({!E.step}), [Machine.notify_event], [Machine.put]
+    refused when the O2A queue is full, [P.round]. *)
+
 val create :
+  ?hooks:hooks ->
   Typing.Tenv.t -> options -> (string * string * Value.t list) list -> t
 (** Boots the agents (name, type, creation arguments) in order (R5g);
     messages sent by their [on create] are delivered once all exist.
@@ -35,12 +55,20 @@ val notify : t -> agent:string -> Value.t -> default:int -> priority:int option 
     (R2a) or the O2A queue is full (R2d); nothing is enqueued then. *)
 
 val put : t -> agent:string -> Value.t -> (unit, string) result
+(** R2c: [Error] when the agent does not exist or its O2A queue is full
+    (R2d); a refused object is recorded as [refused] with its [object]. *)
+
 val message : t -> agent:string -> perf:string -> Value.t -> (unit, string) result
 (** A message from the host (sender ["host"]). *)
 
 val run_rounds : t -> int -> unit
 (** [n] rounds: in each, every agent that is not idle runs one loop iteration
     (round-robin, or a seeded order). *)
+
+val run_rules : t -> int -> unit
+(** [n] single rules of the first agent, in creation order, that is not
+    idle; fewer when it idles ([{"run": {"rules": n}}], docs/trace-format.md).
+    The host can act between rules (R3d). *)
 
 val run_until_idle : t -> unit
 (** Until every agent is idle or the step limit is reached. *)

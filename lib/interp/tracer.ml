@@ -114,6 +114,9 @@ let host t ~agent (c : config) = Trace.write t.w ~agent (label_event t agent c c
 let refused t ~agent v =
   Trace.write t.w ~agent (Trace.Refused { percept = V.to_literal v; reason = "the O2A queue is full (R2d)" })
 
+let refused_put t ~agent v =
+  Trace.write t.w ~agent (Trace.Refused_put { obj = V.to_literal v; reason = "the O2A queue is full (R2d)" })
+
 let undeliverable t ~sender ~receiver (m : Eval.message) =
   Trace.write t.w ~agent:sender
     (Trace.Undeliverable { receiver; performative = m.perf; content = V.to_literal m.content })

@@ -30,6 +30,9 @@ val host : t -> agent:string -> config -> unit
 val refused : t -> agent:string -> Value.t -> unit
 (** A notification refused (R2d). *)
 
+val refused_put : t -> agent:string -> Value.t -> unit
+(** An object refused by putO2AObject: the O2A queue is full (R2d). *)
+
 val undeliverable : t -> sender:string -> receiver:string -> Eval.message -> unit
 
 val step : t -> agent:string -> before:config -> after:config -> label -> unit

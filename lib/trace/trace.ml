@@ -18,6 +18,7 @@ type event =
   | Create of { agent_type : string; args : string list; behaviours : string list }
   | Notify of { entry : entry; overridden : bool }
   | Refused of { percept : string; reason : string }
+  | Refused_put of { obj : string; reason : string }
   | Put of { obj : string; index : int }
   | Deliver of { message : message; seq : int }
   | Undeliverable of { receiver : string; performative : string; content : string }
@@ -40,7 +41,7 @@ type event =
 type line = { step : int; agent : string; event : event }
 
 let event_name = function
-  | Create _ -> "create" | Notify _ -> "notify" | Refused _ -> "refused" | Put _ -> "put"
+  | Create _ -> "create" | Notify _ -> "notify" | Refused _ | Refused_put _ -> "refused" | Put _ -> "put"
   | Deliver _ -> "deliver" | Undeliverable _ -> "undeliverable" | Transfer _ -> "transfer"
   | Transfer_one _ -> "transfer_one" | Transfer_spin _ -> "transfer_spin"
   | Transfer_end -> "transfer_end" | Dequeue _ -> "dequeue" | Handle _ -> "handle"
@@ -56,7 +57,7 @@ let event_name = function
 let action = function
   | Create _ -> Some "Init"
   | Notify { overridden; _ } -> Some (if overridden then "NotifyWith" else "Notify")
-  | Refused _ | Undeliverable _ | Destroy -> None
+  | Refused _ | Refused_put _ | Undeliverable _ | Destroy -> None
   | Put _ -> Some "Put" | Deliver _ -> Some "Send" | Transfer _ -> Some "Transfer"
   | Transfer_one _ -> Some "TransferOne" | Transfer_spin _ -> Some "TransferSpin"
   | Transfer_end -> Some "TransferEnd" | Dequeue _ -> Some "Dequeue" | Handle _ -> Some "Handle"
@@ -94,6 +95,7 @@ let fields = function
     [ "type", str agent_type; "args", strs args; "behaviours", strs behaviours ]
   | Notify { entry; _ } | Transfer_one entry | Dequeue entry -> entry_fields entry
   | Refused { percept; reason } -> [ "percept", str percept; "reason", str reason ]
+  | Refused_put { obj; reason } -> [ "object", str obj; "reason", str reason ]
   | Put { obj; index } -> [ "object", str obj; "index", int index ]
   | Deliver { message; seq } -> message_fields message @ [ "seq", int seq ]
   | Undeliverable { receiver; performative; content } ->
@@ -195,6 +197,8 @@ let event_of name fs =
   | "create" -> Create { agent_type = get_str "type" fs; args = get_strs "args" fs;
                          behaviours = get_strs "behaviours" fs }
   | "notify" -> Notify { entry = entry_of fs; overridden = action = "NotifyWith" }
+  | "refused" when List.mem_assoc "object" fs ->
+    Refused_put { obj = get_str "object" fs; reason = get_str "reason" fs }
   | "refused" -> Refused { percept = get_str "percept" fs; reason = get_str "reason" fs }
   | "put" -> Put { obj = get_str "object" fs; index = get_int "index" fs }
   | "deliver" -> Deliver { message = message_of fs; seq = get_int "seq" fs }

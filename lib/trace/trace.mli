@@ -37,7 +37,9 @@ type body =
 type event =
   | Create of { agent_type : string; args : string list; behaviours : string list }
   | Notify of { entry : entry; overridden : bool }   (** [NotifyWith] when overridden *)
-  | Refused of { percept : string; reason : string } (** R2d *)
+  | Refused of { percept : string; reason : string } (** a notify refused (R2a, R2d) *)
+  | Refused_put of { obj : string; reason : string }
+      (** a put refused: the O2A queue is full (R2d); ["refused"] with ["object"] *)
   | Put of { obj : string; index : int }
   | Deliver of { message : message; seq : int }
   | Undeliverable of { receiver : string; performative : string; content : string }
