@@ -54,8 +54,14 @@ let check_events env agents file =
   | _ -> raise (Stop 1)
   | exception Sys_error m -> report_at file 1 1 ("cannot read the events file: " ^ m); raise (Stop 1)
 
-let run files agent_specs events_file trace_file seed max_steps variant fuel capacity =
+let run files agent_specs events_file trace_file seed max_steps variant fuel capacity defect =
   match
+    let hooks = match defect with
+      | None -> Interp.Runtime.reference_hooks
+      | Some name ->
+        (match Defects.find name with
+         | Some d -> d.hooks
+         | None -> prerr_endline ("jadescript-ref: error: unknown defect " ^ name ^ " (jadescript-ref defects lists them)"); raise (Stop 1)) in
     let env = load files in
     let specs = List.map (agent_spec env) agent_specs in
     if specs = [] then (prerr_endline "error: no agent: give at least one --agent NAME:TYPE"; raise (Stop 1));
@@ -85,7 +91,7 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
     let opts = { Interp.Runtime.params; seed; fuel; max_steps; trace;
                  on_log = (fun a s -> print_string (a ^ ": " ^ s ^ "\n"));
                  on_error } in
-    let rt = match Interp.Runtime.create env opts specs with
+    let rt = match Interp.Runtime.create ~hooks env opts specs with
       | rt -> rt
       | exception Interp.Eval.Link (_, m) -> prerr_endline ("error: " ^ m); raise (Stop 1) in
     let host_error = ref false in
@@ -138,6 +144,10 @@ let cmd =
                     ~doc:"Statements one handler or behaviour step may execute (R7).") in
   let capacity = Arg.(value & opt (some int) None & info ["o2a-capacity"] ~docv:"N"
                         ~doc:"Capacity of each agent's O2A queue (R2d); default unbounded.") in
+  (* hidden: a deliberately defective interpreter (lib/defects), for the
+     vectors' kill count (jadescript-ref defects) *)
+  let defect = Arg.(value & opt (some string) None & info ["defect"] ~docs:Manpage.s_none ~docv:"NAME"
+                      ~doc:"Run with this deliberate defect of the bug catalogue (lib/defects).") in
   Cmd.v (Cmd.info "run" ~doc:"Run a Jadescript program on the reference semantics."
            ~man:[`S Manpage.s_description;
                  `P "Type-checks the program, creates the agents in order, applies the host \
@@ -151,4 +161,4 @@ let cmd =
                      anything runs, with exit status 1. The events file is read twice, one \
                      line at a time: every line is checked first, then the events are applied \
                      as they are read."])
-    Term.(const run $ files $ agents $ events $ trace $ seed $ max_steps $ variant $ fuel $ capacity)
+    Term.(const run $ files $ agents $ events $ trace $ seed $ max_steps $ variant $ fuel $ capacity $ defect)

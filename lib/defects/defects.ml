@@ -1,0 +1,383 @@
+(* The bug catalogue: deliberate defects of the interpreter, as a second
+   implementer of Jadescript runtimes would plausibly make them. Each one is
+   built from the outside, as mutants are (lib/explore/mutant.ml): an altered
+   rule table of the reference machine, altered bodies given to the machine's
+   functor, or a platform operation wrapped around the reference's
+   ({!Interp.Runtime.hooks}). The reference rules (lib/semantics/machine.ml,
+   lib/interp/eval.ml) know nothing of them. *)
+
+open Semantics.Machine
+module R = Interp.Runtime
+module P = R.P
+module M = P.M
+module Pqueue = Semantics.Pqueue
+module Fqueue = Semantics.Fqueue
+module B = Interp_eval.Eval.Bodies
+
+type t = {
+  name : string;
+  ruling : string;
+  about : string;
+  can_differ : bool;
+  hooks : R.hooks;
+}
+
+let r = M.rules
+let ref_hooks = R.reference_hooks
+
+(* The reference machine's step on an altered rule table. *)
+let with_rules rules = { ref_hooks with step = M.step_by rules }
+
+(* Every result of a rule, changed. *)
+let map_results f rule p (c : M.t) = List.map (fun (l, c') -> (l, f p c l c')) (rule p c)
+
+(* ---------------------------------------------------------- host side *)
+
+let max_over (pl : P.t) f = Array.fold_left (fun m (a : P.agent) -> max m (f a.config)) 0 pl.agents
+
+(* The put index counted across the agents: one counter for the platform. *)
+let put_index_across_agents p pl i c v =
+  ref_hooks.put p pl i { c with puts = max_over pl (fun (c : M.t) -> c.puts) } v
+
+(* The seq counted across the agents (R2b says per agent). *)
+let seq_across_agents p pl i (c : M.t) v ~default ~priority =
+  ref_hooks.notify_event p pl i { c with next_seq = max_over pl (fun (c : M.t) -> c.next_seq) } v ~default ~priority
+
+(* The capacity checked with > instead of >=: one entry too many fits. *)
+let one_more p = { p with o2a_capacity = Option.map succ p.o2a_capacity }
+
+(* Objects do not count against the capacity (R2d: percepts and objects alike). *)
+let percepts_only (c : M.t) =
+  { c with o2a = Fqueue.of_list (List.filter (function O_percept _ -> true | O_object _ -> false) (Fqueue.to_list c.o2a)) }
+
+let objects_take_no_room_notify p _ _ (c : M.t) v ~default ~priority =
+  match priority with
+  | Some k when k < 0 -> Error (Negative_priority k)
+  | _ when not (M.o2a_has_room p (percepts_only c)) -> Error O2a_full
+  | None -> Ok (M.notify p c v default)
+  | Some k -> Ok (M.notify_with p c v k)
+
+let objects_take_no_room_put p _ _ (c : M.t) v =
+  if M.o2a_has_room p (percepts_only c) then Ok (M.put p c v) else Error O2a_full
+
+(* ---------------------------------------------------------- rule side *)
+
+(* Dequeue: among the highest priority, the LAST notified. *)
+let ties_to_largest_seq p (c : M.t) =
+  let cands = r.dequeue { p with tie = Unstable } c in
+  let seq (l, _) = match l with Dequeue e -> e.seq | _ -> min_int in
+  let m = List.fold_left (fun m x -> max m (seq x)) min_int cands in
+  List.filter (fun x -> seq x = m) cands
+
+(* Dequeue: the lowest priority first (a comparator the wrong way round). *)
+let lowest_priority_first p (c : M.t) =
+  match r.dequeue p c with
+  | [] -> []
+  | _ ->
+    let all = Pqueue.to_sorted_list c.pq in
+    let low = List.fold_left (fun m (e : _ entry) -> min m e.prio) max_int all in
+    let e = List.find (fun (e : _ entry) -> e.prio = low) all in
+    (* the reference's rule on a queue whose only candidate is e *)
+    List.map (fun (l, (c' : M.t)) -> (l, { c' with pq = Pqueue.remove e c.pq }))
+      (r.dequeue p { c with pq = Pqueue.insert e Pqueue.empty })
+
+(* Handle: the rest of the snapshot is dropped once a handler ran. *)
+let first_handler_only =
+  map_results (fun _ _ l (c' : M.t) -> match l, c'.cur with
+      | Handle _, Some d -> { c' with cur = Some { d with todo = [] } }
+      | _ -> c') r.handle_or_skip
+
+(* EndDispatch: never a discard. *)
+let discard_not_recorded p c =
+  List.map (fun (l, c') -> match l with
+      | End_dispatch e -> let l = End_dispatch { e with discarded = false } in (l, { c' with last = l })
+      | _ -> (l, c')) (r.end_dispatch p c)
+
+let is_percept = function O_percept _ -> true | O_object _ -> false
+
+(* Transfer: only the first percept of O2A moves. *)
+let transfer_moves_one p (c : M.t) =
+  match r.transfer p c with
+  | [] -> []
+  | x ->
+    match Fqueue.remove_first is_percept c.o2a with
+    | None -> x
+    | Some (first, rest) ->
+      List.map (fun (l, (c' : M.t)) -> (l, { c' with o2a = rest }))
+        (r.transfer p { c with o2a = Fqueue.of_list [ first ] })
+
+(* Transfer: the objects are thrown away with the percepts (R3a: they stay). *)
+let objects_dropped =
+  map_results (fun _ _ _ (c' : M.t) -> { c' with o2a = Fqueue.empty }) r.transfer
+
+(* Transfer: stops at the first object (the percepts behind it stay). *)
+let objects_block_transfer p (c : M.t) =
+  match r.transfer p c with
+  | [] -> []
+  | x ->
+    let rec split acc = function
+      | (O_percept _ as e) :: rest -> split (e :: acc) rest
+      | rest -> (List.rev acc, rest) in
+    let (front, rest) = split [] (Fqueue.to_list c.o2a) in
+    if rest = [] then x
+    else List.map (fun (l, (c' : M.t)) -> (l, { c' with o2a = Fqueue.of_list rest }))
+        (r.transfer p { c with o2a = Fqueue.of_list front })
+
+(* Transfer: "moved" counts the objects too. *)
+let transfer_counts_objects p (c : M.t) =
+  let objects = Fqueue.fold (fun n x -> if is_percept x then n else n + 1) 0 c.o2a in
+  List.map (fun (l, (c' : M.t)) -> match l with
+      | Transfer n -> let l = Transfer (n + objects) in (l, { c' with last = l })
+      | _ -> (l, c')) (r.transfer p c)
+
+(* Printed: an object at the head of O2A is thrown away (instead of the spin). *)
+let printed_drops_object p (c : M.t) =
+  match r.transfer_spin p c with
+  | [] -> []
+  | x -> List.map (fun (l, (c' : M.t)) ->
+      (l, { c' with o2a = (match Fqueue.pop c.o2a with Some (_, q) -> q | None -> c.o2a) })) x
+
+(* Right after a transfer, with a percept waiting and a behaviour ready, a
+   behaviour step runs before the dispatch (R3c). *)
+let step_first (c : M.t) =
+  c.phase = Dispatch_phase && c.ready <> [] && not (Pqueue.is_empty c.pq)
+  && (match c.last with Transfer _ | Transfer_end -> true | _ -> false)
+
+let step_before_dispatch_dequeue p c = if step_first c then [] else r.dequeue p c
+
+let step_before_dispatch_step p (c : M.t) =
+  if not (step_first c) then r.behaviour_step p c
+  else
+    List.map (fun (l, (c' : M.t)) -> (l, { c' with pq = c.pq; phase = Dispatch_phase }))
+      (r.behaviour_step p { c with pq = Pqueue.empty })
+
+(* Two behaviour steps per iteration (R3c: one). *)
+let two_steps =
+  map_results (fun _ (c : M.t) _ (c' : M.t) ->
+      match c.last with
+      | Behaviour_step _ -> c'
+      | _ -> if c'.ready <> [] then { c' with phase = Dispatch_phase } else c') r.behaviour_step
+
+(* Dequeue takes the late percepts of O2A into the current dispatch (R3d). *)
+let late_percepts_join p (c : M.t) =
+  match r.dequeue p c with
+  | [] -> []
+  | _ ->
+    let (moving, rest) = Fqueue.partition is_percept c.o2a in
+    let pq = List.fold_left (fun q -> function O_percept e -> Pqueue.insert e q | O_object _ -> q) c.pq moving in
+    r.dequeue p { c with pq; o2a = rest }
+
+(* One more NextIteration before idling (R3e). *)
+let idle_late p (c : M.t) =
+  match r.idle p c with
+  | [] -> []
+  | x -> (match c.last with
+      | Next_iteration -> x
+      | _ -> [ (Next_iteration, { c with phase = Transfer_phase; last = Next_iteration }) ])
+
+(* The Reference loop dispatches one percept per iteration (R3b: all). *)
+let one_dispatch_per_iteration p c =
+  if p.variant = Reference then M.step { p with variant = Budgeted; budget = 1 } c else M.step p c
+
+(* A snapshot reordered: [f] on the instances' groups of handlers. *)
+let reorder_todo f =
+  map_results (fun _ _ _ (c' : M.t) -> match c'.cur with
+      | Some d ->
+        let ids = List.sort_uniq compare (List.map fst d.todo) in
+        let ids = List.filter (fun id -> List.exists (fun (a : _ instance) -> a.id = id) c'.active) ids in
+        let order = List.filter (fun (a : _ instance) -> List.mem a.id ids) c'.active in
+        let groups = List.map (fun (a : _ instance) -> List.filter (fun (i, _) -> i = a.id) d.todo) order in
+        { c' with cur = Some { d with todo = List.concat (f groups) } }
+      | None -> c') r.dequeue
+
+(* R4b: handlers of instances activated during the dispatch join it. *)
+let snapshot_grows =
+  map_results (fun _ (c : M.t) l (c' : M.t) -> match l, c'.cur with
+      | Handle _, Some d ->
+        let fresh = List.filter (fun (a : _ instance) ->
+            not (List.exists (fun (b : _ instance) -> b.id = a.id) c.active)) c'.active in
+        let more = List.concat_map (fun (a : _ instance) ->
+            List.init (B.percept_handlers a.beh) (fun j -> (a.id, j + 1))) fresh in
+        { c' with cur = Some { d with todo = d.todo @ more } }
+      | _ -> c') r.handle_or_skip
+
+(* R5a: the position is not moved on: the head of ready runs every time. *)
+let position_stuck =
+  map_results (fun _ _ _ (c' : M.t) -> { c' with pos = 1 }) r.behaviour_step
+
+(* New ready entries of a rule: the ids in c'.ready not in c.ready. *)
+let fresh_ready (c : M.t) (c' : M.t) = List.filter (fun id -> not (List.mem id c.ready)) c'.ready
+
+(* R5f: activated behaviours join the front of ready (the position stays). *)
+let activated_at_front rule =
+  map_results (fun _ c _ (c' : M.t) ->
+      match fresh_ready c c' with
+      | [] -> c'
+      | fresh -> { c' with ready = fresh @ List.filter (fun id -> not (List.mem id fresh)) c'.ready }) rule
+
+(* R5f: a removal does not correct the position: the next behaviour is skipped. *)
+let removal_skips =
+  map_results (fun _ (c : M.t) l (c' : M.t) -> match l with
+      | Behaviour_step { id; _ } when not (List.mem id c'.ready) && c'.ready <> [] ->
+        let p = (c.pos mod List.length c.ready) + 1 in
+        { c' with pos = (if p > List.length c'.ready then 1 else p) }
+      | _ -> c') r.behaviour_step
+
+(* R5b: the newest message that matches is taken. *)
+let newest_message_first p (c : M.t) =
+  let rev q = Fqueue.of_list (List.rev (Fqueue.to_list q)) in
+  List.map (fun (l, (c' : M.t)) -> (l, { c' with msgq = rev c'.msgq }))
+    (r.behaviour_step p { c with msgq = rev c.msgq })
+
+(* R5e: the messages of one step go out newest first. *)
+let sends_reversed rule =
+  map_results (fun _ _ _ (c' : M.t) ->
+      let (a : Interp_eval.Eval.agent) = c'.world in
+      a.outbox <- List.rev a.outbox; c') rule
+
+(* Ids of the instances a rule activated, renamed by [pick]. *)
+let renumber pick =
+  let f _ (c : M.t) l (c' : M.t) =
+    let old_ids = List.map (fun (a : _ instance) -> a.id) c.active in
+    let reserved = match l, c.cur with
+      | Handle _, Some d -> List.map fst d.todo
+      | Behaviour_step { id; _ }, _ -> [ id ]
+      | _ -> [] in
+    let fresh = List.filter (fun (a : _ instance) -> not (List.mem a.id old_ids)) c'.active in
+    if fresh = [] then c'
+    else
+      let (_, map) = List.fold_left (fun (taken, map) (a : _ instance) ->
+          let n = pick taken reserved in (n :: taken, (a.id, n) :: map))
+          (List.filter (fun id -> List.exists (fun (a : _ instance) -> a.id = id) c'.active) old_ids, []) fresh in
+      let rn id = match List.assoc_opt id map with Some n -> n | None -> id in
+      { c' with active = List.map (fun (a : _ instance) -> { a with id = rn a.id }) c'.active;
+                ready = List.map rn c'.ready; blocked = List.map rn c'.blocked } in
+  { r with handle_or_skip = map_results f r.handle_or_skip; behaviour_step = map_results f r.behaviour_step }
+
+(* largest + 1, over the active ids and the reserved ones *)
+let largest_plus_one taken reserved = 1 + List.fold_left max 0 (taken @ reserved)
+
+(* the smallest free id, the snapshot's ids not reserved (D2) *)
+let smallest_unreserved taken _ =
+  let rec go n = if List.mem n taken then go (n + 1) else n in go 1
+
+(* Bodies with one function changed, for the machine's functor. *)
+module Oneshot_cyclic = struct include B let cyclic _ = true end
+module Mo = Semantics.Machine.Make (Oneshot_cyclic)
+
+module Deactivate_ignored = struct
+  include B
+  let run_percept_handler w ~id b h p =
+    let (w, effs) = B.run_percept_handler w ~id b h p in
+    (w, List.filter (function Deactivate -> false | Activate _ -> true) effs)
+end
+module Md = Semantics.Machine.Make (Deactivate_ignored)
+
+module Effects_reversed = struct
+  include B
+  let run_percept_handler w ~id b h p = let (w, e) = B.run_percept_handler w ~id b h p in (w, List.rev e)
+  let run_action w ~id b = let (w, e) = B.run_action w ~id b in (w, List.rev e)
+  let run_message_handler w ~id b h m = let (w, e) = B.run_message_handler w ~id b h m in (w, List.rev e)
+end
+module Me = Semantics.Machine.Make (Effects_reversed)
+
+(* A guard evaluated twice (a pre-check, then the real one): it shows only
+   when the guard fails with a run-time error, recorded twice (R7). *)
+module Guard_twice = struct
+  include B
+  let percept_applicable w ~id b h p =
+    let (w, _) = B.percept_applicable w ~id b h p in B.percept_applicable w ~id b h p
+end
+module Mg = Semantics.Machine.Make (Guard_twice)
+
+let d name ruling about ?(can_differ = true) hooks = { name; ruling; about; can_differ; hooks }
+
+let all = [
+  d "put-ignores-capacity" "R2d" "a put into a full O2A queue is accepted"
+    { ref_hooks with put = (fun p _ _ c v -> Ok (M.put p c v)) };
+  d "put-index-across-agents" "R2c" "the put index is counted over all agents, not per agent"
+    { ref_hooks with put = put_index_across_agents };
+  d "seq-across-agents" "R2b" "the seq is counted over all agents, not per agent"
+    { ref_hooks with notify_event = seq_across_agents };
+  d "capacity-off-by-one" "R2d" "the O2A queue takes one entry more than its capacity"
+    { ref_hooks with notify_event = (fun p -> ref_hooks.notify_event (one_more p));
+                     put = (fun p -> ref_hooks.put (one_more p)) };
+  d "objects-take-no-room" "R2d" "objects in O2A do not count against the capacity"
+    { ref_hooks with notify_event = objects_take_no_room_notify; put = objects_take_no_room_put };
+  d "override-ignored" "R2a" "notifyEvent(p, k) uses the type's default priority"
+    { ref_hooks with notify_event = (fun p pl i c v ~default ~priority:_ ->
+          ref_hooks.notify_event p pl i c v ~default ~priority:None) };
+  d "override-zero-is-none" "R2a" "an override of 0 is taken as no override"
+    { ref_hooks with notify_event = (fun p pl i c v ~default ~priority ->
+          ref_hooks.notify_event p pl i c v ~default ~priority:(if priority = Some 0 then None else priority)) };
+  d "put-wakes-idle" "D3" "putting an object wakes an idle agent"
+    { ref_hooks with put = (fun p pl i c v ->
+          Result.map (fun (c' : M.t) -> if c.phase = Idle_phase then { c' with phase = Transfer_phase } else c')
+            (ref_hooks.put p pl i c v)) };
+  d "rounds-reversed" "R6" "a round runs the agents in reverse creation order"
+    { ref_hooks with round = (fun rs pl -> List.rev (P.round rs pl)) };
+  d "seed-ignored" "R6" "--seed is ignored: every round is in creation order"
+    { ref_hooks with round = (fun _ pl -> P.round None pl) };
+  d "ties-largest-seq" "R3b" "among equal priorities the newest percept goes first"
+    (with_rules { r with dequeue = ties_to_largest_seq });
+  d "lowest-priority-first" "R3b" "the lowest priority is dispatched first"
+    (with_rules { r with dequeue = lowest_priority_first });
+  d "first-handler-only" "R3b" "only the first applicable handler runs"
+    (with_rules { r with handle_or_skip = first_handler_only });
+  d "discard-not-recorded" "R3b" "a percept no handler took ends as end_dispatch, not discard"
+    (with_rules { r with end_dispatch = discard_not_recorded });
+  d "one-dispatch-per-iteration" "R3b" "one percept is dispatched per iteration, not all"
+    { ref_hooks with step = one_dispatch_per_iteration };
+  d "transfer-moves-one" "R3a" "Transfer moves only the first percept"
+    (with_rules { r with transfer = transfer_moves_one });
+  d "objects-dropped" "R3a" "Transfer throws the objects away instead of leaving them"
+    (with_rules { r with transfer = objects_dropped });
+  d "objects-block-transfer" "R3a" "Transfer stops at the first object"
+    (with_rules { r with transfer = objects_block_transfer });
+  d "transfer-counts-objects" "R3a" "Transfer's moved counts the objects that stay"
+    (with_rules { r with transfer = transfer_counts_objects });
+  d "printed-drops-object" "R3a" "the printed loop throws an object away instead of spinning"
+    (with_rules { r with transfer_spin = printed_drops_object });
+  d "step-before-dispatch" "R3c" "the behaviour step runs before the dispatch"
+    (with_rules { r with dequeue = step_before_dispatch_dequeue; behaviour_step = step_before_dispatch_step });
+  d "two-steps-per-iteration" "R3c" "two behaviour steps per iteration"
+    (with_rules { r with behaviour_step = two_steps });
+  d "late-percepts-join" "R3d" "percepts notified during a dispatch join it"
+    (with_rules { r with dequeue = late_percepts_join });
+  d "idle-late" "R3e" "the agent takes one more NextIteration before it idles"
+    (with_rules { r with idle = idle_late });
+  d "newest-behaviour-first" "R4a" "handlers of later activations come first"
+    (with_rules { r with dequeue = reorder_todo List.rev });
+  d "handlers-reversed" "R4a" "a behaviour's handlers in reverse declaration order"
+    (with_rules { r with dequeue = reorder_todo (List.map List.rev) });
+  d "snapshot-grows" "R4b" "handlers activated during a dispatch join it"
+    (with_rules { r with handle_or_skip = snapshot_grows });
+  d "position-stuck" "R5a" "the position does not move on: the first ready behaviour always runs"
+    (with_rules { r with behaviour_step = position_stuck });
+  d "activated-at-front" "R5f" "an activated behaviour joins the front of the ready list"
+    (with_rules { r with handle_or_skip = activated_at_front r.handle_or_skip;
+                         behaviour_step = activated_at_front r.behaviour_step });
+  d "removal-skips" "R5f" "a behaviour that leaves ready does not correct the position"
+    (with_rules { r with behaviour_step = removal_skips });
+  d "newest-message-first" "R5b" "a step takes the newest matching message"
+    (with_rules { r with behaviour_step = newest_message_first });
+  d "oneshot-not-removed" "R5c" "a one-shot behaviour stays after its step"
+    (with_rules { r with behaviour_step = Mo.behaviour_step });
+  d "deactivate-ignored-in-handler" "R5h" "deactivate this in a percept handler does nothing"
+    (with_rules { r with handle_or_skip = Md.handle_or_skip });
+  d "activations-reversed" "R5g" "the effects of one body apply in reverse order"
+    (with_rules { r with handle_or_skip = Me.handle_or_skip; behaviour_step = Me.behaviour_step });
+  d "ids-largest-plus-one" "R5g" "a new instance's id is the largest + 1, not the smallest free"
+    (with_rules (renumber largest_plus_one));
+  d "snapshot-ids-not-reserved" "D2" "a new instance may take an id of the pending snapshot"
+    (with_rules (renumber smallest_unreserved));
+  d "sends-reversed" "R5e" "the messages of one behaviour step are delivered newest first"
+    (with_rules { r with behaviour_step = sends_reversed r.behaviour_step;
+                         handle_or_skip = sends_reversed r.handle_or_skip });
+  d "budget-off-by-one" "R3b" "the budgeted loop dispatches budget + 1 percepts"
+    { ref_hooks with step = (fun p -> M.step { p with budget = p.budget + 1 }) };
+  d "guard-evaluated-twice" "R7" "a percept guard is evaluated twice (an error in it is recorded twice)"
+    (with_rules { r with handle_or_skip = Mg.handle_or_skip });
+]
+
+let find name = List.find_opt (fun d -> d.name = name) all

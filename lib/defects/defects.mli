@@ -1,0 +1,31 @@
+(** The bug catalogue: deliberate defects of the interpreter, each a bug a
+    second implementer of a Jadescript runtime could plausibly make, so that
+    the conformance vectors can be judged by how many they catch (their
+    "kill count": [make conformance], docs/conformance.md).
+
+    A defect is never a branch of the reference rules
+    (lib/semantics/machine.ml, lib/interp/eval.ml stay as they are). Each is
+    built from the outside, as the explorer's mutants are
+    (lib/explore/mutant.ml): an altered rule table of the reference machine
+    ([M.step_by]), the machine's functor applied to bodies with one function
+    changed, or a platform operation (notify, put, the order of a round)
+    wrapped around the reference's. {!Interp.Runtime.create} takes the result
+    as its [hooks]; [jadescript-ref run --defect NAME] runs a defective
+    interpreter as an implementation for [conform --impl]. *)
+
+type t = {
+  name : string;         (** e.g. ["put-ignores-capacity"] *)
+  ruling : string;       (** the ruling or decision it breaks, e.g. ["R2d"] *)
+  about : string;        (** one line: what the defective implementation does *)
+  can_differ : bool;
+      (** whether its trace can differ from the reference's at all; [false]
+          for a defect no trace can show (the vectors need not kill it) *)
+  hooks : Interp.Runtime.hooks;   (** how a run takes it *)
+}
+
+val all : t list
+(** The catalogue, one typed table, in the order of the rulings' areas: the
+    host's operations (R2, D3, R6), the loop (R3), the handlers (R4), the
+    behaviours and messages (R5). *)
+
+val find : string -> t option
