@@ -24,9 +24,12 @@ bench: build
 
 # The longer agreement checks: every model (full ones too) against TLC, the
 # mutant table, 200 TLC behaviours replayed and 200 OCaml runs validated per
-# model, then every suite with 10x the property-test counts.
+# model, the vectors' kill count over the bug catalogue (every vector against
+# every defect of lib/defects), then every suite with 10x the property-test
+# counts.
 conformance: build
 	@dune exec --no-print-directory -- jadescript-ref explore --all --full --mutants --simulate 200 --validate 200
+	@dune exec --no-print-directory -- jadescript-ref defects
 	@JSREF_LONG=1 bash scripts/test
 
 # The students' playground (playground/, docs/tutorial.md): out/playground/,
