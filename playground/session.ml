@@ -236,8 +236,11 @@ let do_host st (h : host_action) : (unit, string) result =
     | Put { obj; _ } ->
       parse "put" obj (fun e ->
           let v = E.literal_value st.env e in
-          if not (M.o2a_has_room st.params c) then Error "host: the O2A queue is full (R2d)"
-          else begin
+          if not (M.o2a_has_room st.params c) then begin
+            (* R2d: recorded as refused, with the object, as run does *)
+            Interp.Tracer.refused_put st.tr ~agent v;
+            Error "host: the O2A queue is full (R2d)"
+          end else begin
             let c = M.put st.params c v in
             set_config st i c;
             Interp.Tracer.host st.tr ~agent c;
