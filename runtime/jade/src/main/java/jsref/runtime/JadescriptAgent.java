@@ -470,7 +470,12 @@ public abstract class JadescriptAgent extends jade.core.Agent implements JadeHoo
       @return false when refused (R2d) */
   public final boolean put(Object o) {
     synchronized (hostLock) {
-      if (!o2aHasRoom()) return false;
+      if (!o2aHasRoom()) {
+        // R2d, D24: a refused put is in the trace, with its object
+        cfg.trace.event(new Json.Obj().put("agent", getLocalName()).put("event", "refused").put("action", null)
+            .put("object", Text.literal(o)).put("reason", "the O2A queue is full (R2d)"));
+        return false;
+      }
       int k = ++puts;
       synchronized (o2a) {
         cfg.trace.event(new Json.Obj().put("agent", getLocalName()).put("event", "put").put("action", "Put")

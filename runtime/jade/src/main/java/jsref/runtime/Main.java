@@ -51,12 +51,14 @@ public final class Main {
     Stop(String line) { super(line, null, false, false); }
   }
 
-  private sealed interface HostEvent permits Notify, Put, Msg, Run, RunIdle {}
+  private sealed interface HostEvent permits Notify, Put, Msg, Run, RunRules, RunIdle {}
   private record Notify(String agent, Schema percept, Integer priority) implements HostEvent {}
   private record Put(String agent, Object value) implements HostEvent {}
   private record Msg(String agent, String performative, Object content) implements HostEvent {}
   private record Run(long rounds) implements HostEvent {}
   private record RunIdle() implements HostEvent {}
+  /** {@code {"run": {"rules": n}}} (D23): n single rules of the first agent not idle. */
+  private record RunRules(long rules) implements HostEvent {}
 
   private record Spec(String name, String type, List<Object> args) {}
 
@@ -207,13 +209,24 @@ public final class Main {
       if (e instanceof Notify n) {
         HostedAgent ag = h.agent(n.agent());
         boolean ok = n.priority() == null ? ag.notifyEvent(n.percept()) : ag.notifyEvent(n.percept(), n.priority());
-        if (!ok) { out.flush(); System.err.println("host: the O2A queue is full (R2d)"); }
+        if (!ok) {
+          out.flush();
+          System.err.println("host: agent " + n.agent() + " refused the percept " + jsref.values.Text.literal(n.percept())
+              + ": the O2A queue is full (R2d)");
+        }
       } else if (e instanceof Put p) {
-        if (!h.agent(p.agent()).put(p.value())) { out.flush(); System.err.println("host: the O2A queue is full (R2d)"); }
+        if (!h.agent(p.agent()).put(p.value())) {
+          // D24: the agent records it as refused, with the object
+          out.flush();
+          System.err.println("host: agent " + p.agent() + " refused the object " + jsref.values.Text.literal(p.value())
+              + ": the O2A queue is full (R2d)");
+        }
       } else if (e instanceof Msg m) {
         h.agent(m.agent()).hostMessage(m.performative(), m.content());
       } else if (e instanceof Run r) {
         h.runRounds(r.rounds());
+      } else if (e instanceof RunRules r) {
+        h.runRules(r.rules());
       } else {
         h.runUntilIdle();
       }
@@ -320,6 +333,23 @@ public final class Main {
       if (!lockStep) { awaitIdle(); return; }
       for (long r = 0; r < n; r++)
         for (int i : order()) if (!agents.get(i).isIdle()) iterate(i);
+    }
+
+    /** {@code {"run": {"rules": n}}} (D23, docs/trace-format.md): n single
+        rules, each by the first agent in creation order that is not idle; an
+        agent stopped in the middle of an iteration goes on from there at its
+        next grant. Running freely there are no single rules: it waits as
+        {@code run} does. */
+    void runRules(long n) throws InterruptedException {
+      if (!lockStep) { awaitIdle(); return; }
+      for (long k = 0; k < n && steps < maxSteps; k++) {
+        HostedAgent first = null;
+        for (HostedAgent a : agents) if (!a.isIdle()) { first = a; break; }
+        if (first == null) return;
+        int used = first.runIteration(1);
+        steps += used;
+        if (used == 0) return;
+      }
     }
 
     void runUntilIdle() throws InterruptedException {
@@ -487,8 +517,11 @@ public final class Main {
         evs.add(new Run(k2));
       } else if (notify == null && put == null && msg == null && "idle".equals(run)) {
         evs.add(new RunIdle());
+      } else if (notify == null && put == null && msg == null && run instanceof Map<?, ?> rm) {
+        if (rm.size() == 1 && rm.get("rules") instanceof Long k2 && k2 >= 0) evs.add(new RunRules(k2));
+        else bad.accept(1, "\"run\": {\"rules\": N} takes one field, a natural number");
       } else {
-        bad.accept(1, "expected one of \"notify\", \"put\", \"message\" (with \"agent\") or \"run\" (a number or \"idle\")");
+        bad.accept(1, "expected one of \"notify\", \"put\", \"message\" (with \"agent\") or \"run\" (a number, \"idle\" or {\"rules\": N})");
       }
     }
     if (!errors.isEmpty()) throw new Stop(String.join("\n", errors));
