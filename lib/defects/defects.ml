@@ -281,6 +281,24 @@ module Effects_reversed = struct
 end
 module Me = Semantics.Machine.Make (Effects_reversed)
 
+(* [content matches S] takes only percepts of S itself, not of the percept
+   types that extend S (R1a: a subtype is a percept of S too). *)
+module Exact_type = struct
+  include B
+  let rec required (e : Syntax.Ast.expr) = match e.it with
+    | Matches ({ it = Content; _ }, { it = PCons (c, _); _ }) -> Some c.it
+    | Matches ({ it = Content; _ }, { it = PName x; _ }) -> Some x
+    | Binop (And, l, _) -> required l
+    | _ -> None
+  let percept_applicable (w : Interp_eval.Eval.agent) ~id (b : Interp_eval.Eval.beh) h p =
+    match b.phandlers.(h - 1).h_guard, p with
+    | Some g, Interp_eval.Value.Schema s
+      when (match required g with Some x -> x <> s.sname && Typing.Tenv.schema w.env x <> None | None -> false) ->
+      w.pending <- None; (w, false)
+    | _ -> B.percept_applicable w ~id b h p
+end
+module Mx = Semantics.Machine.Make (Exact_type)
+
 (* A guard evaluated twice (a pre-check, then the real one): it shows only
    when the guard fails with a run-time error, recorded twice (R7). *)
 module Guard_twice = struct
@@ -293,6 +311,8 @@ module Mg = Semantics.Machine.Make (Guard_twice)
 let d name ruling about ?(can_differ = true) hooks = { name; ruling; about; can_differ; hooks }
 
 let all = [
+  d "matches-exact-type" "R1a" "content matches S refuses percepts of the types that extend S"
+    (with_rules { r with handle_or_skip = Mx.handle_or_skip });
   d "put-ignores-capacity" "R2d" "a put into a full O2A queue is accepted"
     { ref_hooks with put = (fun p _ _ c v -> Ok (M.put p c v)) };
   d "put-index-across-agents" "R2c" "the put index is counted over all agents, not per agent"
