@@ -261,6 +261,24 @@ let largest_plus_one taken reserved = 1 + List.fold_left max 0 (taken @ reserved
 let smallest_unreserved taken _ =
   let rec go n = if List.mem n taken then go (n + 1) else n in go 1
 
+(* R5f: a behaviour woken by a message joins the front of the ready list,
+   not its end. The wake happens in the platform's Send, between two rules
+   of the agent; the defect remembers each agent's ready list after its
+   last rule and moves the ids that appeared since to the front. *)
+let ready_after : (string, int list) Hashtbl.t = Hashtbl.create 8
+
+let woken_at_front p (c : M.t) =
+  let name = c.world.Interp_eval.Eval.name in
+  let c = match Hashtbl.find_opt ready_after name with
+    | Some before ->
+      let woken = List.filter (fun id -> not (List.mem id before)) c.ready in
+      if woken = [] then c
+      else { c with ready = woken @ List.filter (fun id -> not (List.mem id woken)) c.ready }
+    | None -> c in
+  let res = M.step p c in
+  (match res with (_, (c' : M.t)) :: _ -> Hashtbl.replace ready_after name c'.ready | [] -> ());
+  res
+
 (* Bodies with one function changed, for the machine's functor. *)
 module Oneshot_cyclic = struct include B let cyclic _ = true end
 module Mo = Semantics.Machine.Make (Oneshot_cyclic)
@@ -377,6 +395,8 @@ let all = [
   d "activated-at-front" "R5f" "an activated behaviour joins the front of the ready list"
     (with_rules { r with handle_or_skip = activated_at_front r.handle_or_skip;
                          behaviour_step = activated_at_front r.behaviour_step });
+  d "woken-at-front" "R5f" "a behaviour woken by a message joins the front of the ready list"
+    { ref_hooks with step = woken_at_front };
   d "removal-skips" "R5f" "a behaviour that leaves ready does not correct the position"
     (with_rules { r with behaviour_step = removal_skips });
   d "newest-message-first" "R5b" "a step takes the newest matching message"
