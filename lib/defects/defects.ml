@@ -279,6 +279,32 @@ let woken_at_front p (c : M.t) =
   (match res with (_, (c' : M.t)) :: _ -> Hashtbl.replace ready_after name c'.ready | [] -> ());
   res
 
+(* R4b: an instance deactivated during a dispatch still runs its handlers
+   of the snapshot: the defect remembers the instances active when the
+   percept was dequeued, and lends the departed one back for its handler. *)
+let at_dequeue : (string, Interp_eval.Eval.beh instance list) Hashtbl.t = Hashtbl.create 8
+
+let deactivated_dequeue p (c : M.t) =
+  let res = r.dequeue p c in
+  if res <> [] then Hashtbl.replace at_dequeue c.world.Interp_eval.Eval.name c.active;
+  res
+
+let deactivated_handles p (c : M.t) =
+  match c.phase, c.cur with
+  | Handle_phase, Some { todo = (id, _) :: _; _ } when not (List.exists (fun (a : _ instance) -> a.id = id) c.active) ->
+    (match Hashtbl.find_opt at_dequeue c.world.Interp_eval.Eval.name with
+     | Some was ->
+       (match List.find_opt (fun (a : _ instance) -> a.id = id) was with
+        | Some inst ->
+          List.map (fun (l, (c' : M.t)) ->
+              (l, { c' with active = List.filter (fun (a : _ instance) -> a.id <> id) c'.active;
+                            ready = List.filter (( <> ) id) c'.ready;
+                            blocked = List.filter (( <> ) id) c'.blocked }))
+            (r.handle_or_skip p { c with active = c.active @ [ inst ] })
+        | None -> r.handle_or_skip p c)
+     | None -> r.handle_or_skip p c)
+  | _ -> r.handle_or_skip p c
+
 (* Bodies with one function changed, for the machine's functor. *)
 module Oneshot_cyclic = struct include B let cyclic _ = true end
 module Mo = Semantics.Machine.Make (Oneshot_cyclic)
@@ -316,6 +342,15 @@ module Exact_type = struct
     | _ -> B.percept_applicable w ~id b h p
 end
 module Mx = Semantics.Machine.Make (Exact_type)
+
+(* R5b: a behaviour's message handlers are tried last declared first. *)
+module Message_handlers_reversed = struct
+  include B
+  let flip b h = B.message_handlers b + 1 - h
+  let message_accepted w ~id b h m = B.message_accepted w ~id b (flip b h) m
+  let run_message_handler w ~id b h m = B.run_message_handler w ~id b (flip b h) m
+end
+module Mm = Semantics.Machine.Make (Message_handlers_reversed)
 
 (* A guard evaluated twice (a pre-check, then the real one): it shows only
    when the guard fails with a run-time error, recorded twice (R7). *)
@@ -390,6 +425,8 @@ let all = [
     (with_rules { r with dequeue = reorder_todo (List.map List.rev) });
   d "snapshot-grows" "R4b" "handlers activated during a dispatch join it"
     (with_rules { r with handle_or_skip = snapshot_grows });
+  d "deactivated-still-handles" "R4b" "an instance deactivated during a dispatch still runs its handlers"
+    (with_rules { r with dequeue = deactivated_dequeue; handle_or_skip = deactivated_handles });
   d "position-stuck" "R5a" "the position does not move on: the first ready behaviour always runs"
     (with_rules { r with behaviour_step = position_stuck });
   d "activated-at-front" "R5f" "an activated behaviour joins the front of the ready list"
@@ -401,6 +438,8 @@ let all = [
     (with_rules { r with behaviour_step = removal_skips });
   d "newest-message-first" "R5b" "a step takes the newest matching message"
     (with_rules { r with behaviour_step = newest_message_first });
+  d "message-handlers-reversed" "R5b" "a behaviour's message handlers are tried last declared first"
+    (with_rules { r with behaviour_step = Mm.behaviour_step });
   d "oneshot-not-removed" "R5c" "a one-shot behaviour stays after its step"
     (with_rules { r with behaviour_step = Mo.behaviour_step });
   d "deactivate-ignored-in-handler" "R5h" "deactivate this in a percept handler does nothing"
