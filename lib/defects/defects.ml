@@ -455,6 +455,8 @@ let all = [
                          handle_or_skip = sends_reversed r.handle_or_skip });
   d "budget-off-by-one" "R3b" "the budgeted loop dispatches budget + 1 percepts"
     { ref_hooks with step = (fun p -> M.step { p with budget = p.budget + 1 }) };
+  d "waits-bookkeeping" "R8" "keeps the spec's ghost bookkeeping of waits (memory grows; nothing observable)"
+    ~can_differ:false { ref_hooks with step = (fun p -> M.step { p with ghosts = true }) };
   d "guard-evaluated-twice" "R7" "a percept guard is evaluated twice (an error in it is recorded twice)"
     (with_rules { r with handle_or_skip = Mg.handle_or_skip });
 ]
