@@ -35,9 +35,10 @@ type host_action =
 
 type outcome = Stepped | All_idle | Limit
 
-type cmd = H of host_action | R of int * bool | Round
+type cmd = H of host_action | R of int * bool | Round | A of int
 (* R (choice, refill): a rule; refill false inside run_rounds. Round: the
-   start of a round of run_rounds, its rules follow. *)
+   start of a round of run_rounds, its rules follow. A i: one single rule of
+   agent i (run_rules, D23). *)
 
 type state = {
   env : T.t;
@@ -281,9 +282,9 @@ let ends_iteration (l : M.lbl) = match l with
   | Mc.Behaviour_step _ | Mc.Next_iteration | Mc.Idle -> true
   | _ -> false
 
-let do_rule ?refill st choice : outcome =
+let do_rule ?refill ?agent st choice : outcome =
   if st.steps >= st.max_steps then Limit
-  else match pick ?refill ~commit:true st with
+  else match (match agent with Some i -> Some i | None -> pick ?refill ~commit:true st) with
     | None -> All_idle
     | Some i ->
       let name = st.platform.agents.(i).name in
@@ -370,6 +371,31 @@ let run_rounds t n =
     go ()
   done
 
+(* {"run": {"rules": n}} (D23, as Runtime.run_rules): n single rules, each
+   by the first agent in creation order that is not idle. The agent is not
+   held as the one in progress: a later round runs every agent's iteration
+   in the round's order, a stopped one going on from where it stood. *)
+let first_not_idle st =
+  let n = Array.length st.platform.agents in
+  let rec go i = if i >= n then None else if idle st i then go (i + 1) else Some i in
+  go 0
+
+let single_rule st i =
+  let r = do_rule ~agent:i st 0 in
+  st.current <- None; r
+
+let run_rules t n =
+  let rec go k =
+    if k > 0 then
+      match first_not_idle t.st with
+      | None -> ()
+      | Some i ->
+        match guarded (fun () -> Ok (single_rule t.st i)) with
+        | Ok Stepped -> record t (A i); go (k - 1)
+        | Ok _ -> ()
+        | Error m -> t.st.out <- m :: t.st.out in
+  go n
+
 let replay t cmds =
   match boot t.setup with
   | Error _ -> ()
@@ -377,7 +403,8 @@ let replay t cmds =
     List.iter (function
         | H h -> ignore (guarded (fun () -> do_host st h))
         | R (c, refill) -> ignore (guarded (fun () -> Ok (do_rule ~refill st c)))
-        | Round -> round_cmds st) cmds;
+        | Round -> round_cmds st
+        | A i -> ignore (guarded (fun () -> Ok (single_rule st i)))) cmds;
     t.st <- st
 
 let back t =

@@ -102,6 +102,11 @@ val run_rounds : t -> int -> unit
     is not idle runs one iteration (the iteration in progress is finished
     first). *)
 
+val run_rules : t -> int -> unit
+(** [n] single rules, as [{"run": {"rules": n}}] of an events file (D23):
+    each by the first agent in creation order that is not idle; fewer when
+    every agent is idle. *)
+
 val back : t -> bool
 (** Undoes the last command (a rule or a host action) by replaying the
     session from its start; [false] when there is nothing to undo. *)

@@ -45,6 +45,7 @@ let play t (v : Interp.Oracle.vector) =
              ignore (S.host t (S.Message { agent = agent (); perf; content = c }))
            | _, _, _, Some (`Int k) -> S.run_rounds t k
            | _, _, _, Some (`String "idle") -> ignore (S.run_idle ~limit:max_int t)
+           | _, _, _, Some (`Assoc [ ("rules", `Int k) ]) -> S.run_rules t k
            | _ -> Alcotest.failf "%s: bad events line %s" v.name line)
         | _ -> Alcotest.failf "%s: bad events line %s" v.name line)
     (String.split_on_char '\n' (read (Filename.concat v.dir "events.jsonl")));
