@@ -330,6 +330,7 @@
     else if (e.message !== undefined) host({ kind: "message", agent: e.agent, text: e.message, performative: e.performative || "inform" });
     else if (e.run === "idle") act("runIdle", 100000);
     else if (typeof e.run === "number") act("rounds", e.run);
+    else if (e.run && typeof e.run.rules === "number") act("rules", e.run.rules);
     renderEvents();
   }
 

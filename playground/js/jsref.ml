@@ -92,6 +92,10 @@ let () =
           with_session (fun t ->
               Session.run_rounds t (int_of_float (Js.float_of_number (Js.Unsafe.coerce n)));
               state t []));
+      "rules", fn1 (fun n ->
+          with_session (fun t ->
+              Session.run_rules t (int_of_float (Js.float_of_number (Js.Unsafe.coerce n)));
+              state t []));
       "back", fn0 (fun () ->
           with_session (fun t -> let b = Session.back t in state t [ "undone", `Bool b ]));
       "view", fn0 (fun () -> with_session (fun t -> state t []));
