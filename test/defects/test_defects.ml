@@ -59,6 +59,23 @@ let unknown_defect () =
   Alcotest.(check (list string)) "one line"
     [ "jadescript-ref: error: unknown defect no-such-defect (jadescript-ref defects lists them)" ] (lines err)
 
+(* the kill count's command: bad inputs are one line; a survivor fails it *)
+let defects_command () =
+  let (status, _, err) = run_command (Printf.sprintf "%s defects no-such-defect" exe) in
+  Alcotest.(check int) "unknown defect: exit 1" 1 status;
+  Alcotest.(check (list string)) "one line" [ "jadescript-ref: error: unknown defect no-such-defect" ] (lines err);
+  let (status, _, err) = run_command (Printf.sprintf "%s defects --vectors /nonexistent/dir" exe) in
+  Alcotest.(check int) "no vectors folder: exit 1" 1 status;
+  Alcotest.(check int) ("one line: " ^ err) 1 (List.length (lines err));
+  Alcotest.(check bool) ("located: " ^ err) true (is_diag (String.trim err));
+  let empty = Filename.concat (Filename.get_temp_dir_name ()) "jsref_no_vectors" in
+  (try Sys.mkdir empty 0o755 with Sys_error _ -> ());
+  let (status, out, _) = run_command (Printf.sprintf "%s defects --vectors %s put-ignores-capacity" exe empty) in
+  Alcotest.(check int) "a survivor: exit 1" 1 status;
+  Alcotest.(check bool) ("reported:\n" ^ out) true
+    (List.mem "0 of 1 defects killed by the vectors alone (0 vectors; 1 defects can show in a trace)" (lines out)
+     && List.mem "0 passed, 1 failed" (lines out))
+
 (* a defect changes the run: the same events, a different trace *)
 let defect_changes_run () =
   let ev = "{\"agent\": \"a\", \"notify\": \"job\"}\n{\"agent\": \"a\", \"notify\": \"alarm\"}\n{\"run\": \"idle\"}\n" in
@@ -145,6 +162,7 @@ let () =
     ("catalogue", [
         Alcotest.test_case "one typed table, 30 or more" `Quick catalogue;
         Alcotest.test_case "an unknown defect is one line" `Quick unknown_defect;
+        Alcotest.test_case "defects: bad inputs, a survivor fails" `Quick defects_command;
         Alcotest.test_case "a defect changes the run" `Quick defect_changes_run ]);
     ("refused", [
         Alcotest.test_case "R2d a refused put is in the trace" `Quick refused_put;
