@@ -114,7 +114,7 @@ let put t ~agent v =
   with_agent t agent (fun i c ->
       match t.hooks.put t.opts.params t.platform i c v with
       | Error _ ->
-        (* R2d: refused, and recorded as [refused] with the object *)
+        (* R2d, D24: refused, and recorded as [refused] with the object *)
         Tracer.refused_put t.tr ~agent v;
         Error (Printf.sprintf "agent %s refused the object %s: the O2A queue is full (R2d)" agent (Value.to_literal v))
       | Ok c ->
@@ -144,9 +144,11 @@ let run_rounds t n =
     List.iter (fun i -> if not (M.is_idle t.platform.agents.(i).config) then iterate t i) (t.hooks.round t.rand t.platform)
   done
 
-(* {"run": {"rules": n}} (docs/trace-format.md): the first agent in creation
-   order that is not idle takes single rules, one at a time, n in all or
-   until it idles; the messages a rule sends are delivered after it. *)
+(* {"run": {"rules": n}} (D23, docs/trace-format.md): n single rules, each
+   taken by the first agent in creation order that is not idle; fewer when
+   every agent is idle or the step limit is reached. The messages a rule
+   sends are delivered right after it. An agent left in the middle of an
+   iteration goes on from there at its next turn. *)
 let run_rules t n =
   let rec go k =
     if k > 0 && t.steps < t.opts.max_steps then
