@@ -352,6 +352,21 @@ module Message_handlers_reversed = struct
 end
 module Mm = Semantics.Machine.Make (Message_handlers_reversed)
 
+(* R4a: a behaviour's own percept handlers come before the inherited ones. *)
+module Own_handlers_first = struct
+  include B
+  let own (b : Interp_eval.Eval.beh) =
+    List.length (List.filter (fun (h : Typing.Tenv.handler) -> h.h_kind = Typing.Tenv.On_percept) b.btype.b_handlers)
+  (* the machine's h-th handler is this one of the behaviour's array *)
+  let map (b : Interp_eval.Eval.beh) h =
+    let n = Array.length b.phandlers and o = own b in
+    let inherited = n - o in
+    if h <= o then inherited + h else h - o
+  let percept_applicable w ~id b h p = B.percept_applicable w ~id b (map b h) p
+  let run_percept_handler w ~id b h p = B.run_percept_handler w ~id b (map b h) p
+end
+module Mi = Semantics.Machine.Make (Own_handlers_first)
+
 (* A guard evaluated twice (a pre-check, then the real one): it shows only
    when the guard fails with a run-time error, recorded twice (R7). *)
 module Guard_twice = struct
@@ -425,6 +440,8 @@ let all = [
     (with_rules { r with dequeue = reorder_todo (List.map List.rev) });
   d "snapshot-grows" "R4b" "handlers activated during a dispatch join it"
     (with_rules { r with handle_or_skip = snapshot_grows });
+  d "own-handlers-first" "R4a" "a behaviour's own handlers are tried before the inherited ones"
+    (with_rules { r with handle_or_skip = Mi.handle_or_skip });
   d "deactivated-still-handles" "R4b" "an instance deactivated during a dispatch still runs its handlers"
     (with_rules { r with dequeue = deactivated_dequeue; handle_or_skip = deactivated_handles });
   d "position-stuck" "R5a" "the position does not move on: the first ready behaviour always runs"
