@@ -65,7 +65,7 @@ let cmd =
   Cmd.v (Cmd.info "defects" ~doc:"The conformance vectors' kill count over the bug catalogue."
            ~man:[`S Manpage.s_description;
                  `P "Runs every deliberate defect of the bug catalogue (lib/defects, \
-                     docs/conformance.md) as an implementation, $(i,jadescript-ref run --defect NAME), \
+                     conformance/README.md) as an implementation, $(i,jadescript-ref run --defect NAME), \
                      on every conformance vector, and prints which vectors kill it (conform \
                      fails). Ends with $(i,K of N defects killed by the vectors alone) and \
                      $(i,N passed, M failed) (a defect passes when a vector kills it, or when \

@@ -1,7 +1,7 @@
 (** The bug catalogue: deliberate defects of the interpreter, each a bug a
     second implementer of a Jadescript runtime could plausibly make, so that
     the conformance vectors can be judged by how many they catch (their
-    "kill count": [make conformance], docs/conformance.md).
+    "kill count": [make conformance], conformance/README.md).
 
     A defect is never a branch of the reference rules
     (lib/semantics/machine.ml, lib/interp/eval.ml stay as they are). Each is
