@@ -24,8 +24,8 @@ type t = {
 }
 
 val all : t list
-(** The catalogue, one typed table, in the order of the rulings' areas: the
-    host's operations (R2, D3, R6), the loop (R3), the handlers (R4), the
-    behaviours and messages (R5). *)
+(** The catalogue, one typed table, roughly in the order of the rulings:
+    percept types (R1), the host's operations (R2, D3, R6), the loop (R3),
+    the handlers (R4), the behaviours and messages (R5), then the rest. *)
 
 val find : string -> t option
