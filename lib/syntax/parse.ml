@@ -92,7 +92,7 @@ let check_no_nul ~file text =
     done;
     let p = { Source.file; line = !line; column = i - !bol + 1 } in
     Diag.error Diag.Syntax { Source.left = p; right = p }
-      "a NUL byte ('\\x00') in the source: a Jadescript file is text"
+      "unexpected character '\\x00' (a NUL byte): a Jadescript file is text"
 
 let message checkpoint env (tok, s, _) =
   let found = Lexer.describe tok in
