@@ -15,7 +15,21 @@ let find_vectors = function
       if Sys.file_exists p then p else let u = Filename.dirname d in if u = d then p else up u in
     up (Sys.getcwd ())
 
-let run impl vectors update only timeout keep =
+let rec run impl vectors update only timeout keep =
+  (* ^C or a SIGTERM stops conform between two vectors or while one runs:
+     the implementation is stopped and the temporary files removed
+     (Oracle.run_vector), then exit 130. *)
+  List.iter (fun s -> Sys.set_signal s (Sys.Signal_handle (fun _ -> raise Sys.Break)))
+    [ Sys.sigint; Sys.sigterm ];
+  match run_vectors impl vectors update only timeout keep with
+  | code -> code
+  | exception Sys.Break -> prerr_endline "jadescript-ref: error: conform interrupted"; 130
+
+and run_vectors impl vectors update only timeout keep =
+  match timeout with
+  | Some t when not (t > 0. && t <= 86400.) ->
+    prerr_endline (Printf.sprintf "jadescript-ref: error: --timeout %g: from above 0 to 86400 seconds" t); 1
+  | _ ->
   let dir = find_vectors vectors in
   match O.load dir with
   | exception Failure m -> prerr_endline (dir ^ ":1:1: error: " ^ m); 1
