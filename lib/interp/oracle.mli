@@ -52,7 +52,11 @@ val run_vector : ?timeout:float -> ?keep:string -> impl:string -> vector -> outc
     - its trace's first line must be a header of format ["jadescript-ref"]
       version 1, equal to the expected header (field order aside);
     - its events must equal the expected ones, in order, [step] aside.
-    The trace is read one line at a time, so memory stays bounded by the
-    expected trace; the temporary files are removed ([keep]: the trace is
-    kept as [keep/NAME.jsonl], for [validate]). A failure shows the first
-    line the implementation wrote on standard error. *)
+    The trace is read one line at a time, each line up to 1 MB, so memory
+    stays bounded by the expected trace whatever the implementation writes;
+    the temporary files are removed, also when conform is interrupted
+    ([Sys.Break] raised by its signal handler while the implementation runs:
+    the implementation is stopped, the files removed, the exception passed
+    on) ([keep]: the trace is kept as [keep/NAME.jsonl], for [validate]). A
+    failure shows the start of the first line the implementation wrote on
+    standard error. *)
