@@ -308,8 +308,12 @@ let of_json v =
   List.iteri (fun i id -> if List.mem id (List.filteri (fun j _ -> j < i) ids) then fail "cubes: duplicate id %S" id) ids;
   t
 
-(* Yojson says "Line 2, bytes 3-5: message": the place, as FILE:LINE:COL. *)
+(* Yojson says "Line 2, bytes 3-5: message": the place, as FILE:LINE:COL.
+   The message quotes the bad token, which may hold any bytes: shown
+   printable and short. *)
 let json_error file m =
+  let m = String.map (fun c -> if c = '\n' || (c >= ' ' && c <= '~') then c else '?') m in
+  let m = if String.length m > 200 then String.sub m 0 200 ^ "..." else m in
   let first = match String.index_opt m '\n' with Some i -> String.sub m 0 i | None -> m in
   let rest = match String.index_opt m '\n' with
     | Some i -> String.trim (String.sub m (i + 1) (String.length m - i - 1)) | None -> "" in

@@ -428,6 +428,34 @@ let write_errors () =
                     (Str_has.has l "jadescript-ref: error: cannot write the Java sources into /proc/jsref_no")
        | _ -> Alcotest.failf "compile: expected one line, got: %s" err))
 
+(* sim: a scenario out of range, not JSON or not a file, a bad --batch, an
+   unwritable --out: one line each, exit 1 (docs/simulation.md, "Ranges"). *)
+let sim_errors () =
+  let ok = {|{"name": "x", "duration_s": 1, "corridor": {"length_m": 5, "width_m": 2}, "start": {"x": 1, "y": 1}}|} in
+  with_files [ ("jsref_sc_range.json", {|{"name": "x", "duration_s": 1e12, "corridor": {"length_m": 5, "width_m": 2}, "start": {"x": 1, "y": 1}}|});
+               ("jsref_sc_syntax.json", "{\"name\": \"x\",\n  \"duration_s\": 5,, }");
+               ("jsref_sc_ok.json", ok) ] (fun paths ->
+      let run what cmd =
+        let (status, _, err) = run_command (Printf.sprintf "(%s sim %s --controller reference)" exe cmd) in
+        Alcotest.(check int) (what ^ ": exit 1") 1 status;
+        match lines err with
+        | [ l ] -> l
+        | _ -> Alcotest.failf "%s: expected one line, got: %s" what err in
+      let l = run "1e12 s" (List.nth paths 0) in
+      Alcotest.(check bool) ("1e12 s: located, names the field: " ^ l) true
+        (Str_has.has l (List.nth paths 0 ^ ":1:1: error: duration_s: "));
+      let l = run "JSON syntax" (List.nth paths 1) in
+      Alcotest.(check bool) ("JSON syntax: its line and column: " ^ l) true
+        (Str_has.has l (List.nth paths 1 ^ ":2:"));
+      let l = run "/dev/zero" "/dev/zero" in
+      Alcotest.(check bool) ("/dev/zero: printable: " ^ l) true
+        (String.for_all (fun c -> c >= ' ' && c <= '~') l);
+      let l = run "--batch 0" (List.nth paths 2 ^ " --batch 0") in
+      Alcotest.(check bool) ("--batch 0: " ^ l) true (Str_has.has l "jadescript-ref: error: --batch 0");
+      let l = run "--out unwritable" (List.nth paths 2 ^ " --out /proc/jsref_no/x") in
+      Alcotest.(check bool) ("--out: " ^ l) true
+        (Str_has.has l "jadescript-ref: error: cannot write the simulation's outputs"))
+
 let () =
   Alcotest.run "syntax" [
     ("examples", example_cases @ [
@@ -449,5 +477,6 @@ let () =
         Alcotest.test_case "D30 deep nesting: one located line" `Quick deep_nesting;
         Alcotest.test_case "fmt of deep input keeps its shape" `Quick fmt_deep_shape;
         Alcotest.test_case "D31 /dev/zero, directories, NUL, pipes" `Quick bad_sources;
-        Alcotest.test_case "write errors are one line" `Quick write_errors ]);
+        Alcotest.test_case "write errors are one line" `Quick write_errors;
+        Alcotest.test_case "sim: bad scenarios and outputs are one line" `Quick sim_errors ]);
   ]
