@@ -419,7 +419,8 @@ let write_errors () =
                         (Str_has.has l "jadescript-ref: error: cannot write the standard output")
            | _ -> Alcotest.failf "%s > /dev/full: expected one line, got: %s" cmd err))
         [ "fmt " ^ List.hd paths; "fmt " ^ q; "parse --ast " ^ q;
-          "run " ^ List.nth paths 1 ^ " --agent a:A" ];
+          "run " ^ List.nth paths 1 ^ " --agent a:A";
+          "explore " ^ Filename.quote (Filename.concat root "spec/models/MCReference.tla") ];
       let (status, _, err) =
         run_command (Printf.sprintf "%s compile %s --out /proc/jsref_no" exe (List.hd paths)) in
       Alcotest.(check int) "compile --out unwritable: exit 1" 1 status;
