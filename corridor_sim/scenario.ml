@@ -156,6 +156,7 @@ let max_sensor_rate = 1000.       (* Hz *)
 let max_flood_rate = 20_000.      (* Hz *)
 let max_flood_percepts = 1_000_000.
 let max_trajectory_points = 1_000_000.
+let max_items = 1000              (* walls, cubes, drop-offs *)
 
 let default_sensors = {
   position_rate = 10.; uwb_sigma = 0.3; proximity_rate = 10.; obstacle_band = 0.5;
@@ -292,6 +293,10 @@ let of_json v =
   } in
   if t.start.x < 0. || t.start.x > t.length || t.start.y < 0. || t.start.y > t.width then
     fail "start: outside the corridor";
+  List.iter (fun (field, n) ->
+      if n > max_items then fail "%s: %d elements; at most %d" field n max_items)
+    [ ("corridor.walls", List.length t.walls); ("cubes", List.length t.cubes);
+      ("dropoffs", List.length t.dropoffs) ];
   (* the start inside a cube: the robot would begin in a collision *)
   List.iter (fun (c : World.cube) ->
       if Float.hypot (t.start.x -. c.cx) (t.start.y -. c.cy) < c.size *. sqrt 2. /. 2. +. t.params.body_radius

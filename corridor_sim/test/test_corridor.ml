@@ -80,6 +80,9 @@ let test_ranges () =
   rejects_field "a tiny physics step" "physics_step_s" (with_ {|"physics_step_s": 1e-9|});
   rejects_field "a budget of 0" "agent.budget" (with_ {|"agent": {"budget": 0}|});
   rejects_field "a speed of 1e300" "forward_speeds_m_s" (with_ {|"robot": {"forward_speeds_m_s": [0.1, 0.2, 0.3, 0.4, 1e300]}|});
+  rejects_field "1001 walls" "corridor.walls"
+    (Printf.sprintf {|{"name": "x", "duration_s": 10, "corridor": {"length_m": 5, "width_m": 2, "walls": [%s]}, "start": {"x": 1, "y": 1}}|}
+       (String.concat ", " (List.init 1001 (fun _ -> {|{"from": [0, 0], "to": [1, 1]}|}))));
   rejects_field "a cube far away" "cubes[0].x"
     (with_ {|"cubes": [{"id": "a", "x": 1e300, "y": 1, "faces": ["1", "2", "3", "4"]}]|})
 
