@@ -80,7 +80,13 @@ let fmt_cmd =
                { Source.left = p; right = p })
               "not in canonical layout (run jadescript-ref fmt -i %s)" file
         end else if in_place then begin
-          if out <> original then Out.file file out
+          if out <> original then
+            match Out.replace file out with
+            | Ok () -> ()
+            | Error m ->
+              let p = { Source.file; line = 1; column = 1 } in
+              Diag.errorf Diag.Syntax { Source.left = p; right = p }
+                "cannot write this file (it is left as it was): %s" m
         end else Out.print out) in
   Cmd.v (Cmd.info "fmt" ~doc:"Print Jadescript files in canonical layout."
            ~man:[`S Manpage.s_description;

@@ -16,15 +16,22 @@ let give_up_stdout () = reported := true; close_out_noerr stdout
 let print s =
   try print_string s with Sys_error m -> raise (Failed ("cannot write the standard output: " ^ m))
 
-(* A whole file, checked; the channel is closed in every case. *)
-let file path s =
-  match open_out_bin path with
-  | exception Sys_error m -> raise (Failed ("cannot write " ^ path ^ ": " ^ m))
-  | oc ->
-    (match output_string oc s; close_out oc with
-     | () -> ()
-     | exception Sys_error m ->
-       close_out_noerr oc; raise (Failed ("cannot write " ^ path ^ ": " ^ m)))
+(* Replace a whole file, checked: written beside it, then renamed over it,
+   so that a failed write (a full disk) leaves the old file as it was.
+   Error: the system's reason. *)
+let replace path s =
+  match Filename.temp_file ~temp_dir:(Filename.dirname path) ".jsref" ".tmp" with
+  | exception Sys_error m -> Error m
+  | tmp ->
+    let oc = open_out_bin tmp in
+    match
+      output_string oc s; close_out oc;
+      (try Unix.chmod tmp (Unix.stat path).Unix.st_perm with Unix.Unix_error _ -> ());
+      Sys.rename tmp path
+    with
+    | () -> Ok ()
+    | exception Sys_error m ->
+      close_out_noerr oc; (try Sys.remove tmp with Sys_error _ -> ()); Error m
 
 (* [protect f]: f's exit status, or 1 with one line when a write failed. *)
 let protect f = match f () with

@@ -421,6 +421,20 @@ let write_errors () =
         [ "fmt " ^ List.hd paths; "fmt " ^ q; "parse --ast " ^ q;
           "run " ^ List.nth paths 1 ^ " --agent a:A";
           "explore " ^ Filename.quote (Filename.concat root "spec/models/MCReference.tla") ];
+      (* fmt -i on a disk that takes no more (a file size limit): the file is
+         left as it was, one located line, and the next file is still done *)
+      let ugly = "agent   A\n\ton create do\n" ^ String.concat "" (List.init 300 (fun _ -> "\t\tlog   1\n")) in
+      with_files [ ("jsref_w3.jade", "agent   B\n"); ("jsref_w4.jade", ugly) ] (fun small ->
+          let big = List.nth small 1 and before = ugly in
+          let (status, _, err) = run_command (Printf.sprintf
+              "(trap '' XFSZ; ulimit -f 1; %s fmt -i %s %s)" exe big (List.hd small)) in
+          Alcotest.(check int) "fmt -i, file too large: exit 1" 1 status;
+          one_error_at ~what:"fmt -i, file too large" big ~line:1 ~col:1 err;
+          Alcotest.(check string) "fmt -i: the file is left as it was" before (read_file big);
+          Alcotest.(check string) "fmt -i: the next file is formatted" "agent B\n" (read_file (List.hd small)));
+      Alcotest.(check bool) "fmt -i: no temporary file left" false
+        (Array.exists (fun f -> String.length f > 6 && String.sub f 0 6 = ".jsref")
+           (Sys.readdir (Filename.get_temp_dir_name ())));
       let (status, _, err) =
         run_command (Printf.sprintf "%s compile %s --out /proc/jsref_no" exe (List.hd paths)) in
       Alcotest.(check int) "compile --out unwritable: exit 1" 1 status;
