@@ -186,41 +186,16 @@ let default_timeout v =
   let n = try List.length (read_trace (Filename.concat v.dir "expected.jsonl")) with Failure _ | Sys_error _ -> 0 in
   30. +. 0.05 *. float_of_int n
 
-(* A signal's number as the shell shows it (OCaml numbers signals its own way). *)
-let signal_number s =
-  List.assoc_opt s [ (Sys.sighup, 1); (Sys.sigint, 2); (Sys.sigquit, 3); (Sys.sigill, 4);
-                     (Sys.sigabrt, 6); (Sys.sigfpe, 8); (Sys.sigkill, 9); (Sys.sigsegv, 11);
-                     (Sys.sigpipe, 13); (Sys.sigalrm, 14); (Sys.sigterm, 15); (Sys.sigbus, 7) ]
-  |> Option.value ~default:0
-
 (* Run [sh -c cmd] under timeout(1), standard output to /dev/null and standard
-   error to [errs]; its status as the shell gives it. Not Sys.command: system()
-   ignores SIGINT while it waits, so ^C or a SIGINT to conform would be lost.
-   When conform is interrupted here (Sys.Break, see conform's handler), the
-   implementation is stopped before the exception goes on, so that the
-   caller's cleanup removes the temporary files of a finished process. *)
-let run_under_timeout ~timeout ~errs cmd =
-  let null = Unix.openfile "/dev/null" [ Unix.O_RDWR ] 0 in
-  let err = Unix.openfile errs [ Unix.O_WRONLY; Unix.O_TRUNC; Unix.O_CREAT ] 0o600 in
-  let pid =
-    Fun.protect ~finally:(fun () -> Unix.close null; Unix.close err) (fun () ->
-        Unix.create_process "timeout"
-          [| "timeout"; "--kill-after=5"; Printf.sprintf "%g" timeout; "/bin/sh"; "-c"; cmd |]
-          null null err) in
-  let rec wait () =
-    match Unix.waitpid [] pid with
-    | (_, status) -> status
-    | exception Unix.Unix_error (Unix.EINTR, _, _) -> wait () in
-  match wait () with
-  | Unix.WEXITED c -> c
-  | Unix.WSIGNALED s | Unix.WSTOPPED s -> 128 + signal_number s
-  | exception e ->
-    (* timeout(1) passes the signal on to the implementation's processes *)
-    (try Unix.kill pid Sys.sigterm with Unix.Unix_error _ -> ());
-    (try ignore (Unix.waitpid [] pid) with Unix.Unix_error _ -> ());
-    raise e
+   error to [errs]; its status as the shell gives it (128 + n: signal n).
+   [jadescript-ref conform] passes its own, which is interruptible
+   (bin/cmd_conform.ml); this library does not link Unix, since the
+   playground compiles it to JavaScript. *)
+let system_under_timeout ~timeout ~errs cmd =
+  Sys.command (Printf.sprintf "timeout --kill-after=5 %g /bin/sh -c %s > /dev/null 2> %s"
+                 timeout (Filename.quote cmd) (Filename.quote errs))
 
-let run_vector ?timeout ?keep ~impl v =
+let run_vector ?(spawn = system_under_timeout) ?timeout ?keep ~impl v =
   let timeout = match timeout with Some t -> t | None -> default_timeout v in
   let trace = Filename.temp_file "jsref-conform" ".jsonl" in
   let errs = Filename.temp_file "jsref-conform" ".err" in
@@ -238,7 +213,7 @@ let run_vector ?timeout ?keep ~impl v =
           (String.concat " " (List.map Filename.quote v.files))
           (String.concat " " (List.map Filename.quote v.args))
           (Filename.quote trace) in
-      let code = run_under_timeout ~timeout ~errs cmd in
+      let code = spawn ~timeout ~errs cmd in
       let because m = match first_line errs with "" -> m | l -> m ^ " (its stderr: " ^ l ^ ")" in
       match
         let path = Filename.concat v.dir "expected.jsonl" in
