@@ -157,6 +157,10 @@ let max_flood_rate = 20_000.      (* Hz *)
 let max_flood_percepts = 1_000_000.
 let max_trajectory_points = 1_000_000.
 let max_items = 1000              (* walls, cubes, drop-offs *)
+(* every sensor at 1000 Hz for an hour would be 14.4M samples, about 3 GB of
+   trace and queues: the samples of a run are bounded as a whole (a run of
+   1.44M samples measured 300 MB) *)
+let max_samples = 2_000_000.
 
 let default_sensors = {
   position_rate = 10.; uwb_sigma = 0.3; proximity_rate = 10.; obstacle_band = 0.5;
@@ -301,6 +305,11 @@ let of_json v =
   List.iter (fun (c : World.cube) ->
       if Float.hypot (t.start.x -. c.cx) (t.start.y -. c.cy) < c.size *. sqrt 2. /. 2. +. t.params.body_radius
       then fail "start: inside cube %S (or touching it)" c.id) t.cubes;
+  let s = t.sensors in
+  let samples = t.duration *. (s.position_rate +. s.proximity_rate +. s.camera_rate +. s.imu_rate) in
+  if samples > max_samples then
+    fail "sensors: %s samples (duration_s times the sum of the four *_rate_hz); at most %s"
+      (show (Float.round samples)) (show max_samples);
   if t.duration /. t.trajectory_step > max_trajectory_points then
     fail "trajectory_step_s: %s s over %s s is more than %s trajectory points" (show t.trajectory_step)
       (show t.duration) (show max_trajectory_points);

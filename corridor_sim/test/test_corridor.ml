@@ -67,6 +67,9 @@ let test_ranges () =
   rejects_field "1e12 s" "duration_s" (duration "1e12");
   ignore (Scenario.of_json (Yojson.Safe.from_string (duration "3600")));
   rejects_field "1e9 Hz sensor" "imu_rate_hz" (with_ {|"sensors": {"imu_rate_hz": 1e9}|});
+  rejects_field "every sensor at 1000 Hz for an hour" "sensors: 14400000 samples"
+    ({|{"name": "x", "duration_s": 3600, "corridor": {"length_m": 5, "width_m": 2}, "start": {"x": 1, "y": 1}, |}
+     ^ {|"sensors": {"position_rate_hz": 1000, "proximity_rate_hz": 1000, "camera_rate_hz": 1000, "imu_rate_hz": 1000}}|});
   rejects_field "negative override" "priority_overrides.position"
     (with_ {|"sensors": {"priority_overrides": {"position": -1}}|});
   rejects_field "override beyond 32 bits" "priority_overrides.position"
