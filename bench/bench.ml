@@ -70,7 +70,29 @@ let parser_bench () =
   Printf.printf "  %-30s %9.2f ms  %12.0f lines/s\n" "print (fmt)" (t_print *. 1e3) (rate t_print);
   Printf.printf "  where the parse time goes: lexing and layout %.0f%%, LR automaton and tree %.0f%%\n"
     (100. *. t_lex /. t_parse) (100. *. (t_parse -. t_lex) /. t_parse);
-  Printf.printf "  ratio parse/print time: %.2f; output %d bytes\n" (t_parse /. t_print) (String.length out)
+  Printf.printf "  ratio parse/print time: %.2f; output %d bytes\n" (t_parse /. t_print) (String.length out);
+  (* printing stays linear in the depth of expressions (issue 15): the same
+     amount of text as 100 statements of the deepest expressions D30 allows
+     (1,000 '+', 1,000 'not'), and as 1,000 statements 100 deep; linear
+     printing takes about the same time for both, a printer that copies the
+     text of every level would take ten times longer for the deep one *)
+  let program ~stmts ~depth =
+    let b = Buffer.create (1 lsl 20) in
+    Buffer.add_string b "agent A\n\ton create do\n";
+    for _ = 1 to stmts do
+      Buffer.add_string b "\t\tlog ";
+      for i = 0 to depth do if i > 0 then Buffer.add_string b " + "; Buffer.add_char b '1' done;
+      Buffer.add_string b "\n\t\tlog ";
+      for _ = 1 to depth do Buffer.add_string b "not " done;
+      Buffer.add_string b "true\n"
+    done;
+    Parse.string ~file:"deep.jade" (Buffer.contents b) in
+  let deep = program ~stmts:100 ~depth:Nesting.max_depth and shallow = program ~stmts:1000 ~depth:100 in
+  let (t_deep, o) = time_best ~runs (fun () -> Print.program deep.program) in
+  let (t_shallow, _) = time_best ~runs (fun () -> Print.program shallow.program) in
+  Printf.printf "  %-30s %9.2f ms  %12.0f bytes/s (1,000 deep; 100 deep, same size: %.2f ms, ratio %.2f)\n"
+    "print deep expressions" (t_deep *. 1e3) (float_of_int (String.length o) /. t_deep)
+    (t_shallow *. 1e3) (t_deep /. t_shallow)
 
 (* ------------------------------------------------------------ explorer *)
 

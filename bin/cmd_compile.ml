@@ -15,7 +15,8 @@ let compile files target out =
     | Ok units ->
       (match Backend.Jade.write ~out units with
        | () -> 0
-       | exception Sys_error m -> prerr_endline ("error: cannot write the Java sources: " ^ m); 1)
+       | exception Sys_error m ->
+         prerr_endline ("jadescript-ref: error: cannot write the Java sources into " ^ out ^ ": " ^ m); 1)
   with
   | code -> code
   | exception Cmd_run.Stop code -> code

@@ -8,6 +8,41 @@ let self_run () =
   let exe = if Filename.is_relative exe then Filename.concat (Sys.getcwd ()) exe else exe in
   Filename.quote exe ^ " run"
 
+(* A signal's number as the shell shows it (OCaml numbers signals its own way). *)
+let signal_number s =
+  List.assoc_opt s [ (Sys.sighup, 1); (Sys.sigint, 2); (Sys.sigquit, 3); (Sys.sigill, 4);
+                     (Sys.sigabrt, 6); (Sys.sigfpe, 8); (Sys.sigkill, 9); (Sys.sigsegv, 11);
+                     (Sys.sigpipe, 13); (Sys.sigalrm, 14); (Sys.sigterm, 15); (Sys.sigbus, 7) ]
+  |> Option.value ~default:0
+
+(* Run [sh -c cmd] under timeout(1), standard output to /dev/null and standard
+   error to [errs]; its status as the shell gives it (Oracle.run_vector's
+   [spawn]). Not Sys.command: system() ignores SIGINT while it waits, so ^C or
+   a SIGINT to conform would be lost. When conform is interrupted here
+   (Sys.Break, raised by the handler [run] installs), the implementation is
+   stopped before the exception goes on, so that the oracle's cleanup removes
+   the temporary files of a finished process. *)
+let spawn ~timeout ~errs cmd =
+  let null = Unix.openfile "/dev/null" [ Unix.O_RDWR ] 0 in
+  let err = Unix.openfile errs [ Unix.O_WRONLY; Unix.O_TRUNC; Unix.O_CREAT ] 0o600 in
+  let pid =
+    Fun.protect ~finally:(fun () -> Unix.close null; Unix.close err) (fun () ->
+        Unix.create_process "timeout"
+          [| "timeout"; "--kill-after=5"; Printf.sprintf "%g" timeout; "/bin/sh"; "-c"; cmd |]
+          null null err) in
+  let rec wait () =
+    match Unix.waitpid [] pid with
+    | (_, status) -> status
+    | exception Unix.Unix_error (Unix.EINTR, _, _) -> wait () in
+  match wait () with
+  | Unix.WEXITED c -> c
+  | Unix.WSIGNALED s | Unix.WSTOPPED s -> 128 + signal_number s
+  | exception e ->
+    (* timeout(1) passes the signal on to the implementation's processes *)
+    (try Unix.kill pid Sys.sigterm with Unix.Unix_error _ -> ());
+    (try ignore (Unix.waitpid [] pid) with Unix.Unix_error _ -> ());
+    raise e
+
 let find_vectors = function
   | Some d -> d
   | None ->
@@ -15,7 +50,21 @@ let find_vectors = function
       if Sys.file_exists p then p else let u = Filename.dirname d in if u = d then p else up u in
     up (Sys.getcwd ())
 
-let run impl vectors update only timeout keep =
+let rec run impl vectors update only timeout keep =
+  (* ^C or a SIGTERM stops conform between two vectors or while one runs:
+     the implementation is stopped and the temporary files removed
+     (Oracle.run_vector), then exit 130. *)
+  List.iter (fun s -> Sys.set_signal s (Sys.Signal_handle (fun _ -> raise Sys.Break)))
+    [ Sys.sigint; Sys.sigterm ];
+  match run_vectors impl vectors update only timeout keep with
+  | code -> code
+  | exception Sys.Break -> prerr_endline "jadescript-ref: error: conform interrupted"; 130
+
+and run_vectors impl vectors update only timeout keep =
+  match timeout with
+  | Some t when not (t > 0. && t <= 86400.) ->
+    prerr_endline (Printf.sprintf "jadescript-ref: error: --timeout %g: from above 0 to 86400 seconds" t); 1
+  | _ ->
   let dir = find_vectors vectors in
   match O.load dir with
   | exception Failure m -> prerr_endline (dir ^ ":1:1: error: " ^ m); 1
@@ -46,7 +95,7 @@ let run impl vectors update only timeout keep =
           Printf.printf "%-44s %-14s BROKEN VECTOR: its expected trace fails its assertions: %s\n%!"
             v.name (String.concat "," v.rulings) e
         | None ->
-          match O.run_vector ?timeout ?keep ~impl v with
+          match O.run_vector ~spawn ?timeout ?keep ~impl v with
           | O.Pass -> Printf.printf "%-44s %-14s pass\n%!" v.name (String.concat "," v.rulings)
           | O.Diverge { index; expected; got } ->
             incr failed;

@@ -22,9 +22,10 @@ let summary (g : Explorer.graph) =
     n (Array.length g.edges) (List.length g.deadlocks) g.seconds
     (if g.seconds > 0. then float_of_int n /. g.seconds else 0.)
 
-let one model_arg against mutant =
+let one ~max_states model_arg against mutant =
   let m = Model.load (resolve_model model_arg) in
-  let g = Explorer.explore ?rules:(Option.map Mutant.rules mutant) m in
+  Model.check_explorable m;
+  let g = Explorer.explore ~max_states ?rules:(Option.map Mutant.rules mutant) m in
   summary g;
   if not against then 0
   else begin
@@ -34,13 +35,14 @@ let one model_arg against mutant =
     if Compare.agree r then 0 else 1
   end
 
-let all ~full ~mutants ~simulate ~validate =
+let all ~max_states ~full ~mutants ~simulate ~validate =
   let paths = Conformance.models ~full () in
   let ms = List.map Model.load paths in
+  List.iter Model.check_explorable ms;
   let failures = ref 0 in
   Printf.printf "%-20s %-10s %9s %11s %9s  %s\n" "model" "variant" "states" "transitions" "TLC s" "graphs";
   List.iter (fun (m : Model.t) ->
-      let g = Explorer.explore m in
+      let g = Explorer.explore ~max_states m in
       let t0 = Unix.gettimeofday () in
       let dot = Conformance.tlc_graph m in
       let dt = Unix.gettimeofday () -. t0 in
@@ -77,9 +79,19 @@ let all ~full ~mutants ~simulate ~validate =
   end;
   if !failures = 0 then 0 else 1
 
-let run model_arg against mutant_name all_flag full mutants simulate validate =
+(* The largest --max-states: about 30 GB of states. *)
+let max_max_states = 50_000_000
+
+let run model_arg against mutant_name all_flag full mutants simulate validate max_states =
   let error msg = prerr_endline (Printf.sprintf "%s:1:1: error: %s"
                                    (Option.value model_arg ~default:"spec/models") msg); 1 in
+  if max_states < 1 || max_states > max_max_states then begin
+    prerr_endline (Printf.sprintf "jadescript-ref: error: --max-states %d: from 1 to %d" max_states max_max_states);
+    1
+  end else if simulate < 0 || simulate > 100_000 || validate < 0 || validate > 100_000 then begin
+    prerr_endline "jadescript-ref: error: --simulate and --validate: from 0 to 100000 runs";
+    1
+  end else
   match
     let mutant = match mutant_name with
       | None -> None
@@ -88,8 +100,8 @@ let run model_arg against mutant_name all_flag full mutants simulate validate =
           | None -> raise (Model.Error (Printf.sprintf "unknown mutant %s (known: %s)" n
                                           (String.concat ", " (List.map fst Mutant.all))))) in
     match model_arg, all_flag with
-    | Some m, false -> one m against mutant
-    | None, true -> all ~full ~mutants ~simulate ~validate
+    | Some m, false -> one ~max_states m against mutant
+    | None, true -> all ~max_states ~full ~mutants ~simulate ~validate
     | _ -> raise (Model.Error "give one MODEL, or --all")
   with
   | code -> code
@@ -113,6 +125,9 @@ let cmd =
                         ~doc:"With --all: replay N random TLC behaviours of each model.") in
   let validate = Arg.(value & opt int 0 & info ["validate"] ~docv:"N"
                         ~doc:"With --all: have TLC validate N random OCaml runs of each model as traces.") in
+  let max_states = Arg.(value & opt int Explorer.default_max_states & info ["max-states"] ~docv:"N"
+                          ~doc:"Stop with an exhaustion error when a model has more than N states \
+                                (default 1,000,000, about 650 MB; at most 50,000,000).") in
   Cmd.v (Cmd.info "explore" ~doc:"Enumerate the reachable configurations of a TLA+ model with the OCaml semantics."
            ~man:[`S Manpage.s_description;
                  `P "Reads the model's constants from its MC*.tla and MC*.cfg, builds the \
@@ -125,4 +140,4 @@ let cmd =
                  `P "$(b,--all) does this for every model and prints a table; \
                      $(b,--mutants), $(b,--simulate) and $(b,--validate) add the other \
                      conformance checks (make conformance)."])
-    Term.(const run $ model $ against $ mutant $ all $ full $ mutants $ simulate $ validate)
+    Term.(const run $ model $ against $ mutant $ all $ full $ mutants $ simulate $ validate $ max_states)

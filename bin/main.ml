@@ -14,6 +14,7 @@ let guard ~file f =
   match f () with
   | v -> Ok v
   | exception Diag.Failed d -> Error d
+  | exception (Out.Failed _ as e) -> raise e   (* the output, not this file *)
   | exception Stack_overflow ->
     Error (Diag.make Diag.Syntax at "the input is nested too deeply to process")
   | exception Out_of_memory -> Error (Diag.make Diag.Crash at "out of memory")
@@ -23,6 +24,7 @@ let report d = prerr_endline (Diag.to_string d)
 
 (* Apply [f] to every file; exit status 1 if any failed. *)
 let each_file files f =
+  Out.protect @@ fun () ->
   let failed = ref false in
   List.iter (fun file ->
       match guard ~file (fun () -> f file) with
@@ -40,7 +42,7 @@ let parse_cmd =
   let run ast files =
     each_file files (fun file ->
         let r = Parse.file file in
-        if ast then print_string (Ast_util.dump r.program)) in
+        if ast then Out.print (Ast_util.dump r.program)) in
   Cmd.v (Cmd.info "parse" ~doc:"Parse Jadescript files and report syntax errors."
            ~man:[`S Manpage.s_description;
                  `P "Exits with 0 when every file parses. Each syntax error is reported \
@@ -63,9 +65,14 @@ let fmt_cmd =
   let in_place = Arg.(value & flag & info ["i"; "in-place"] ~doc:"Rewrite the files in place.") in
   let run check in_place files =
     each_file files (fun file ->
-        let r = Parse.file file in
+        (* read once: FILE may be a pipe *)
+        let original = match Parse.read_all file with
+          | Ok text -> text
+          | Error msg ->
+            let p = { Source.file; line = 1; column = 1 } in
+            Diag.errorf Diag.Syntax { Source.left = p; right = p } "cannot read this file: %s" msg in
+        let r = Parse.string ~file original in
         let out = Print.program ~comments:r.comments r.program in
-        let original = Parse.read_all file |> Result.get_ok in
         if check then begin
           if out <> original then
             Diag.errorf Diag.Syntax
@@ -73,11 +80,14 @@ let fmt_cmd =
                { Source.left = p; right = p })
               "not in canonical layout (run jadescript-ref fmt -i %s)" file
         end else if in_place then begin
-          if out <> original then begin
-            let oc = open_out_bin file in
-            output_string oc out; close_out oc
-          end
-        end else print_string out) in
+          if out <> original then
+            match Out.replace file out with
+            | Ok () -> ()
+            | Error m ->
+              let p = { Source.file; line = 1; column = 1 } in
+              Diag.errorf Diag.Syntax { Source.left = p; right = p }
+                "cannot write this file (it is left as it was): %s" m
+        end else Out.print out) in
   Cmd.v (Cmd.info "fmt" ~doc:"Print Jadescript files in canonical layout."
            ~man:[`S Manpage.s_description;
                  `P "Prints each file in the canonical layout of docs/syntax.md: tabs, \
@@ -102,4 +112,20 @@ let main =
   ] in
   Cmd.group (Cmd.info "jadescript-ref" ~version:"0.1.0" ~doc ~man) [parse_cmd; fmt_cmd; Cmd_check.cmd; Cmd_run.cmd; Cmd_compile.cmd; Cmd_validate.cmd; Cmd_conform.cmd; Cmd_defects.cmd; Corridor_sim.Cli.cmd; Cmd_explore.cmd]
 
-let () = exit (Cmd.eval' main)
+(* An exception no command caught is still one line: a failed write (the
+   standard output full or closed) is the user's environment, exit 1; anything
+   else is a crash of ours, exit 125 as cmdliner would say. *)
+let () =
+  let code = match Cmd.eval' ~catch:false main with
+    | code -> code
+    | exception Out.Failed m -> Out.error m; Out.give_up_stdout (); 1
+    | exception Sys_error m ->
+      (match flush stdout with
+       | () -> Out.error m
+       | exception Sys_error _ ->
+         Out.error ("cannot write the standard output: " ^ m); Out.give_up_stdout ());
+      1
+    | exception Stack_overflow -> Out.error "internal error: stack overflow"; 125
+    | exception Out_of_memory -> Out.error "internal error: out of memory"; 125
+    | exception e -> Out.error ("internal error: " ^ Printexc.to_string e); 125 in
+  exit (Out.finish code)

@@ -40,8 +40,13 @@ let main ?(controller = "jadescript") ?program ~scenario ~seed ~out ~batch () =
     | Error e -> prerr_endline (located (Option.value program ~default:"examples/robome/robome.jade") e); 1
     | Ok agent ->
     let seed = match seed with Some s -> s | None -> sc.seed in
+    match batch with
+    | Some n when n < 1 || n > 100_000 ->
+      prerr_endline (Printf.sprintf "jadescript-ref: error: --batch %d: from 1 to 100000 runs" n); 1
+    | _ ->
+    match
     (match batch with
-     | Some n when n >= 1 ->
+     | Some n ->
        let (stats, _) = Run.batch ~agent sc ~first_seed:seed ~runs:n in
        print_string (Run.table sc ~first_seed:seed ~runs:n stats)
      | _ ->
@@ -50,8 +55,12 @@ let main ?(controller = "jadescript") ?program ~scenario ~seed ~out ~batch () =
        Printf.printf "scenario %s, seed %d, %.0f s simulated, agent %s, %s loop\n" sc.name seed sc.duration
          o.result.agent_name (Semantics.Machine.string_of_variant sc.loop.variant);
        print_metrics o;
-       Printf.printf "wrote %s/{report.json,map.svg,timeline.svg,trace.txt}\n" dir);
-    0
+       Printf.printf "wrote %s/{report.json,map.svg,timeline.svg,trace.txt}\n" dir)
+    with
+    | () -> 0
+    | exception Sys_error m ->
+      (* the outputs of --out: one line, exit 1 *)
+      prerr_endline ("jadescript-ref: error: cannot write the simulation's outputs: " ^ m); 1
 
 let cmd =
   let scenario = Arg.(required & pos 0 (some string) None & info [] ~docv:"SCENARIO"

@@ -85,14 +85,40 @@ let list path f = function
   | `List l -> List.mapi (fun i v -> f (Printf.sprintf "%s[%d]" path i) v) l
   | _ -> fail "%s: expected a list" path
 
-let positive path x = if x > 0. then x else fail "%s: must be positive" path
-let non_neg path x = if x >= 0. then x else fail "%s: must not be negative" path
-let pos_num path v = positive path (num path v)
-let nn_num path v = non_neg path (num path v)
+(* Every number of a scenario has a range, documented in docs/simulation.md
+   ("Ranges"), checked here when the file is read: a run is then bounded in
+   time and memory, and infinity or NaN (which Yojson reads) never gets in. *)
+let show x =
+  if Float.is_integer x && Float.abs x < 1e15 then Printf.sprintf "%.0f" x else Printf.sprintf "%g" x
+
+(* [range lo hi]: lo <= x <= hi; [~above:true]: lo < x <= hi. *)
+let range ?(above = false) lo hi path x =
+  if (if above then x > lo else x >= lo) && x <= hi then x
+  else if above then
+    fail "%s: %s is out of range: above %s and at most %s (docs/simulation.md)" path (show x) (show lo) (show hi)
+  else fail "%s: %s is out of range: from %s to %s (docs/simulation.md)" path (show x) (show lo) (show hi)
+
+let real ?above lo hi path v = range ?above lo hi path (num path v)
+let positive hi = real ~above:true 0. hi   (* 0 < x <= hi *)
+let non_neg hi = real 0. hi                (* 0 <= x <= hi *)
+
+let int_range lo hi path v =
+  let i = int_ path v in
+  if i >= lo && i <= hi then i
+  else fail "%s: %d is out of range: from %d to %d (docs/simulation.md)" path i lo hi
+
+(* Coordinates, and the largest corridor: 1 km by 100 m. *)
+let max_length = 1000. and max_width = 100.
+let coord = real (-. max_length) max_length
+let angle = real (-360.) 360.
+
+(* A priority, as an override passes it to notify (R2a): a natural number of
+   Jadescript's 32-bit integers. *)
+let priority = int_range 0 0x7fffffff
 
 let point path v =
   match v with
-  | `List [ a; b ] -> { World.px = num path a; py = num path b }
+  | `List [ a; b ] -> { World.px = coord path a; py = coord path b }
   | _ -> fail "%s: expected [x, y]" path
 
 (* ------------------------------------------------------------- sections *)
@@ -103,14 +129,14 @@ let cube path v =
   let o = as_obj path [ "id"; "x"; "y"; "size_m"; "yaw_deg"; "faces" ] v in
   let faces = get o "faces" (fun p v -> list p str v) in
   if List.length faces <> 4 then fail "%s.faces: four texts expected (+x, +y, -x, -y)" path;
-  { World.id = get o "id" str; cx = get o "x" num; cy = get o "y" num;
-    size = dflt o "size_m" pos_num 0.2; yaw = Params.deg (dflt o "yaw_deg" num 0.);
+  { World.id = get o "id" str; cx = get o "x" coord; cy = get o "y" coord;
+    size = dflt o "size_m" (positive 10.) 0.2; yaw = Params.deg (dflt o "yaw_deg" angle 0.);
     faces = Array.of_list faces }
 
 let rect path v =
   let o = as_obj path [ "x_min"; "y_min"; "x_max"; "y_max" ] v in
-  let r = { World.x_min = get o "x_min" num; y_min = get o "y_min" num;
-            x_max = get o "x_max" num; y_max = get o "y_max" num } in
+  let r = { World.x_min = get o "x_min" coord; y_min = get o "y_min" coord;
+            x_max = get o "x_max" coord; y_max = get o "y_max" coord } in
   if r.x_min >= r.x_max || r.y_min >= r.y_max then fail "%s: empty rectangle" path;
   r
 
@@ -120,8 +146,21 @@ let wall path v =
 
 let random_cubes path v =
   let o = as_obj path [ "count"; "size_m"; "min_gap_m"; "keep_clear_m" ] v in
-  { count = get o "count" int_; size = dflt o "size_m" pos_num 0.2;
-    min_gap = dflt o "min_gap_m" nn_num 0.4; keep_clear = dflt o "keep_clear_m" nn_num 1.0 }
+  { count = get o "count" (int_range 0 1000); size = dflt o "size_m" (positive 10.) 0.2;
+    min_gap = dflt o "min_gap_m" (non_neg 100.) 0.4;
+    keep_clear = dflt o "keep_clear_m" (non_neg max_length) 1.0 }
+
+(* The sizes that bound a run (docs/simulation.md, "Ranges"). *)
+let max_duration = 3600.          (* s of simulated time *)
+let max_sensor_rate = 1000.       (* Hz *)
+let max_flood_rate = 20_000.      (* Hz *)
+let max_flood_percepts = 1_000_000.
+let max_trajectory_points = 1_000_000.
+let max_items = 1000              (* walls, cubes, drop-offs *)
+(* every sensor at 1000 Hz for an hour would be 14.4M samples, about 3 GB of
+   trace and queues: the samples of a run are bounded as a whole (a run of
+   1.44M samples measured 300 MB) *)
+let max_samples = 2_000_000.
 
 let default_sensors = {
   position_rate = 10.; uwb_sigma = 0.3; proximity_rate = 10.; obstacle_band = 0.5;
@@ -138,27 +177,31 @@ let sensors path v =
       match v with
       | `Assoc l -> List.map (fun (k, x) ->
           if not (List.mem k percept_names) then fail "%s: unknown percept %S" p k;
-          (k, int_ (p ^ "." ^ k) x)) l
+          (k, priority (p ^ "." ^ k) x)) l
       | _ -> fail "%s: expected an object" p) [] in
-  { position_rate = dflt o "position_rate_hz" pos_num d.position_rate;
-    uwb_sigma = dflt o "uwb_sigma_m" nn_num d.uwb_sigma;
-    proximity_rate = dflt o "proximity_rate_hz" pos_num d.proximity_rate;
-    obstacle_band = dflt o "obstacle_band_m" pos_num d.obstacle_band;
-    obstacle_repeat = dflt o "obstacle_repeat_s" pos_num d.obstacle_repeat;
+  let rate = positive max_sensor_rate and every = positive max_duration in
+  { position_rate = dflt o "position_rate_hz" rate d.position_rate;
+    uwb_sigma = dflt o "uwb_sigma_m" (non_neg 10.) d.uwb_sigma;
+    proximity_rate = dflt o "proximity_rate_hz" rate d.proximity_rate;
+    obstacle_band = dflt o "obstacle_band_m" (positive 10.) d.obstacle_band;
+    obstacle_repeat = dflt o "obstacle_repeat_s" every d.obstacle_repeat;
     edge_detector = dflt o "edge_detector" bool d.edge_detector;
-    camera_rate = dflt o "camera_rate_hz" pos_num d.camera_rate;
-    qr_repeat = dflt o "qr_repeat_s" nn_num d.qr_repeat;
-    imu_rate = dflt o "imu_rate_hz" pos_num d.imu_rate;
-    falling_repeat = dflt o "falling_repeat_s" pos_num d.falling_repeat;
+    camera_rate = dflt o "camera_rate_hz" rate d.camera_rate;
+    qr_repeat = dflt o "qr_repeat_s" (non_neg max_duration) d.qr_repeat;
+    imu_rate = dflt o "imu_rate_hz" rate d.imu_rate;
+    falling_repeat = dflt o "falling_repeat_s" every d.falling_repeat;
     overrides }
 
 let flood path v =
   let o = as_obj path [ "percept"; "text"; "rate_hz"; "start_s"; "end_s"; "priority" ] v in
   let percept = get o "percept" str in
   if not (List.mem percept percept_names) then fail "%s.percept: unknown percept %S" path percept;
-  { percept; text = dflt o "text" str "FLOOD"; rate = get o "rate_hz" pos_num;
-    start_time = dflt o "start_s" nn_num 0.; end_time = dflt o "end_s" nn_num infinity;
-    priority = opt o "priority" int_ }
+  let f = { percept; text = dflt o "text" str "FLOOD"; rate = get o "rate_hz" (positive max_flood_rate);
+            start_time = dflt o "start_s" (non_neg max_duration) 0.;
+            end_time = dflt o "end_s" (non_neg max_duration) infinity;
+            priority = opt o "priority" priority } in
+  if f.end_time <= f.start_time then fail "%s.end_s: must be after start_s" path;
+  f
 
 let turn path v =
   match v with
@@ -183,31 +226,31 @@ let robot path v =
   let o = as_obj path [ "body_radius_m"; "sound_duration_s"; "sound_gap_s"; "angle_turn_rate_deg_s";
                         "forward_speeds_m_s"; "camera_hfov_deg"; "qr_range_factor";
                         "speed_noise"; "drift_deg_s" ] v in
-  let speeds p v = let l = list p num v in
+  let speeds p v = let l = list p (non_neg 10.) v in
     if List.length l <> 5 then fail "%s: five speeds expected" p; Array.of_list l in
   { d with
-    body_radius = dflt o "body_radius_m" pos_num d.body_radius;
-    sound_duration = dflt o "sound_duration_s" nn_num d.sound_duration;
-    sound_gap = dflt o "sound_gap_s" nn_num d.sound_gap;
-    angle_turn_rate = (match opt o "angle_turn_rate_deg_s" pos_num with
+    body_radius = dflt o "body_radius_m" (positive 1.) d.body_radius;
+    sound_duration = dflt o "sound_duration_s" (non_neg 10.) d.sound_duration;
+    sound_gap = dflt o "sound_gap_s" (non_neg 10.) d.sound_gap;
+    angle_turn_rate = (match opt o "angle_turn_rate_deg_s" (positive 3600.) with
         | Some r -> Params.deg r | None -> d.angle_turn_rate);
     forward_speeds = dflt o "forward_speeds_m_s" speeds d.forward_speeds;
-    camera_hfov = (match opt o "camera_hfov_deg" pos_num with Some a -> Params.deg a | None -> d.camera_hfov);
-    qr_range_factor = dflt o "qr_range_factor" pos_num d.qr_range_factor;
-    speed_noise = dflt o "speed_noise" nn_num d.speed_noise;
-    drift = (match opt o "drift_deg_s" nn_num with Some a -> Params.deg a | None -> d.drift) }
+    camera_hfov = (match opt o "camera_hfov_deg" (positive 180.) with Some a -> Params.deg a | None -> d.camera_hfov);
+    qr_range_factor = dflt o "qr_range_factor" (positive 100.) d.qr_range_factor;
+    speed_noise = dflt o "speed_noise" (non_neg 1.) d.speed_noise;
+    drift = (match opt o "drift_deg_s" (non_neg 360.) with Some a -> Params.deg a | None -> d.drift) }
 
 let cost path v =
   let d = Agent.default_cost in
   let o = as_obj path [ "o2a_call_s"; "transfer_per_percept_s"; "dispatch_s"; "handler_s";
                         "invoke_s"; "behaviour_step_s"; "iteration_s" ] v in
-  { Agent.o2a_call = dflt o "o2a_call_s" nn_num d.o2a_call;
-    transfer_per_percept = dflt o "transfer_per_percept_s" nn_num d.transfer_per_percept;
-    dispatch = dflt o "dispatch_s" nn_num d.dispatch;
-    handler = dflt o "handler_s" nn_num d.handler;
-    invoke = dflt o "invoke_s" nn_num d.invoke;
-    behaviour_step = dflt o "behaviour_step_s" nn_num d.behaviour_step;
-    iteration = dflt o "iteration_s" nn_num d.iteration }
+  { Agent.o2a_call = dflt o "o2a_call_s" (non_neg 10.) d.o2a_call;
+    transfer_per_percept = dflt o "transfer_per_percept_s" (non_neg 10.) d.transfer_per_percept;
+    dispatch = dflt o "dispatch_s" (non_neg 10.) d.dispatch;
+    handler = dflt o "handler_s" (non_neg 10.) d.handler;
+    invoke = dflt o "invoke_s" (non_neg 10.) d.invoke;
+    behaviour_step = dflt o "behaviour_step_s" (non_neg 10.) d.behaviour_step;
+    iteration = dflt o "iteration_s" (non_neg 10.) d.iteration }
 
 let agent path v =
   let o = as_obj path [ "loop"; "budget"; "o2a_capacity"; "cost" ] v in
@@ -218,8 +261,8 @@ let agent path v =
       | "budgeted" -> Semantics.Machine.Budgeted
       | s -> fail "%s: %S is not reference, printed or budgeted" p s) Semantics.Machine.Reference in
   let loop = { Agent.variant;
-               budget = dflt o "budget" (fun p v -> let b = int_ p v in if b >= 1 then b else fail "%s: at least 1" p) 4;
-               o2a_capacity = opt o "o2a_capacity" (fun p v -> let c = int_ p v in if c >= 1 then c else fail "%s: at least 1" p) } in
+               budget = dflt o "budget" (int_range 1 1_000_000) 4;
+               o2a_capacity = opt o "o2a_capacity" (int_range 1 100_000_000) } in
   (loop, dflt o "cost" cost Agent.default_cost)
 
 let of_json v =
@@ -229,16 +272,16 @@ let of_json v =
   let corridor = get o "corridor" (fun p v -> as_obj p [ "length_m"; "width_m"; "walls" ] v) in
   let start = get o "start" (fun p v ->
       let s = as_obj p [ "x"; "y"; "heading_deg" ] v in
-      { Kinematics.x = get s "x" num; y = get s "y" num;
-        theta = Kinematics.normalise (Params.deg (dflt s "heading_deg" num 0.)) }) in
+      { Kinematics.x = get s "x" coord; y = get s "y" coord;
+        theta = Kinematics.normalise (Params.deg (dflt s "heading_deg" angle 0.)) }) in
   let (loop, cost) = dflt o "agent" agent (Agent.default_loop, Agent.default_cost) in
   let t = {
     name = get o "name" str;
     description = dflt o "description" str "";
-    seed = dflt o "seed" int_ 1;
-    duration = get o "duration_s" pos_num;
-    length = get corridor "length_m" pos_num;
-    width = get corridor "width_m" pos_num;
+    seed = dflt o "seed" (int_range 0 0x3fffffff) 1;
+    duration = get o "duration_s" (positive max_duration);
+    length = get corridor "length_m" (positive max_length);
+    width = get corridor "width_m" (positive max_width);
     walls = dflt corridor "walls" (fun p v -> list p wall v) [];
     cubes = dflt o "cubes" (fun p v -> list p cube v) [];
     random_cubes = opt o "random_cubes" random_cubes;
@@ -249,20 +292,55 @@ let of_json v =
     sensors = dflt o "sensors" sensors default_sensors;
     flood = opt o "flood" flood;
     loop; cost;
-    physics_step = dflt o "physics_step_s" pos_num 0.01;
-    trajectory_step = dflt o "trajectory_step_s" pos_num 0.1;
+    physics_step = dflt o "physics_step_s" (real 0.001 0.1) 0.01;
+    trajectory_step = dflt o "trajectory_step_s" (real 0.001 60.) 0.1;
   } in
   if t.start.x < 0. || t.start.x > t.length || t.start.y < 0. || t.start.y > t.width then
     fail "start: outside the corridor";
+  List.iter (fun (field, n) ->
+      if n > max_items then fail "%s: %d elements; at most %d" field n max_items)
+    [ ("corridor.walls", List.length t.walls); ("cubes", List.length t.cubes);
+      ("dropoffs", List.length t.dropoffs) ];
+  (* the start inside a cube: the robot would begin in a collision *)
+  List.iter (fun (c : World.cube) ->
+      if Float.hypot (t.start.x -. c.cx) (t.start.y -. c.cy) < c.size *. sqrt 2. /. 2. +. t.params.body_radius
+      then fail "start: inside cube %S (or touching it)" c.id) t.cubes;
+  let s = t.sensors in
+  let samples = t.duration *. (s.position_rate +. s.proximity_rate +. s.camera_rate +. s.imu_rate) in
+  if samples > max_samples then
+    fail "sensors: %s samples (duration_s times the sum of the four *_rate_hz); at most %s"
+      (show (Float.round samples)) (show max_samples);
+  if t.duration /. t.trajectory_step > max_trajectory_points then
+    fail "trajectory_step_s: %s s over %s s is more than %s trajectory points" (show t.trajectory_step)
+      (show t.duration) (show max_trajectory_points);
+  Option.iter (fun f ->
+      let n = f.rate *. (Float.min f.end_time t.duration -. f.start_time) in
+      if n > max_flood_percepts then
+        fail "flood: %s percepts (rate_hz times its time within duration_s); at most %s"
+          (show (Float.round n)) (show max_flood_percepts)) t.flood;
   let ids = List.map (fun (c : World.cube) -> c.id) t.cubes in
   List.iteri (fun i id -> if List.mem id (List.filteri (fun j _ -> j < i) ids) then fail "cubes: duplicate id %S" id) ids;
   t
 
+(* Yojson says "Line 2, bytes 3-5: message": the place, as FILE:LINE:COL.
+   The message quotes the bad token, which may hold any bytes: shown
+   printable and short. *)
+let json_error file m =
+  let m = String.map (fun c -> if c = '\n' || (c >= ' ' && c <= '~') then c else '?') m in
+  let m = if String.length m > 200 then String.sub m 0 200 ^ "..." else m in
+  let first = match String.index_opt m '\n' with Some i -> String.sub m 0 i | None -> m in
+  let rest = match String.index_opt m '\n' with
+    | Some i -> String.trim (String.sub m (i + 1) (String.length m - i - 1)) | None -> "" in
+  match Scanf.sscanf first "Line %d, bytes %d-%d:%!" (fun l b _ -> (l, b)) with
+  | (line, byte) when rest <> "" ->
+    fail "%s:%d:%d: error: %s" file (max 1 line) (max 1 (byte + 1)) rest
+  | _ | exception _ -> fail "%s:1:1: error: %s" file (String.trim m)
+
 let load file =
   let v = try Yojson.Safe.from_file file with
-    | Yojson.Json_error m -> fail "%s: %s" file m
-    | Sys_error m -> fail "%s" m in
-  try of_json v with Error m -> fail "%s: %s" file m
+    | Yojson.Json_error m -> json_error file m
+    | Sys_error m -> fail "cannot read the scenario: %s" m in
+  of_json v
 
 (* Random cubes: rejection sampling from a stream of their own, so that
    they do not depend on anything else the seed drives. *)

@@ -302,6 +302,175 @@ let cli_no_backtrace () =
           Alcotest.(check bool) ("a diagnostic line: " ^ l) true
             (List.exists (fun p -> is_diag_line p l) paths)) (lines err))
 
+(* ------------------------------------------------ edges (issue 15, D30, D31) *)
+
+module Str_has = struct
+  let has s sub =
+    let n = String.length sub in
+    let rec go i = i + n <= String.length s && (String.sub s i n = sub || go (i + 1)) in
+    go 0
+end
+
+let deep_plus n = "agent A\n\ton create do\n\t\tlog " ^ String.concat " + " (List.init n (fun _ -> "1")) ^ "\n"
+let deep_not n =
+  "agent A\n\ton create do\n\t\tlog " ^ String.concat "" (List.init n (fun _ -> "not ")) ^ "true\n"
+let deep_type n =
+  "agent A\n\ton create do\n\t\tx as " ^ String.concat "" (List.init n (fun _ -> "list of "))
+  ^ "integer = []\n"
+
+(* the single line of [err], which must be exactly "FILE:LINE:COL: error: ..." *)
+let one_error_at ~what file ~line ~col err =
+  match lines err with
+  | [ l ] ->
+    let prefix = Printf.sprintf "%s:%d:%d: error: " file line col in
+    Alcotest.(check bool) (what ^ ": located at " ^ prefix ^ " : " ^ l) true
+      (String.length l > String.length prefix && String.sub l 0 (String.length prefix) = prefix)
+  | ls -> Alcotest.failf "%s: expected one line, got %d: %s" what (List.length ls) err
+
+(* D30: 100k operators, not's and a deep type: every command that reads the
+   program says one located line, exit 1, and never overflows the stack. *)
+let deep_nesting () =
+  let col_not = 7 + 4 * (Nesting.max_depth + 1) in   (* the node at depth 1001 *)
+  let col_ty = 8 + 8 * (Nesting.max_depth + 1) in
+  List.iter (fun (name, text, col) ->
+      with_files [ (name, text) ] (fun paths ->
+          let p = List.hd paths in
+          List.iter (fun cmd ->
+              let (status, _, err) =
+                run_command (Printf.sprintf "%s %s %s" exe cmd (Filename.quote p)) in
+              Alcotest.(check int) (cmd ^ " " ^ name ^ ": exit 1") 1 status;
+              one_error_at ~what:(cmd ^ " " ^ name) p ~line:3 ~col err)
+            [ "parse"; "parse --ast"; "check"; "fmt"; "run --agent a:A";
+              "compile --out " ^ Filename.quote (Filename.get_temp_dir_name () ^ "/jsref_deep_out") ]))
+    [ ("jsref_plus.jade", deep_plus 100_000, 7);
+      ("jsref_not.jade", deep_not 100_000, col_not);
+      ("jsref_type.jade", deep_type 100_000, col_ty) ];
+  (* the limit itself: max_depth levels are accepted, one more is not *)
+  let ok text = match Parse.string ~file:"t.jade" text with _ -> true | exception Diag.Failed _ -> false in
+  Alcotest.(check bool) "1000 '+' accepted" true (ok (deep_plus (Nesting.max_depth + 1)));
+  Alcotest.(check bool) "1001 '+' rejected" false (ok (deep_plus (Nesting.max_depth + 2)));
+  Alcotest.(check bool) "1000 'not' accepted" true (ok (deep_not Nesting.max_depth));
+  Alcotest.(check bool) "1001 'not' rejected" false (ok (deep_not (Nesting.max_depth + 1)));
+  Alcotest.(check bool) "a 1000-deep type accepted" true (ok (deep_type (Nesting.max_depth - 1)));
+  Alcotest.(check bool) "a 1002-deep type rejected" false (ok (deep_type (Nesting.max_depth + 1)));
+  (* and a literal on the command line (Parse.expr) *)
+  Alcotest.(check bool) "Parse.expr bounded" true
+    (match Parse.expr ~file:"--agent" (String.concat "" (List.init 2000 (fun _ -> "not ")) ^ "true") with
+     | _ -> false | exception Diag.Failed _ -> true)
+
+(* fmt on the deepest accepted input: the same one line back, no parentheses
+   added; a long else-if chain keeps its shape. *)
+let fmt_deep_shape () =
+  let text = deep_plus (Nesting.max_depth + 1) in
+  let r = Parse.string ~file:"t.jade" text in
+  Alcotest.(check string) "1000 '+': printed as read" text (Print.program r.program);
+  let text = deep_not Nesting.max_depth in
+  Alcotest.(check string) "1000 'not': printed as read" text
+    (Print.program (Parse.string ~file:"t.jade" text).program);
+  let n = 3000 in
+  let b = Buffer.create 100_000 in
+  Buffer.add_string b "agent A\n\ton create do\n\t\tx = 1\n\t\tif x = 0 do\n\t\t\tlog 0\n";
+  for i = 1 to n - 1 do Printf.bprintf b "\t\telse if x = %d do\n\t\t\tlog %d\n" i i done;
+  Buffer.add_string b "\t\telse do\n\t\t\tlog -1\n";
+  let text = Buffer.contents b in
+  Alcotest.(check string) "a 3000-branch else-if chain: printed as read" text
+    (Print.program (Parse.string ~file:"t.jade" text).program)
+
+(* D31: what cannot be a source file is one located line, exit 1. *)
+let bad_sources () =
+  let check_one what cmd file =
+    let (status, out, err) = run_command (Printf.sprintf "%s %s" exe cmd) in
+    Alcotest.(check int) (what ^ ": exit 1") 1 status;
+    Alcotest.(check string) (what ^ ": nothing on stdout") "" out;
+    one_error_at ~what file ~line:1 ~col:1 err;
+    err in
+  let err = check_one "/dev/zero" "parse /dev/zero" "/dev/zero" in
+  Alcotest.(check bool) ("/dev/zero: too large: " ^ err) true (Str_has.has err "64 MB");
+  ignore (check_one "fmt /dev/zero" "fmt /dev/zero" "/dev/zero");
+  ignore (check_one "check /dev/zero" "check /dev/zero" "/dev/zero");
+  let dir = Filename.get_temp_dir_name () in
+  ignore (check_one "a directory" ("parse " ^ dir) dir);
+  ignore (check_one "a directory to fmt" ("fmt " ^ dir) dir);
+  ignore (check_one "an unreadable file" "parse /proc/self/mem" "/proc/self/mem");
+  (* a NUL byte, even in a comment, is a located lexical error *)
+  with_files [ ("jsref_nul.jade", "agent A\n\tproperty x = 1  # a\000b\n") ] (fun paths ->
+      let p = List.hd paths in
+      List.iter (fun cmd ->
+          let (status, _, err) = run_command (Printf.sprintf "%s %s %s" exe cmd p) in
+          Alcotest.(check int) (cmd ^ " NUL: exit 1") 1 status;
+          one_error_at ~what:(cmd ^ " NUL") p ~line:2 ~col:21 err) [ "parse"; "fmt"; "check" ]);
+  (* a pipe is read to its end (its size reads as 0) *)
+  with_files [ ("jsref_pipe.jade", "agent   A\n") ] (fun paths ->
+      let (status, out, _) = run_command (Printf.sprintf "(cat %s | %s fmt /dev/stdin)" (List.hd paths) exe) in
+      Alcotest.(check int) "fmt of a pipe: exit 0" 0 status;
+      Alcotest.(check string) "fmt of a pipe: its text" "agent A\n" out)
+
+(* Write errors: one line "jadescript-ref: error: ...", exit 1. *)
+let write_errors () =
+  let small = "agent A\n\tproperty x = 1\n" in
+  let big = "agent A\n\ton create do\n" ^ String.concat "" (List.init 50_000 (fun _ -> "\t\tlog 1\n")) in
+  with_files [ ("jsref_w1.jade", small); ("jsref_w2.jade", big) ] (fun paths ->
+      let q = String.concat " " paths in
+      List.iter (fun cmd ->
+          let (status, _, err) = run_command (Printf.sprintf "(%s %s > /dev/full)" exe cmd) in
+          Alcotest.(check int) (cmd ^ " > /dev/full: exit 1") 1 status;
+          (match lines err with
+           | [ l ] -> Alcotest.(check bool) ("one error line: " ^ l) true
+                        (Str_has.has l "jadescript-ref: error: cannot write the standard output")
+           | _ -> Alcotest.failf "%s > /dev/full: expected one line, got: %s" cmd err))
+        [ "fmt " ^ List.hd paths; "fmt " ^ q; "parse --ast " ^ q;
+          "run " ^ List.nth paths 1 ^ " --agent a:A";
+          "explore " ^ Filename.quote (Filename.concat root "spec/models/MCReference.tla") ];
+      (* fmt -i on a disk that takes no more (a file size limit): the file is
+         left as it was, one located line, and the next file is still done *)
+      let ugly = "agent   A\n\ton create do\n" ^ String.concat "" (List.init 300 (fun _ -> "\t\tlog   1\n")) in
+      with_files [ ("jsref_w3.jade", "agent   B\n"); ("jsref_w4.jade", ugly) ] (fun small ->
+          let big = List.nth small 1 and before = ugly in
+          let (status, _, err) = run_command (Printf.sprintf
+              "(trap '' XFSZ; ulimit -f 1; %s fmt -i %s %s)" exe big (List.hd small)) in
+          Alcotest.(check int) "fmt -i, file too large: exit 1" 1 status;
+          one_error_at ~what:"fmt -i, file too large" big ~line:1 ~col:1 err;
+          Alcotest.(check string) "fmt -i: the file is left as it was" before (read_file big);
+          Alcotest.(check string) "fmt -i: the next file is formatted" "agent B\n" (read_file (List.hd small)));
+      Alcotest.(check bool) "fmt -i: no temporary file left" false
+        (Array.exists (fun f -> String.length f > 6 && String.sub f 0 6 = ".jsref")
+           (Sys.readdir (Filename.get_temp_dir_name ())));
+      let (status, _, err) =
+        run_command (Printf.sprintf "%s compile %s --out /proc/jsref_no" exe (List.hd paths)) in
+      Alcotest.(check int) "compile --out unwritable: exit 1" 1 status;
+      (match lines err with
+       | [ l ] -> Alcotest.(check bool) ("one error line: " ^ l) true
+                    (Str_has.has l "jadescript-ref: error: cannot write the Java sources into /proc/jsref_no")
+       | _ -> Alcotest.failf "compile: expected one line, got: %s" err))
+
+(* sim: a scenario out of range, not JSON or not a file, a bad --batch, an
+   unwritable --out: one line each, exit 1 (docs/simulation.md, "Ranges"). *)
+let sim_errors () =
+  let ok = {|{"name": "x", "duration_s": 1, "corridor": {"length_m": 5, "width_m": 2}, "start": {"x": 1, "y": 1}}|} in
+  with_files [ ("jsref_sc_range.json", {|{"name": "x", "duration_s": 1e12, "corridor": {"length_m": 5, "width_m": 2}, "start": {"x": 1, "y": 1}}|});
+               ("jsref_sc_syntax.json", "{\"name\": \"x\",\n  \"duration_s\": 5,, }");
+               ("jsref_sc_ok.json", ok) ] (fun paths ->
+      let run what cmd =
+        let (status, _, err) = run_command (Printf.sprintf "(%s sim %s --controller reference)" exe cmd) in
+        Alcotest.(check int) (what ^ ": exit 1") 1 status;
+        match lines err with
+        | [ l ] -> l
+        | _ -> Alcotest.failf "%s: expected one line, got: %s" what err in
+      let l = run "1e12 s" (List.nth paths 0) in
+      Alcotest.(check bool) ("1e12 s: located, names the field: " ^ l) true
+        (Str_has.has l (List.nth paths 0 ^ ":1:1: error: duration_s: "));
+      let l = run "JSON syntax" (List.nth paths 1) in
+      Alcotest.(check bool) ("JSON syntax: its line and column: " ^ l) true
+        (Str_has.has l (List.nth paths 1 ^ ":2:"));
+      let l = run "/dev/zero" "/dev/zero" in
+      Alcotest.(check bool) ("/dev/zero: printable: " ^ l) true
+        (String.for_all (fun c -> c >= ' ' && c <= '~') l);
+      let l = run "--batch 0" (List.nth paths 2 ^ " --batch 0") in
+      Alcotest.(check bool) ("--batch 0: " ^ l) true (Str_has.has l "jadescript-ref: error: --batch 0");
+      let l = run "--out unwritable" (List.nth paths 2 ^ " --out /proc/jsref_no/x") in
+      Alcotest.(check bool) ("--out: " ^ l) true
+        (Str_has.has l "jadescript-ref: error: cannot write the simulation's outputs"))
+
 let () =
   Alcotest.run "syntax" [
     ("examples", example_cases @ [
@@ -319,4 +488,10 @@ let () =
         Alcotest.test_case "errors: one line each, every file" `Quick cli_errors;
         Alcotest.test_case "fmt, --check, -i" `Quick cli_fmt;
         Alcotest.test_case "mutants through the executable" `Quick cli_no_backtrace ]);
+    ("edges", [
+        Alcotest.test_case "D30 deep nesting: one located line" `Quick deep_nesting;
+        Alcotest.test_case "fmt of deep input keeps its shape" `Quick fmt_deep_shape;
+        Alcotest.test_case "D31 /dev/zero, directories, NUL, pipes" `Quick bad_sources;
+        Alcotest.test_case "write errors are one line" `Quick write_errors;
+        Alcotest.test_case "sim: bad scenarios and outputs are one line" `Quick sim_errors ]);
   ]

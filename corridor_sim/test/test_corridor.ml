@@ -37,6 +37,58 @@ let test_bad_files () =
   rejects "bad loop" ("{" ^ base ^ {|, "agent": {"loop": "fast"}}|});
   rejects "bad percept override" ("{" ^ base ^ {|, "sensors": {"priority_overrides": {"bump": 3}}}|})
 
+(* Every number has a range (docs/simulation.md, "Ranges"): the issue's cases
+   each rejected, naming the field. *)
+let rejects_field msg field json =
+  match Scenario.of_json (Yojson.Safe.from_string json) with
+  | _ -> Alcotest.failf "%s: accepted" msg
+  | exception Scenario.Error e ->
+    let n = String.length field in
+    let rec has i = i + n <= String.length e && (String.sub e i n = field || has (i + 1)) in
+    Alcotest.(check bool) (msg ^ ": names " ^ field ^ ": " ^ e) true (has 0)
+
+let test_ranges () =
+  let base = {|"name": "x", "duration_s": 10, "corridor": {"length_m": 5, "width_m": 2}, "start": {"x": 1, "y": 1}|} in
+  let with_ extra = "{" ^ base ^ ", " ^ extra ^ "}" in
+  let cubes n = with_ (Printf.sprintf {|"random_cubes": {"count": %s}|} n) in
+  rejects_field "negative random cubes" "random_cubes.count" (cubes "-1");
+  rejects_field "huge random cubes" "random_cubes.count" (cubes "4611686018427387903");
+  ignore (Scenario.of_json (Yojson.Safe.from_string (cubes "1000")));
+  rejects_field "start inside a cube" "start"
+    (with_ {|"cubes": [{"id": "a", "x": 1.05, "y": 1, "faces": ["1", "2", "3", "4"]}]|});
+  let corridor l = Printf.sprintf
+      {|{"name": "x", "duration_s": 10, "corridor": {"length_m": %s, "width_m": 2}, "start": {"x": 1, "y": 1}}|} l in
+  rejects_field "infinite corridor" "length_m" (corridor "Infinity");
+  rejects_field "1e999 corridor" "length_m" (corridor "1e999");
+  rejects_field "NaN corridor" "length_m" (corridor "NaN");
+  rejects_field "huge corridor" "length_m" (corridor "1e6");
+  let duration d = Printf.sprintf
+      {|{"name": "x", "duration_s": %s, "corridor": {"length_m": 5, "width_m": 2}, "start": {"x": 1, "y": 1}}|} d in
+  rejects_field "1e12 s" "duration_s" (duration "1e12");
+  ignore (Scenario.of_json (Yojson.Safe.from_string (duration "3600")));
+  rejects_field "1e9 Hz sensor" "imu_rate_hz" (with_ {|"sensors": {"imu_rate_hz": 1e9}|});
+  rejects_field "every sensor at 1000 Hz for an hour" "sensors: 14400000 samples"
+    ({|{"name": "x", "duration_s": 3600, "corridor": {"length_m": 5, "width_m": 2}, "start": {"x": 1, "y": 1}, |}
+     ^ {|"sensors": {"position_rate_hz": 1000, "proximity_rate_hz": 1000, "camera_rate_hz": 1000, "imu_rate_hz": 1000}}|});
+  rejects_field "negative override" "priority_overrides.position"
+    (with_ {|"sensors": {"priority_overrides": {"position": -1}}|});
+  rejects_field "override beyond 32 bits" "priority_overrides.position"
+    (with_ {|"sensors": {"priority_overrides": {"position": 4611686018427387903}}|});
+  rejects_field "1e7-percept flood" "flood"
+    ({|{"name": "x", "duration_s": 1000, "corridor": {"length_m": 5, "width_m": 2}, "start": {"x": 1, "y": 1}, |}
+     ^ {|"flood": {"percept": "position", "rate_hz": 10000}}|});
+  rejects_field "flood rate" "flood.rate_hz" (with_ {|"flood": {"percept": "position", "rate_hz": 1e9}|});
+  rejects_field "flood ends before it starts" "flood.end_s"
+    (with_ {|"flood": {"percept": "position", "rate_hz": 10, "start_s": 5, "end_s": 2}|});
+  rejects_field "a tiny physics step" "physics_step_s" (with_ {|"physics_step_s": 1e-9|});
+  rejects_field "a budget of 0" "agent.budget" (with_ {|"agent": {"budget": 0}|});
+  rejects_field "a speed of 1e300" "forward_speeds_m_s" (with_ {|"robot": {"forward_speeds_m_s": [0.1, 0.2, 0.3, 0.4, 1e300]}|});
+  rejects_field "1001 walls" "corridor.walls"
+    (Printf.sprintf {|{"name": "x", "duration_s": 10, "corridor": {"length_m": 5, "width_m": 2, "walls": [%s]}, "start": {"x": 1, "y": 1}}|}
+       (String.concat ", " (List.init 1001 (fun _ -> {|{"from": [0, 0], "to": [1, 1]}|}))));
+  rejects_field "a cube far away" "cubes[0].x"
+    (with_ {|"cubes": [{"id": "a", "x": 1e300, "y": 1, "faces": ["1", "2", "3", "4"]}]|})
+
 let test_random_cubes () =
   let sc = scenario "dense" in
   let w1 = Scenario.world sc ~seed:1 and w1' = Scenario.world sc ~seed:1 and w2 = Scenario.world sc ~seed:2 in
@@ -270,6 +322,7 @@ let () =
     ("scenarios", [
         Alcotest.test_case "every scenario file loads" `Quick test_load_all;
         Alcotest.test_case "bad files are rejected" `Quick test_bad_files;
+        Alcotest.test_case "every number in its range" `Quick test_ranges;
         Alcotest.test_case "random cubes per seed" `Quick test_random_cubes ]);
     ("agenda", [ prop_agenda ]);
     ("controller", [

@@ -124,7 +124,11 @@ let show (m : Model.t) (c : Model.M.t) =
 
 (* ---------------------------------------------------------- explore *)
 
-let explore ?(max_states = 5_000_000) ?rules (m : Model.t) =
+(* About 650 bytes a state (with its key and edges): a million states fit in
+   well under a gigabyte; the largest model of spec/models has 105k. *)
+let default_max_states = 1_000_000
+
+let explore ?(max_states = default_max_states) ?rules (m : Model.t) =
   let t0 = Unix.gettimeofday () in
   let ids : (string, int) Hashtbl.t = Hashtbl.create 65536 in
   let states = ref (Array.make 1024 (Obj.magic 0)) and count = ref 0 in
@@ -137,7 +141,8 @@ let explore ?(max_states = 5_000_000) ?rules (m : Model.t) =
     | None ->
       let i = !count in
       if i >= max_states then
-        failwith (Printf.sprintf "more than %d states: the model is too large to explore" max_states);
+        failwith (Printf.sprintf "exhaustion: the model has more than %d states, exploration \
+                                  stopped (a larger bound: --max-states)" max_states);
       Hashtbl.add ids k i;
       if i >= Array.length !states then begin
         let a = Array.make (2 * i) (Obj.magic 0) in

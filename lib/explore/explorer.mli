@@ -29,8 +29,12 @@ val show : Model.t -> Model.M.t -> string
     behaviours and the last rule, as the machine's record holds them (the
     priority queue shown in dequeue order). *)
 
+val default_max_states : int
+(** 1,000,000: about 650 MB of states, keys and transitions. *)
+
 val explore : ?max_states:int -> ?rules:Model.M.rules -> Model.t -> graph
-(** @raise Failure when more than [max_states] (default 5,000,000) states are found. *)
+(** @raise Failure (an exhaustion error) when more than [max_states] (default
+    {!default_max_states}) states are found, before memory runs out. *)
 
 val shortest_path : graph -> int -> (string * int) list
 (** The labelled path from an initial state to the state, as (action, state)

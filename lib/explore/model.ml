@@ -105,17 +105,40 @@ let get cs name =
 
 let strings v = List.map Tla.to_str (Tla.to_list v)
 
+(* The range of every number constant of a model (docs/spec.md, "Model
+   constants"). Every model read is checked against the lower bounds (a
+   budget of -1 means nothing); the upper bounds, which keep a state graph
+   small enough to explore, are for the models of spec/models and [explore]
+   ({!check_explorable}), not for the models validate and the simulation
+   generate from a trace (one percept name per notification). *)
+let ranges = [
+  ("Budget", 1, 16); ("MaxActive", 1, 8); ("O2ACapacity", 1, 16);
+  ("MaxNotify", 0, 8); ("MaxPut", 0, 8); ("MaxSend", 0, 8); ("InversionBound", 0, 64) ]
+let max_priority = 0x7fffffff   (* a Jadescript integer (32 bits) *)
+let max_names = 8               (* percepts, objects, messages, behaviours *)
+
+let in_range name lo hi n =
+  if n < lo || n > hi then
+    (if hi = max_int then fail "constant MC%s == %d is out of range: at least %d" name n lo
+     else fail "constant MC%s == %d is out of range: from %d to %d" name n lo hi);
+  n
+
+let int_constant g name =
+  let (_, lo, _) = List.find (fun (n, _, _) -> n = name) ranges in
+  in_range name lo max_int (Tla.to_int (g name))
+
 let of_constants ~name ~dir cs =
   try
     let g = get cs in
-    let percepts = Array.of_list (List.sort compare (strings (g "Percepts"))) in
-    let behaviours_names = Array.of_list (List.sort compare (strings (g "Behaviours"))) in
+    let names c = strings (g c) in
+    let percepts = Array.of_list (List.sort compare (names "Percepts")) in
+    let behaviours_names = Array.of_list (List.sort compare (names "Behaviours")) in
     let index arr what x =
       let rec go i = if i >= Array.length arr then fail "unknown %s %S" what x
         else if arr.(i) = x then i else go (i + 1) in
       go 0 in
-    let messages = Array.of_list (List.sort compare (strings (g "Messages"))) in
-    let objects = Array.of_list (List.sort compare (strings (g "Objects"))) in
+    let messages = Array.of_list (List.sort compare (names "Messages")) in
+    let objects = Array.of_list (List.sort compare (names "Objects")) in
     let per_beh c b = Tla.field b (g c) in
     let effect v = match Tla.to_str (Tla.field "op" v) with
       | "activate" -> E_activate (index behaviours_names "behaviour" (Tla.to_str (Tla.field "b" v)))
@@ -142,19 +165,21 @@ let of_constants ~name ~dir cs =
       | "Stable" -> Semantics.Machine.Stable | "Unstable" -> Semantics.Machine.Unstable
       | t -> fail "unknown TiePolicy %s" t in
     let flood = Tla.to_bool (g "Flood") in
-    let params = { Semantics.Machine.variant; tie; budget = Tla.to_int (g "Budget");
-                   max_active = Some (Tla.to_int (g "MaxActive"));
-                   o2a_capacity = Some (Tla.to_int (g "O2ACapacity"));
+    let params = { Semantics.Machine.variant; tie; budget = int_constant g "Budget";
+                   max_active = Some (int_constant g "MaxActive");
+                   o2a_capacity = Some (int_constant g "O2ACapacity");
                    flood; ghosts = true } in
     { name; dir; constants = cs; params; percepts;
-      default_priority = Array.map (fun p -> Tla.to_int (Tla.field p (g "DefaultPriority"))) percepts;
-      overrides = List.sort_uniq compare (List.map Tla.to_int (Tla.to_list (g "Overrides")));
+      default_priority = Array.map (fun p ->
+          in_range "DefaultPriority" 0 max_priority (Tla.to_int (Tla.field p (g "DefaultPriority")))) percepts;
+      overrides = List.sort_uniq compare
+          (List.map (fun v -> in_range "Overrides" 0 max_priority (Tla.to_int v)) (Tla.to_list (g "Overrides")));
       objects; messages;
-      max_notify = Tla.to_int (g "MaxNotify"); max_put = Tla.to_int (g "MaxPut");
-      max_send = Tla.to_int (g "MaxSend"); behaviours;
+      max_notify = int_constant g "MaxNotify"; max_put = int_constant g "MaxPut";
+      max_send = int_constant g "MaxSend"; behaviours;
       initial = List.map (fun v -> index behaviours_names "behaviour" (Tla.to_str v))
           (Tla.to_list (g "InitialBehaviours"));
-      inversion_bound = Tla.to_int (g "InversionBound") }
+      inversion_bound = int_constant g "InversionBound" }
   with
   | Invalid_argument m -> fail "model %s: a constant has the wrong shape (%s)" name m
   | Error m -> fail "model %s: %s" name m
@@ -202,3 +227,20 @@ module Bodies = struct
 end
 
 module M = Semantics.Machine.Make (Bodies)
+
+let check_explorable m =
+  let upper name n =
+    let (_, lo, hi) = List.find (fun (x, _, _) -> x = name) ranges in
+    ignore (in_range name lo hi n) in
+  try
+    let p = m.params in
+    upper "Budget" p.budget;
+    Option.iter (upper "MaxActive") p.max_active;
+    Option.iter (upper "O2ACapacity") p.o2a_capacity;
+    upper "MaxNotify" m.max_notify; upper "MaxPut" m.max_put; upper "MaxSend" m.max_send;
+    upper "InversionBound" m.inversion_bound;
+    List.iter (fun (c, n) ->
+        if n > max_names then fail "constant MC%s has %d elements; at most %d" c n max_names)
+      [ ("Percepts", Array.length m.percepts); ("Objects", Array.length m.objects);
+        ("Messages", Array.length m.messages); ("Behaviours", Array.length m.behaviours) ]
+  with Error e -> fail "model %s: %s" m.name e

@@ -53,6 +53,14 @@ val of_constants : name:string -> dir:string -> (string * Tla.t) list -> t
 (** A model from constant values given directly (random models in tests).
     @raise Error *)
 
+val check_explorable : t -> unit
+(** The upper bounds of the model constants (docs/spec.md, "Model constants"):
+    Budget 1-16, MaxActive 1-8, O2ACapacity 1-16, MaxNotify, MaxPut and
+    MaxSend 0-8, InversionBound 0-64, at most 8 percepts, objects, messages and
+    behaviours. [load] and [of_constants] check only the lower bounds (and
+    priorities: 0 to 2{^31}-1), since validate generates models from traces
+    with one percept name per notification. @raise Error naming the constant. *)
+
 val is_agent_loop_model : string -> bool
 (** Does this MC file instantiate AgentLoop (rather than PQSpec)? *)
 

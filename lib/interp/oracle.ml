@@ -115,15 +115,31 @@ let header_problem ~expected (line : string) =
 
 let has_error_event evs = List.exists Trace.is_error evs
 
+(* The longest trace line read: an event of the reference is a few hundred
+   bytes; a line longer than this is not read into memory. *)
+let max_line = 1 lsl 20
+
+(* One line of at most [max_line] bytes (a longer one is cut there, and the
+   rest of it skipped); None at the end of the file. *)
+let bounded_line ic =
+  let b = Buffer.create 256 in
+  let rec go () = match input_char ic with
+    | '\n' -> Some (Buffer.contents b)
+    | c -> if Buffer.length b < max_line then Buffer.add_char b c; go ()
+    | exception End_of_file -> if Buffer.length b = 0 then None else Some (Buffer.contents b) in
+  go ()
+
 (* Compare the trace file [got] with the expected events, reading it one line
-   at a time: memory is bounded by the expected trace, whatever [got] holds. *)
+   at a time: memory is bounded by the expected trace (and [max_line]),
+   whatever [got] holds. *)
 let compare_stream ~expected_header ~expected got =
   let ic = open_in_bin got in
   Fun.protect ~finally:(fun () -> close_in_noerr ic) (fun () ->
-      let rec next () = match input_line ic with
-        | l when String.trim l = "" -> next ()
-        | l -> Some l
-        | exception End_of_file -> None in
+      let rec next () = match bounded_line ic with
+        | Some l when String.trim l = "" -> next ()
+        | Some l when String.length l >= max_line ->
+          Some (Printf.sprintf "(a line of more than %d bytes)" max_line)
+        | r -> r in
       match next () with
       | None -> `Failed "the implementation wrote an empty trace"
       | Some h ->
@@ -146,11 +162,18 @@ let compare_stream ~expected_header ~expected got =
                   else `Diverge (i, show (strip e), show (strip g)) in
           go 1 false expected)
 
+(* The first line of the implementation's stderr, at most 300 bytes. *)
 let first_line path =
   match open_in_bin path with
   | exception Sys_error _ -> ""
   | ic -> Fun.protect ~finally:(fun () -> close_in_noerr ic) (fun () ->
-      try input_line ic with End_of_file -> "")
+      let b = Buffer.create 80 in
+      let rec go () = match input_char ic with
+        | '\n' -> ()
+        | c -> if Buffer.length b < 300 then (Buffer.add_char b c; go ())
+        | exception End_of_file -> () in
+      go ();
+      Buffer.contents b)
 
 (* The shell's status: 0-125 an exit status, 124 from timeout(1), 128+n a signal. *)
 let describe_status ~timeout code =
@@ -163,7 +186,16 @@ let default_timeout v =
   let n = try List.length (read_trace (Filename.concat v.dir "expected.jsonl")) with Failure _ | Sys_error _ -> 0 in
   30. +. 0.05 *. float_of_int n
 
-let run_vector ?timeout ?keep ~impl v =
+(* Run [sh -c cmd] under timeout(1), standard output to /dev/null and standard
+   error to [errs]; its status as the shell gives it (128 + n: signal n).
+   [jadescript-ref conform] passes its own, which is interruptible
+   (bin/cmd_conform.ml); this library does not link Unix, since the
+   playground compiles it to JavaScript. *)
+let system_under_timeout ~timeout ~errs cmd =
+  Sys.command (Printf.sprintf "timeout --kill-after=5 %g /bin/sh -c %s > /dev/null 2> %s"
+                 timeout (Filename.quote cmd) (Filename.quote errs))
+
+let run_vector ?(spawn = system_under_timeout) ?timeout ?keep ~impl v =
   let timeout = match timeout with Some t -> t | None -> default_timeout v in
   let trace = Filename.temp_file "jsref-conform" ".jsonl" in
   let errs = Filename.temp_file "jsref-conform" ".err" in
@@ -176,12 +208,12 @@ let run_vector ?timeout ?keep ~impl v =
           with Sys_error _ -> ignore (Sys.command (Printf.sprintf "cp %s %s" (Filename.quote trace) (Filename.quote dst))))
        | None -> ());
       List.iter (fun f -> try Sys.remove f with Sys_error _ -> ()) [ trace; errs ]) (fun () ->
-      let cmd = Printf.sprintf "cd %s && timeout --kill-after=5 %g %s %s %s --events events.jsonl --trace %s > /dev/null 2> %s"
-          (Filename.quote v.dir) timeout impl
+      let cmd = Printf.sprintf "cd %s && %s %s %s --events events.jsonl --trace %s"
+          (Filename.quote v.dir) impl
           (String.concat " " (List.map Filename.quote v.files))
           (String.concat " " (List.map Filename.quote v.args))
-          (Filename.quote trace) (Filename.quote errs) in
-      let code = Sys.command cmd in
+          (Filename.quote trace) in
+      let code = spawn ~timeout ~errs cmd in
       let because m = match first_line errs with "" -> m | l -> m ^ " (its stderr: " ^ l ^ ")" in
       match
         let path = Filename.concat v.dir "expected.jsonl" in

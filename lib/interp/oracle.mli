@@ -42,7 +42,9 @@ type outcome =
       (** the first event (1-based, after the header) that differs *)
   | Failed of string   (** the implementation failed or wrote no trace *)
 
-val run_vector : ?timeout:float -> ?keep:string -> impl:string -> vector -> outcome
+val run_vector :
+  ?spawn:(timeout:float -> errs:string -> string -> int) ->
+  ?timeout:float -> ?keep:string -> impl:string -> vector -> outcome
 (** Runs [impl FILES ARGS --events events.jsonl --trace TMP] in the vector's
     folder and judges what it did (docs/trace-format.md, "Conformance"):
     - it must end within [timeout] seconds (default: 30 s plus 0.05 s per
@@ -52,7 +54,16 @@ val run_vector : ?timeout:float -> ?keep:string -> impl:string -> vector -> outc
     - its trace's first line must be a header of format ["jadescript-ref"]
       version 1, equal to the expected header (field order aside);
     - its events must equal the expected ones, in order, [step] aside.
-    The trace is read one line at a time, so memory stays bounded by the
-    expected trace; the temporary files are removed ([keep]: the trace is
-    kept as [keep/NAME.jsonl], for [validate]). A failure shows the first
-    line the implementation wrote on standard error. *)
+    The trace is read one line at a time, each line up to 1 MB, so memory
+    stays bounded by the expected trace whatever the implementation writes;
+    the temporary files are removed, also when [spawn] raises (conform's
+    [Sys.Break] on SIGINT: the implementation is stopped, the files
+    removed, the exception passed on) ([keep]: the trace is kept as
+    [keep/NAME.jsonl], for [validate]). A failure shows the start of the
+    first line the implementation wrote on standard error.
+
+    [spawn ~timeout ~errs cmd] runs [sh -c cmd] under timeout(1) with
+    standard error to [errs] and returns the shell's status (128 + n for
+    signal n). The default uses [Sys.command], which cannot be interrupted:
+    system() ignores SIGINT while it waits; [jadescript-ref conform] passes
+    one built on Unix that can. *)

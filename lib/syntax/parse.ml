@@ -58,15 +58,41 @@ let replace_all ~sub ~by s =
   go 0;
   Buffer.contents b
 
+(* D31: the largest source file read. Read in chunks up to this size, not by
+   the size the file system reports: a pipe or a device such as /dev/zero
+   reports 0 and may never end. *)
+let max_source_bytes = 64 * 1024 * 1024
+
 let read_all path =
   match open_in_bin path with
   | exception Sys_error msg -> Error msg
   | ic ->
     Fun.protect ~finally:(fun () -> close_in_noerr ic) (fun () ->
-        match really_input_string ic (in_channel_length ic) with
-        | text -> Ok text
-        | exception (Sys_error msg | Failure msg) -> Error msg
-        | exception End_of_file -> Error "the file changed while it was read")
+        let b = Buffer.create 65536 and chunk = Bytes.create 65536 in
+        let rec go () =
+          if Buffer.length b > max_source_bytes then
+            Error (Printf.sprintf "the file is larger than %d MB, the most a source \
+                                   file may hold (D31)" (max_source_bytes / 1024 / 1024))
+          else match input ic chunk 0 (Bytes.length chunk) with
+            | 0 -> Ok (Buffer.contents b)
+            | n -> Buffer.add_subbytes b chunk 0 n; go () in
+        match go () with
+        | r -> r
+        | exception Sys_error msg -> Error msg)
+
+(* A NUL byte is a lexical error wherever it stands, comments included (D31):
+   a source file is text. *)
+let check_no_nul ~file text =
+  match String.index_opt text '\000' with
+  | None -> ()
+  | Some i ->
+    let line = ref 1 and bol = ref 0 in
+    for j = 0 to i - 1 do
+      if text.[j] = '\n' then (incr line; bol := j + 1)
+    done;
+    let p = { Source.file; line = !line; column = i - !bol + 1 } in
+    Diag.error Diag.Syntax { Source.left = p; right = p }
+      "unexpected character '\\x00' (a NUL byte): a Jadescript file is text"
 
 let message checkpoint env (tok, s, _) =
   let found = Lexer.describe tok in
@@ -110,10 +136,15 @@ let run entry ~file text =
   (v, List.rev lexer.Lexer.comments)
 
 let string ~file text =
+  check_no_nul ~file text;
   let (program, comments) = run Parser.Incremental.program ~file text in
+  Nesting.check_program program;   (* D30 *)
   { program; comments }
 
-let expr ~file text = fst (run Parser.Incremental.expr_only ~file text)
+let expr ~file text =
+  let e = fst (run Parser.Incremental.expr_only ~file text) in
+  Nesting.check_expr e;   (* D30 *)
+  e
 
 let file path =
   let start = { Source.file = path; line = 1; column = 1 } in

@@ -11,7 +11,9 @@ type result = {
 }
 
 val string : file:string -> string -> result
-(** @raise Diag.Failed with the first lexical, layout or syntax error. *)
+(** @raise Diag.Failed with the first lexical, layout or syntax error; a NUL
+    byte anywhere in the text, comments included, is one (D31), as is nesting
+    deeper than {!Nesting.max_depth} (D30). *)
 
 val file : string -> result
 (** Reads and parses a file.
@@ -19,7 +21,12 @@ val file : string -> result
     (located at line 1, column 1 of that file). *)
 
 val read_all : string -> (string, string) Stdlib.result
-(** The bytes of a file, or the system's reason it cannot be read. *)
+(** The bytes of a file, or the reason it cannot be read: the system's (no such
+    file, a directory, ...), or that it holds more than {!max_source_bytes}
+    (D31). Pipes and devices are read to their end, not by their reported size. *)
+
+val max_source_bytes : int
+(** 64 MB (D31). *)
 
 val expr : file:string -> string -> Ast.expr
 (** Parses one expression (a Jadescript literal on the command line, a percept in

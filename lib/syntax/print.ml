@@ -48,43 +48,72 @@ let binop_info = function
   | Add -> ("+", l_add, `Left) | Sub -> ("-", l_add, `Left)
   | Mul -> ("*", l_mul, `Left) | Div -> ("/", l_mul, `Left) | Mod -> ("%", l_mul, `Left)
 
-let rec pattern (p : Ast.pattern) = match p.it with
-  | PWild -> "_"
-  | PLit l -> literal l
-  | PName x -> x
-  | PCons (f, ps) -> f.it ^ "(" ^ String.concat ", " (List.map pattern ps) ^ ")"
+(* Patterns and expressions are written into one buffer, so that printing is
+   linear in the size of the tree: concatenating the strings of the operands
+   at every level would copy a long left-nested chain once per level. *)
+let rec pattern_to b (p : Ast.pattern) = match p.it with
+  | PWild -> Buffer.add_char b '_'
+  | PLit l -> Buffer.add_string b (literal l)
+  | PName x -> Buffer.add_string b x
+  | PCons (f, ps) ->
+    Buffer.add_string b f.it; Buffer.add_char b '(';
+    List.iteri (fun i q -> if i > 0 then Buffer.add_string b ", "; pattern_to b q) ps;
+    Buffer.add_char b ')'
 
-let rec expr_at level (e : Ast.expr) =
-  let own, s = match e.it with
-    | Lit l -> (l_primary, literal l)
-    | Name x -> (l_primary, x)
-    | This -> (l_primary, "this")
-    | Agent -> (l_primary, "agent")
-    | Content -> (l_primary, "content")
-    | Message -> (l_primary, "message")
-    | List es -> (l_primary, "[" ^ exprs es ^ "]")
-    | Map kvs ->
-      (l_primary,
-       "{" ^ String.concat ", " (List.map (fun (k, v) -> expr k ^ ": " ^ expr v) kvs) ^ "}")
-    | Call (f, args) -> (l_primary, f.it ^ "(" ^ exprs args ^ ")")
-    | Index (m, k) -> (l_postfix, expr_at l_postfix m ^ "[" ^ expr k ^ "]")
-    | Of (p, e') -> (l_of, p.it ^ " of " ^ expr_at l_of e')
-    | Matches (e', p) -> (l_matches, expr_at l_unary e' ^ " matches " ^ pattern p)
-    | Unop (Not, e') -> (l_unary, "not " ^ expr_at l_unary e')
-    | Unop (Neg, e') -> (l_unary, "-" ^ expr_at l_unary e')
-    | Binop (op, l, r) ->
-      let (sym, lv, assoc) = binop_info op in
-      let ll, rl = match assoc with `Left -> (lv, lv + 1) | `None -> (lv + 1, lv + 1) in
-      (lv, expr_at ll l ^ " " ^ sym ^ " " ^ expr_at rl r)
-    | Invoke i -> (0, invoke i) in
-  if own < level then "(" ^ s ^ ")" else s
+let own_level (e : Ast.expr) = match e.it with
+  | Lit _ | Name _ | This | Agent | Content | Message | List _ | Map _ | Call _ -> l_primary
+  | Index _ -> l_postfix
+  | Of _ -> l_of
+  | Matches _ -> l_matches
+  | Unop _ -> l_unary
+  | Binop (op, _, _) -> let (_, lv, _) = binop_info op in lv
+  | Invoke _ -> 0
 
-and expr e = expr_at 0 e
-and exprs es = String.concat ", " (List.map expr es)
+let rec expr_to b level (e : Ast.expr) =
+  let paren = own_level e < level in
+  if paren then Buffer.add_char b '(';
+  let str = Buffer.add_string b in
+  (match e.it with
+   | Lit l -> str (literal l)
+   | Name x -> str x
+   | This -> str "this"
+   | Agent -> str "agent"
+   | Content -> str "content"
+   | Message -> str "message"
+   | List es -> str "["; exprs_to b es; str "]"
+   | Map kvs ->
+     str "{";
+     List.iteri (fun i (k, v) ->
+         if i > 0 then str ", ";
+         expr_to b 0 k; str ": "; expr_to b 0 v) kvs;
+     str "}"
+   | Call (f, args) -> str f.it; str "("; exprs_to b args; str ")"
+   | Index (m, k) -> expr_to b l_postfix m; str "["; expr_to b 0 k; str "]"
+   | Of (p, e') -> str p.it; str " of "; expr_to b l_of e'
+   | Matches (e', p) -> expr_to b l_unary e'; str " matches "; pattern_to b p
+   | Unop (Not, e') -> str "not "; expr_to b l_unary e'
+   | Unop (Neg, e') -> str "-"; expr_to b l_unary e'
+   | Binop (op, l, r) ->
+     let (sym, lv, assoc) = binop_info op in
+     let ll, rl = match assoc with `Left -> (lv, lv + 1) | `None -> (lv + 1, lv + 1) in
+     expr_to b ll l; str " "; str sym; str " "; expr_to b rl r
+   | Invoke i -> invoke_to b i);
+  if paren then Buffer.add_char b ')'
 
-and invoke i =
-  "invoke " ^ text_literal i.meth.it ^ " on " ^ expr i.target
-  ^ (if i.args = [] then "" else " with " ^ exprs i.args)
+and exprs_to b es =
+  List.iteri (fun i e -> if i > 0 then Buffer.add_string b ", "; expr_to b 0 e) es
+
+and invoke_to b i =
+  Buffer.add_string b "invoke "; Buffer.add_string b (text_literal i.meth.it);
+  Buffer.add_string b " on "; expr_to b 0 i.target;
+  if i.args <> [] then (Buffer.add_string b " with "; exprs_to b i.args)
+
+let to_string f x = let b = Buffer.create 64 in f b x; Buffer.contents b
+let pattern p = to_string pattern_to p
+let expr_at level e = to_string (fun b -> expr_to b level) e
+let expr e = expr_at 0 e
+let exprs es = to_string exprs_to es
+let invoke i = to_string invoke_to i
 
 (* A positional argument that reads "x = e" would parse as a named one. *)
 let positional_arg e =
@@ -218,16 +247,22 @@ and stmt p depth ~bound (s : stmt) =
     line p depth s.at ("for " ^ x.it ^ " in " ^ expr e ^ " do");
     block p (depth + 1) ~header:s.at ~bound b
   | If (branches, els) ->
-    let n = List.length branches in
-    List.iteri (fun i (c, b) ->
-        let kw = if i = 0 then "if " else "else if " in
+    (* Walked with the rest of the chain at hand (not List.nth), so that a
+       long else-if chain prints in linear time. *)
+    let rec branch first = function
+      | [] -> ()
+      | (c, b) :: rest ->
+        let kw = if first then "if " else "else if " in
         (* An "else if" line is located by its condition; no blank line before it. *)
-        (if i = 0 then line p depth s.at (kw ^ expr c ^ " do")
+        (if first then line p depth s.at (kw ^ expr c ^ " do")
          else line ~keep_blank:false p depth c.at (kw ^ expr c ^ " do"));
-        let next =
-          if i + 1 < n then block_start (snd (List.nth branches (i + 1)))
-          else match els with Some e -> block_start e | None -> bound in
-        block p (depth + 1) ~header:s.at ~bound:next b) branches;
+        let next = match rest, els with
+          | (_, b') :: _, _ -> block_start b'
+          | [], Some e -> block_start e
+          | [], None -> bound in
+        block p (depth + 1) ~header:s.at ~bound:next b;
+        branch false rest in
+    branch true branches;
     (match els with
      | None -> ()
      | Some b ->

@@ -357,6 +357,67 @@ let conform_judges () =
   Alcotest.(check bool) ("a hang is stopped by --timeout:\n" ^ out) true
     (Unix.gettimeofday () -. t0 < 20. && (try ignore (Explore.Str_find.find out "timed out"); true with Not_found -> false))
 
+(* conform's resources (issue 15): a huge trace is read with bounded memory
+   (a 2M-line trace and a 100 MB line: conform's peak RSS stays small); its
+   temporary files are removed after a pass, a failure, a timeout and a
+   SIGINT of conform itself, which also stops the implementation. *)
+let conform_resources () =
+  let dir = Filename.concat root "conformance" in
+  let vector = "001-r3b-priority-order" in
+  let expected = Filename.quote (Filename.concat (Filename.concat dir vector) "expected.jsonl") in
+  let tmp = Filename.temp_file "jsref-conform-tmp" "" in
+  Sys.remove tmp; Unix.mkdir tmp 0o700;
+  let fakes = ref [] in
+  let fake name body =
+    let f = Filename.concat (Filename.dirname tmp) (Filename.basename tmp ^ "-" ^ name ^ ".sh") in
+    fakes := f :: !fakes;
+    let oc = open_out_bin f in
+    output_string oc ("#!/bin/sh\nwhile [ $# -gt 0 ]; do if [ \"$1\" = --trace ]; then out=\"$2\"; fi; shift; done\n"
+                      ^ body ^ "\n");
+    close_out oc; Unix.chmod f 0o755; f in
+  let left () = Array.length (Sys.readdir tmp) in
+  let conform ?(opts = "") f =
+    run_command (Printf.sprintf "TMPDIR=%s /usr/bin/time -f 'RSS %%M' %s conform %s --impl %s %s"
+                   (Filename.quote tmp) exe opts f vector) in
+  let rss err =
+    match List.find_opt (fun l -> String.length l > 4 && String.sub l 0 4 = "RSS ") (String.split_on_char '\n' err) with
+    | Some l -> int_of_string (String.trim (String.sub l 4 (String.length l - 4)))
+    | None -> Alcotest.failf "no RSS in: %s" err in
+  let cases = [
+    ("passes", fake "honest" (Printf.sprintf "cp %s \"$out\"" expected), 0);
+    ("2M lines", fake "long" (Printf.sprintf "cp %s \"$out\"; seq 2000000 >> \"$out\"" expected), 1);
+    ("a 100 MB line", fake "wide"
+       (Printf.sprintf "head -n 1 %s > \"$out\"; head -c 100000000 /dev/zero | tr '\\000' a >> \"$out\"" expected), 1);
+    ("a 100 MB stderr line", fake "noisy"
+       (Printf.sprintf "cp %s \"$out\"; head -c 100000000 /dev/zero | tr '\\000' a >&2; exit 3" expected), 1);
+  ] in
+  List.iter (fun (what, f, want) ->
+      let (status, out, err) = conform f in
+      Alcotest.(check int) (what ^ ": exit status\n" ^ out ^ err) want status;
+      let kb = rss err in
+      Alcotest.(check bool) (Printf.sprintf "%s: conform's peak RSS %d kB < 60 MB" what kb) true (kb < 60_000);
+      Alcotest.(check int) (what ^ ": no temporary file left") 0 (left ())) cases;
+  let (status, _, _) = conform ~opts:"--timeout 1" (fake "hang" "sleep 60") in
+  Alcotest.(check int) "a hang: exit 1" 1 status;
+  Alcotest.(check int) "a hang: no temporary file left" 0 (left ());
+  (* SIGINT to conform alone (not its process group) while a vector runs *)
+  let hang = fake "hang2" "sleep 61.25" in
+  let pid = Unix.create_process_env exe [| exe; "conform"; "--impl"; hang; vector |]
+      (Array.append [| "TMPDIR=" ^ tmp |] (Unix.environment ())) Unix.stdin Unix.stdout Unix.stdout in
+  let rec until n = if left () >= 2 || n = 0 then () else (Unix.sleepf 0.05; until (n - 1)) in
+  until 200;
+  Alcotest.(check bool) "the vector runs (its temporary files exist)" true (left () >= 2);
+  Unix.kill pid Sys.sigint;
+  (match Unix.waitpid [] pid with
+   | (_, Unix.WEXITED c) -> Alcotest.(check int) "SIGINT: exit 130" 130 c
+   | _ -> Alcotest.fail "SIGINT: conform died of the signal");
+  Alcotest.(check int) "SIGINT: no temporary file left" 0 (left ());
+  let (_, ps, _) = run_command "ps -eo args" in
+  Alcotest.(check bool) "SIGINT: the implementation is stopped" false
+    (List.exists (fun l -> String.trim l = "sleep 61.25") (String.split_on_char '\n' ps));
+  Unix.rmdir tmp;
+  List.iter Sys.remove !fakes
+
 (* ------------------------------------- random programs, random hosts *)
 
 let percept_types env =
@@ -581,6 +642,7 @@ let () =
         Alcotest.test_case "conformance vectors' traces validated" `Slow vectors_validated;
         Alcotest.test_case "conform: reference passes, native fails" `Slow conform_passes;
         Alcotest.test_case "conform judges status, signals, hangs, headers, events" `Slow conform_judges;
+        Alcotest.test_case "conform: bounded memory, temporary files, SIGINT" `Slow conform_resources;
         qcheck ~count:3 ~long_factor:15 "random programs' traces validated by TLC"
           (QCheck.pair Typed_gen.arb_program QCheck.small_nat) random_run_validates ]);
   ]

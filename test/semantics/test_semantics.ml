@@ -515,6 +515,51 @@ let wrong_run_rejected () =
      | Ok _ -> ()
      | Error e -> Alcotest.failf "TLC rejected the common prefix: %s" e)
 
+(* ------------------------------------------ explore's limits (issue 15) *)
+
+(* A model's constants out of range are one error naming the constant; the
+   state count is bounded by --max-states (an exhaustion error, not an
+   out-of-memory death). *)
+let explore_limits () =
+  let rejected what f =
+    match f () with
+    | _ -> Alcotest.failf "%s: accepted" what
+    | exception Model.Error e ->
+      Alcotest.(check bool) (what ^ ": " ^ e) true (String.length e > 0) in
+  let with_budget b = List.map (fun (k, v) -> if k = "Budget" then (k, int b) else (k, v)) in
+  let base = (model ()).Model.constants in
+  ignore (Model.of_constants ~name:"Ok" ~dir:"." base);
+  rejected "MCBudget == -1" (fun () -> Model.of_constants ~name:"Neg" ~dir:"." (with_budget (-1) base));
+  rejected "MCBudget == 0" (fun () -> Model.of_constants ~name:"Zero" ~dir:"." (with_budget 0 base));
+  let set k n = List.map (fun (k', v) -> if k' = k then (k', int n) else (k', v)) base in
+  rejected "MaxNotify 9 is not explorable" (fun () ->
+      Model.check_explorable (Model.of_constants ~name:"Big" ~dir:"." (set "MaxNotify" 9)));
+  rejected "O2ACapacity 17 is not explorable" (fun () ->
+      Model.check_explorable (Model.of_constants ~name:"Big" ~dir:"." (set "O2ACapacity" 17)));
+  rejected "a negative priority" (fun () ->
+      Model.of_constants ~name:"P" ~dir:"." (List.map (fun (k, v) ->
+          if k = "DefaultPriority" then (k, Tla.record [ "a", int (-3) ]) else (k, v)) base));
+  (* every model of spec/models is within the ranges *)
+  List.iter (fun p -> Model.check_explorable (Model.load p)) (Lazy.force model_paths);
+  (* the state bound *)
+  let m = Model.load (List.find (fun p -> Filename.basename p = "MCReference.tla") (Lazy.force model_paths)) in
+  (match Explorer.explore ~max_states:100 m with
+   | _ -> Alcotest.fail "100 states: explored anyway"
+   | exception Failure e ->
+     Alcotest.(check bool) ("exhaustion: " ^ e) true (String.sub e 0 11 = "exhaustion:"));
+  Alcotest.(check int) "1,869 states within 1,869" 1869
+    (Array.length (Explorer.explore ~max_states:1869 m).states);
+  (* through the command *)
+  let path = List.find (fun p -> Filename.basename p = "MCReference.tla") (Lazy.force model_paths) in
+  let one_line what cmd =
+    let (status, _, err) = run_command cmd in
+    Alcotest.(check int) (what ^ ": exit 1") 1 status;
+    Alcotest.(check int) (what ^ ": one line: " ^ err) 1
+      (List.length (List.filter (( <> ) "") (String.split_on_char '\n' err))) in
+  one_line "--max-states 100" (Printf.sprintf "%s explore %s --max-states 100" exe path);
+  one_line "--max-states 0" (Printf.sprintf "%s explore %s --max-states 0" exe path);
+  one_line "--max-states -5" (Printf.sprintf "%s explore %s --max-states=-5" exe path)
+
 let () =
   Alcotest.run "semantics" [
     ("queues", [
@@ -533,6 +578,7 @@ let () =
         Alcotest.test_case "R5d blocked until a message" `Quick blocked_until_message;
         Alcotest.test_case "R3a objects stay; printed spins" `Quick objects_stay_reference_spin_printed;
         Alcotest.test_case "R5f round robin" `Quick scheduler_round_robin ]);
+    ("limits", [ Alcotest.test_case "explore: model ranges, --max-states" `Quick explore_limits ]);
     ("decisions", [
         Alcotest.test_case "D1 one-shot deactivated, not blocked" `Quick d1_oneshot_not_blocked;
         Alcotest.test_case "D2 snapshot ids reserved" `Quick d2_snapshot_ids_reserved;

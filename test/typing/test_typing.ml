@@ -771,6 +771,29 @@ let robust =
       let _, ds = Typing.check [{ Parse.program = p; comments = [] }] in
       not (List.exists (fun d -> d.Diag.kind = Diag.Crash) ds))
 
+(* A tree deeper than the parser allows (D30) can still reach the checker
+   from elsewhere (a generator, the playground): it never raises, and its
+   diagnostic is located in the program's file, not at ":0:0". *)
+let deep_tree_located () =
+  let r = Parse.string ~file:"deep.jade" "agent A\n\ton create do\n\t\tlog true\n" in
+  let rec deepen n (e : Ast.expr) = if n = 0 then e else deepen (n - 1) { e with it = Ast.Unop (Ast.Not, e) } in
+  let rec map_stmt (st : Ast.stmt) = match st.it with
+    | Ast.Log e -> { st with it = Ast.Log (deepen 1_000_000 e) }
+    | _ -> st
+  and map_feature (f : Ast.feature) = match f.it with
+    | Ast.OnCreate c -> { f with it = Ast.OnCreate { c with body = List.map map_stmt c.body } }
+    | _ -> f in
+  let decls = List.map (fun (d : Ast.decl) -> match d.it with
+      | Ast.DAgent a -> { d with it = Ast.DAgent { a with afeatures = List.map map_feature a.afeatures } }
+      | _ -> d) r.program.decls in
+  let r = { r with program = { r.program with decls } } in
+  let _, ds = Typing.check [ r ] in
+  Alcotest.(check int) "one diagnostic" 1 (List.length ds);
+  List.iter (fun d ->
+      let l = Diag.to_string d in
+      Alcotest.(check bool) ("located in deep.jade: " ^ l) true
+        (String.length l > 9 && String.sub l 0 9 = "deep.jade" && d.Diag.at.left.line > 0)) ds
+
 let () =
   Alcotest.run "typing" [
     ("examples", example_cases @ [
@@ -778,7 +801,8 @@ let () =
         Alcotest.test_case "RoboMe's typed environment" `Quick robome_env ]);
     ("ill-typed", List.map bad_case bad);
     ("well-typed", List.map good_case good @ [
-        Alcotest.test_case "percept priorities and slots" `Quick priorities ]);
+        Alcotest.test_case "percept priorities and slots" `Quick priorities;
+        Alcotest.test_case "a tree too deep for the stack: a located line" `Quick deep_tree_located ]);
     ("diagnostics", [
         Alcotest.test_case "warnings" `Quick warnings_case;
         Alcotest.test_case "several files, one program" `Quick several_files;
