@@ -123,6 +123,8 @@ let on_event ?before st (pl : P.t) (e : P.event) =
   | P.Step (name, l) ->
     let i = index st name in
     let before = match before with Some c -> c | None -> prev.agents.(i).config in
+    let after = pl.agents.(i).config in
+    if after.active != before.active then E.set_live after.world (List.length after.active);  (* D19 *)
     Interp.Tracer.step st.tr ~agent:name ~before ~after:pl.agents.(i).config l
   | P.Delivered { receiver; _ } ->
     Interp.Tracer.host st.tr ~agent:receiver pl.agents.(index st receiver).config
@@ -183,6 +185,7 @@ let boot (s : setup) : (state, string list) result =
               try E.create_agent env ~name ~atype:ty ~args ~fuel:s.fuel
               with E.Link (_, m) -> raise (Bad ("error: " ^ m)) in
             Interp.Tracer.created st.tr ~agent:name ~agent_type:ty args behs a;
+            E.set_live a (List.length behs);   (* D19 *)
             (name, M.init st.params ~world:a behs)) specs in
         st.platform <- P.create created;
         Array.iter (fun (ag : P.agent) ->

@@ -80,6 +80,9 @@ type agent = {
   mutable fuel_limit : int;
   mutable pending : (int * int * frame) option;
   mutable record_ran : bool;   (* record Ran events (for a trace) *)
+  mutable live : int;
+      (* D19: active instances when the current rule started (set_live),
+         plus the activations its bodies made since *)
 }
 
 (* What a running body sees. *)
@@ -130,6 +133,11 @@ let link at fmt = Printf.ksprintf (fun s -> raise (Link (at, s))) fmt
 (* Nested calls of Jadescript functions and procedures one body may make:
    deeper recursion is an exhaustion error, never an OCaml stack overflow. *)
 let max_call_depth = 200
+
+(* D19: active behaviour instances one agent may have. *)
+let max_behaviours = 10_000
+
+let set_live a n = a.live <- n
 
 let uids = ref 0
 
@@ -558,6 +566,9 @@ and activate (f : frame) at name kvs =
   match T.behaviour f.ag.env name with
   | None -> err at "unknown behaviour %s" name
   | Some bt ->
+    if f.ag.live >= max_behaviours then
+      raise (Exhaustion (at, Printf.sprintf "too many behaviours: an agent has at most %d active behaviour instances"
+                           max_behaviours));
     incr uids;
     let handlers = T.behaviour_handlers f.ag.env name in
     let phandlers = Array.of_list (List.filter (fun (h : T.handler) -> h.h_kind = T.On_percept) handlers) in
@@ -574,6 +585,7 @@ and activate (f : frame) at name kvs =
      | Some r -> ignore (run_routine bf at r (Some b) (`Named kvs))
      | None -> ());
     f.ag.effects <- Semantics.Machine.Activate b :: f.ag.effects;
+    f.ag.live <- f.ag.live + 1;
     f.ag.events <- Activated name :: f.ag.events
 
 and default_value (ty : Ty.t) = match Ty.repr ty with
@@ -636,7 +648,7 @@ let create_agent env ~name ~atype ~args ~fuel =
   | None -> link Source.no_region "unknown agent type %s" atype
   | Some at ->
     let a = { env; name; atype = at; props = Names.create 16; acache = []; outbox = []; events = [];
-              effects = []; fuel_limit = fuel; pending = None; record_ran = true } in
+              effects = []; fuel_limit = fuel; pending = None; record_ran = true; live = 0 } in
     let f = frame a () in
     let params = match T.agent_create env atype with Some r -> r.r_params | None -> [] in
     if List.length params <> List.length args then

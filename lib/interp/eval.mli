@@ -74,8 +74,16 @@ val wording : error_kind -> string -> string
     ["exhaustion: "] or ["link error: "] before the others'. *)
 
 val max_call_depth : int
+
 (** 200 nested calls: what a browser's JavaScript stack holds (the playground
     must report what [run] reports), with room to spare. *)
+
+val max_behaviours : int
+(** D19: 10,000 active behaviour instances per agent. An [activate] when
+    the agent has that many is an exhaustion error at the [activate]
+    (R7): the body stops, the instance is not made. The bound keeps the
+    rules' own work in each step (the ready list, the handler snapshot)
+    bounded. *)
 
 type event =
   | Log of string
@@ -117,6 +125,10 @@ type agent = {
       (** record a [Ran] event after each handler and action block (what
           the trace says of a rule's effects); [true] unless set otherwise
           by a caller that writes no trace (the bench) *)
+  mutable live : int;
+      (** D19: the agent's active behaviour instances when the current rule
+          started ({!set_live}), plus the activations its bodies made since:
+          what [activate] checks against {!max_behaviours} *)
 }
 
 val property : agent -> string -> Value.t option
@@ -124,6 +136,12 @@ val property : agent -> string -> Value.t option
 
 val take_events : agent -> event list
 (** The events since the last call, oldest first. *)
+
+val set_live : agent -> int -> unit
+(** [set_live a n]: the agent has [n] active instances now. Whoever runs
+    the machine calls it after each rule that changed them (the runtime,
+    the playground), so that {!max_behaviours} counts what is active, not
+    every activation ever made. *)
 
 val create_agent :
   Typing.Tenv.t -> name:string -> atype:string -> args:Value.t list -> fuel:int ->

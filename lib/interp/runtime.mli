@@ -40,10 +40,14 @@ val message : t -> agent:string -> perf:string -> Value.t -> (unit, string) resu
 
 val run_rounds : t -> int -> unit
 (** [n] rounds: in each, every agent that is not idle runs one loop iteration
-    (round-robin, or a seeded order). *)
+    (round-robin, or a seeded order). D20: the rounds stop early when every
+    agent is idle, when the step limit ([max_steps]) is reached, or after a
+    round that took no step: no seeded order is drawn for a round that
+    does not run. *)
 
 val run_until_idle : t -> unit
-(** Until every agent is idle or the step limit is reached. *)
+(** Until every agent is idle or the step limit is reached ([run_rounds]
+    with no bound on the count). *)
 
 val finish : t -> unit
 (** Runs every agent's [on destroy], in creation order, and closes the trace. *)
