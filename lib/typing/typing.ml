@@ -12,3 +12,4 @@ let check files =
      [Syntax.Diag.make Syntax.Diag.Crash Syntax.Source.no_region (Printexc.to_string e)])
 
 let has_errors ds = List.exists (fun d -> d.Syntax.Diag.severity = Syntax.Diag.Error) ds
+let performatives = Check.performative_names
