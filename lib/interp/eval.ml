@@ -139,6 +139,25 @@ let max_behaviours = 10_000
 
 let set_live a n = a.live <- n
 
+(* D21: the largest text (bytes, also as printed by log, send, invoke) and
+   map (entries) a run may build. *)
+let max_text = 1_000_000
+let max_map_size = 1_000_000
+
+let too_big at what =
+  raise (Exhaustion (at, Printf.sprintf "value too large: %s (at most %d bytes in a text, %d entries in a map)"
+                       what max_text max_map_size))
+
+(* The text of [v] (log), or its literal (what a trace line carries), when
+   it is at most max_text bytes long. *)
+let bounded_text ~quote at v =
+  if not (V.printed_within ~quote max_text v) then too_big at "its text would be too long";
+  v
+
+let map_set_bounded at (m : V.map_v) k v =
+  if m.size >= max_map_size && V.map_find m k = None then too_big at "the map would have too many entries";
+  V.map_set m k v
+
 let uids = ref 0
 
 
@@ -374,7 +393,10 @@ let rec expr (f : frame) (e : Ast.expr) : V.t =
   | Binop (Add, l, r) ->
     let a = expr f l and b = expr f r in
     (match a, b with
-     | V.Text _, _ | _, V.Text _ -> V.Text (V.to_text a ^ V.to_text b)
+     | V.Text _, _ | _, V.Text _ ->
+       let a = V.to_text (bounded_text ~quote:false e.at a) and b = V.to_text (bounded_text ~quote:false e.at b) in
+       if String.length a + String.length b > max_text then too_big e.at "the text would be too long";
+       V.Text (a ^ b)
      | _ -> arith e.at Add a b)
   | Binop (op, l, r) -> let a = expr f l in let b = expr f r in arith e.at op a b
   | Invoke i -> invoke f e.at i
@@ -438,7 +460,7 @@ and run_routine (f : frame) at (r : T.routine) beh args : V.t option =
 
 and invoke (f : frame) at (i : Ast.invoke) =
   let target = expr f i.target in
-  let args = List.map (expr f) i.args in
+  let args = List.map2 (fun (a : Ast.expr) v -> bounded_text ~quote:true a.at v) i.args (List.map (expr f) i.args) in
   match target with
   | V.Native n ->
     (match List.assoc_opt i.meth.it n.methods with
@@ -493,14 +515,14 @@ and stmt (f : frame) (s : Ast.stmt) =
        f.ag.events <- Deactivated f.id :: f.ag.events
      | None -> err s.at "deactivate this outside a behaviour")
   | Send (perf, c, rs) ->
-    let content = expr f c in
+    let content = bounded_text ~quote:true c.at (expr f c) in
     let receivers = List.concat_map (fun r -> match expr f r with
         | V.Aid a -> [ a ]
         | V.List l -> List.map (function V.Aid a -> a | v -> err r.at "a receiver is an aid, not a %s" (V.type_name v)) (V.list_items l)
         | v -> err r.at "a receiver is an aid, not a %s" (V.type_name v)) rs in
     List.iter (fun r -> f.ag.outbox <- (r, { perf = perf.it; content; sender = f.ag.name }) :: f.ag.outbox) receivers;
     f.ag.events <- Sent { perf = perf.it; content; receivers } :: f.ag.events
-  | Log e -> let v = expr f e in f.ag.events <- Log (V.to_text v) :: f.ag.events
+  | Log e -> let v = bounded_text ~quote:false e.at (expr f e) in f.ag.events <- Log (V.to_text v) :: f.ag.events
   | If (branches, els) ->
     let rec go = function
       | [] -> (match els with Some b -> block f b | None -> ())
@@ -542,7 +564,7 @@ and assign (f : frame) (lv : Ast.lvalue) v =
      | V.List l, V.Int i ->
        if i < 0 || i >= l.len then err lv.at "index %d is out of bounds (the list has %d elements)" i l.len;
        l.items.(i) <- v
-     | V.Map m, _ -> V.map_set m kv v
+     | V.Map m, _ -> map_set_bounded lv.at m kv v
      | _ -> err lv.at "cannot index a %s" (V.type_name mv))
   | LOf (p, e) ->
     (match expr f e with
