@@ -78,6 +78,14 @@ val max_call_depth : int
 (** 200 nested calls: what a browser's JavaScript stack holds (the playground
     must report what [run] reports), with room to spare. *)
 
+val max_text : int
+val max_map_size : int
+(** D21: a text holds at most 1,000,000 bytes and a map at most 1,000,000
+    entries. Building a bigger one ([s + t], [m[k] = v] with a new key), or
+    a [log], [send] or [invoke] of a value whose text or literal would be
+    longer than [max_text], is an exhaustion error at that expression or
+    assignment (R7); the length is counted without building the text. *)
+
 val max_behaviours : int
 (** D19: 10,000 active behaviour instances per agent. An [activate] when
     the agent has that many is an exhaustion error at the [activate]
