@@ -80,7 +80,7 @@ let flush_stdout_quietly () = try flush stdout with Sys_error _ -> close_out_noe
 let try_writes : (string -> unit) ref =
   ref (fun m -> prerr_endline ("jadescript-ref: error: " ^ m); raise (Stop 1))
 
-let run files agent_specs events_file trace_file seed max_steps variant fuel capacity =
+let run files agent_specs events_file trace_file seed max_steps variant fuel capacity max_memory =
   match
     let env = load files in
     let specs = List.map (agent_spec env) agent_specs in
@@ -95,6 +95,8 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
     let max_steps = Option.get (number ~opt:"max-steps" ~lo:0 ~hi:max_int ~what:"agent steps in the whole run" (Some max_steps)) in
     let fuel = Option.get (number ~opt:"fuel" ~lo:1 ~hi:int_max ~what:"statements per handler or step" (Some fuel)) in
     let capacity = number ~opt:"o2a-capacity" ~lo:0 ~hi:int_max ~what:"places in each O2A queue" capacity in
+    let max_memory = number ~opt:"max-memory" ~lo:16 ~hi:1_048_576 ~what:"megabytes of heap the run may take" (Some max_memory) in
+    Interp.Eval.set_max_memory max_memory;   (* D22 *)
     let agents = List.map (fun (n, ty, _) -> (n, ty)) specs in
     Option.iter (check_events env agents) events_file;
     let variant = match Mc.variant_of_string variant with
@@ -163,6 +165,12 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
   | code -> code
   | exception Stop code -> code
   | exception Sys_error m -> (try !try_writes m; 1 with Stop code -> code)
+  | exception Out_of_memory ->
+    (* the machine's memory ran out before --max-memory's bound (D22) was
+       seen: the trace so far is flushed at exit *)
+    flush_stdout_quietly ();
+    prerr_endline "jadescript-ref: error: out of memory (the machine's, below --max-memory)";
+    1
   | exception Semantics.Fault.Crash m ->
     (* a broken invariant of ours, never the program's or the host's fault *)
     flush stdout;
@@ -190,6 +198,9 @@ let cmd =
                     ~doc:"Statements one handler or behaviour step may execute (R7), 1 to 2147483647.") in
   let capacity = Arg.(value & opt (some string) None & info ["o2a-capacity"] ~docv:"N"
                         ~doc:"Capacity of each agent's O2A queue (R2d), 0 to 2147483647; default unbounded.") in
+  let max_memory = Arg.(value & opt string "2048" & info ["max-memory"] ~docv:"MB"
+                          ~doc:"Megabytes of heap the run may take, 16 to 1048576 (D22): over it, the statement \
+                                running is an exhaustion error (R7) and the run carries on.") in
   Cmd.v (Cmd.info "run" ~doc:"Run a Jadescript program on the reference semantics."
            ~man:[`S Manpage.s_description;
                  `P "Type-checks the program, creates the agents in order, applies the host \
@@ -203,4 +214,4 @@ let cmd =
                      anything runs, with exit status 1. The events file is read twice, one \
                      line at a time: every line is checked first, then the events are applied \
                      as they are read."])
-    Term.(const run $ files $ agents $ events $ trace $ seed $ max_steps $ variant $ fuel $ capacity)
+    Term.(const run $ files $ agents $ events $ trace $ seed $ max_steps $ variant $ fuel $ capacity $ max_memory)

@@ -164,10 +164,31 @@ let uids = ref 0
 (* ------------------------------------------------------------ frames *)
 
 
+(* D22: the memory a run may take, in megabytes ([None]: no bound). Every
+   1,024 statements, and before a text of more than 64 KB is built, the
+   major heap's size is compared with it; over it, the heap is compacted
+   (garbage may be most of it) and compared again; still over it, the
+   statement is an exhaustion error (R7). *)
+let max_memory : int option ref = ref None
+
+let set_max_memory mb = max_memory := mb
+
+let check_memory at =
+  match !max_memory with
+  | None -> ()
+  | Some mb ->
+    let words = mb * (1024 * 1024 / (Sys.word_size / 8)) in
+    if (Gc.quick_stat ()).heap_words > words then begin
+      Gc.compact ();
+      if (Gc.quick_stat ()).heap_words > words then
+        raise (Exhaustion (at, Printf.sprintf "out of memory: the run takes more than %d MB (--max-memory)" mb))
+    end
+
 let tick (f : frame) at =
   decr f.fuel;
   if !(f.fuel) < 0 then
-    raise (Exhaustion (at, Printf.sprintf "step budget exhausted: more than %d statements in one handler or step (--fuel)" f.ag.fuel_limit))
+    raise (Exhaustion (at, Printf.sprintf "step budget exhausted: more than %d statements in one handler or step (--fuel)" f.ag.fuel_limit));
+  if !(f.fuel) land 1023 = 0 then check_memory at
 
 (* ------------------------------------------------------- conversions *)
 
@@ -396,6 +417,7 @@ let rec expr (f : frame) (e : Ast.expr) : V.t =
      | V.Text _, _ | _, V.Text _ ->
        let a = V.to_text (bounded_text ~quote:false e.at a) and b = V.to_text (bounded_text ~quote:false e.at b) in
        if String.length a + String.length b > max_text then too_big e.at "the text would be too long";
+       if String.length a + String.length b > 65536 then check_memory e.at;
        V.Text (a ^ b)
      | _ -> arith e.at Add a b)
   | Binop (op, l, r) -> let a = expr f l in let b = expr f r in arith e.at op a b

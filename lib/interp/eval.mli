@@ -86,6 +86,16 @@ val max_map_size : int
     longer than [max_text], is an exhaustion error at that expression or
     assignment (R7); the length is counted without building the text. *)
 
+val set_max_memory : int option -> unit
+(** D22: [set_max_memory (Some mb)]: a run takes at most [mb] megabytes of
+    heap. The evaluator compares the heap with it every 1,024 statements
+    and before building a text of more than 64 KB; over it (after a
+    compaction), the statement is an exhaustion error (R7): ["out of
+    memory: the run takes more than MB MB (--max-memory)"]. [None] (the
+    default of the library): no bound. Where the error falls depends on the
+    garbage collector: it is a safety net, not part of the conformance
+    contract (D21 is). *)
+
 val max_behaviours : int
 (** D19: 10,000 active behaviour instances per agent. An [activate] when
     the agent has that many is an exhaustion error at the [activate]

@@ -127,6 +127,38 @@ let d21_sizes () =
           Alcotest.(check string) "the run carried on" (Printf.sprintf "a: still here %d\n" Interp.Eval.max_map_size) out;
           Alcotest.(check bool) "the trace is JSON" true json))
 
+(* ---------------------------------------------------------------- D22 *)
+
+(* Distinct texts of 128 KB kept in a map pass 64 MB: an exhaustion error
+   of the handler, somewhere in its loop (where depends on the garbage
+   collector), and the run carries on. *)
+let d22_memory () =
+  let prog = "ontology O\n\tproposition tick extends percept\n\n\
+              agent A uses ontology O\n\tproperty m as map of integer:text\n\ton create do\n\t\tactivate behaviour B\n\n\
+              cyclic behaviour B for agent A\n\
+              \ton percept when content matches tick do\n\t\ts = \"x\"\n\t\twhile length of s < 100000 do\n\t\t\ts = s + s\n\
+              \t\ti = 0\n\t\twhile true do\n\t\t\tm[i] = s + i\n\t\t\ti = i + 1\n\n\
+              \ton percept when content matches tick do\n\t\tlog \"still here\"\n" in
+  with_file "jsref_mem.jade" prog (fun p ->
+      with_file "jsref_mem.jsonl" "{\"agent\": \"a\", \"notify\": \"tick\"}\n" (fun ev ->
+          let trace = Filename.temp_file "jsref-mem" ".jsonl" in
+          (* 1.5 GB of address space at most: without the bound, the run
+             dies of it instead of taking the machine's memory *)
+          let (status, out, err) = run_command (Printf.sprintf "ulimit -v 1500000; timeout 60 %s run %s --agent a:A --events %s --fuel 100000000 --max-memory 64 --trace %s"
+                                                  exe p ev trace) in
+          let json = trace_is_json trace in
+          Sys.remove trace;
+          Alcotest.(check int) "exit 1 (D15)" 1 status;
+          Alcotest.(check int) ("one error\n" ^ err) 1 (List.length (lines err));
+          let line = try int_of_string (List.nth (String.split_on_char ':' err) 1) with _ -> 0 in
+          Alcotest.(check bool) ("in the loop, lines 15-17: " ^ err) true (line >= 15 && line <= 17);
+          Alcotest.(check bool) ("the message: " ^ err) true
+            (Str_contains.contains err "error: exhaustion: out of memory: the run takes more than 64 MB (--max-memory)");
+          Alcotest.(check string) "the run carried on" "a: still here\n" out;
+          Alcotest.(check bool) "the trace is JSON" true json));
+  let r = run (Printf.sprintf "%s --agent s:Spinner --max-memory 8" (Filename.concat root "conformance/055-r7-fuel-exhausted/program.jade")) in
+  one_error_line "max-memory 8" r "jadescript-ref: error: option --max-memory: \"8\" is not a whole number from 16 to 1048576"
+
 (* ------------------------------------------------------- bad values *)
 
 let spinner = Filename.concat root "conformance/055-r7-fuel-exhausted/program.jade"
@@ -209,7 +241,8 @@ let () =
         Alcotest.test_case "D19 activation bound, no cubic cost" `Quick d19_bound;
         Alcotest.test_case "D19 counts active instances" `Quick d19_counts_active;
         Alcotest.test_case "D20 rounds end when nothing can change" `Quick d20_rounds;
-        Alcotest.test_case "D21 texts and maps bounded" `Quick d21_sizes ]);
+        Alcotest.test_case "D21 texts and maps bounded" `Quick d21_sizes;
+        Alcotest.test_case "D22 --max-memory" `Quick d22_memory ]);
     ("edges", [
         Alcotest.test_case "run: bad command-line values" `Quick cli_values;
         Alcotest.test_case "run: bad events values" `Quick events_values;
