@@ -235,6 +235,26 @@ let utf_8 () =
           Alcotest.(check string) "the texts" "a: h\xc3\xa9llo \xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80\na: \xc3\xa9t\xc3\xa9 \xc3\xa9\n" out;
           Alcotest.(check bool) "the trace is JSON" true json))
 
+(* The playground shares run's rules: the same names refused, and D20's
+   rounds (a count of 2^62 - 1 ends once the agent is idle). *)
+let playground () =
+  let module S = Playground_core.Session in
+  let files = [ ("p.jade", "agent A\n\ton create do\n\t\tlog \"hi\"\n") ] in
+  let boot agents = S.create { S.default_setup with files; agents } in
+  (match boot [ "a:A"; "a:A" ] with
+   | Error [ m ] -> Alcotest.(check string) "duplicate" "--agent a:A: error: there is already an agent a (agent names are unique)" m
+   | _ -> Alcotest.fail "a duplicate agent name is accepted");
+  (match boot [ "host:A" ] with
+   | Error [ m ] -> Alcotest.(check bool) ("host: " ^ m) true (Str_contains.contains m "the name host is reserved")
+   | _ -> Alcotest.fail "an agent named host is accepted");
+  (match S.create { S.default_setup with files = [ ("p.jade", activations) ]; agents = [ "a:A" ] } with
+   | Error ms -> Alcotest.failf "does not boot: %s" (String.concat "; " ms)
+   | Ok t ->
+     (match S.host t (S.Notify { agent = "a"; percept = "go(100)"; priority = None }) with Ok () -> () | Error m -> Alcotest.fail m);
+     S.run_rounds t 4611686018427387903;
+     let has s = List.exists (fun l -> Str_contains.contains l s) (S.trace t) in
+     Alcotest.(check bool) "D20: the rounds ended, the handler ran" true (has "\"text\":\"done 100\""))
+
 let () =
   Alcotest.run "limits" [
     ("limits", [
@@ -246,5 +266,6 @@ let () =
     ("edges", [
         Alcotest.test_case "run: bad command-line values" `Quick cli_values;
         Alcotest.test_case "run: bad events values" `Quick events_values;
-        Alcotest.test_case "texts are UTF-8" `Quick utf_8 ]);
+        Alcotest.test_case "texts are UTF-8" `Quick utf_8;
+        Alcotest.test_case "the playground: names, D20" `Quick playground ]);
   ]
