@@ -82,7 +82,8 @@ type agent = {
   mutable record_ran : bool;   (* record Ran events (for a trace) *)
   mutable live : int;
       (* D19: active instances when the current rule started (set_live),
-         plus the activations its bodies made since *)
+         plus the activations its bodies made since, minus their
+         deactivations *)
 }
 
 (* What a running body sees. *)
@@ -534,6 +535,7 @@ and stmt (f : frame) (s : Ast.stmt) =
        ()
      | Some _ ->
        f.ag.effects <- Semantics.Machine.Deactivate :: f.ag.effects;
+       f.ag.live <- f.ag.live - 1;   (* D19: the instance leaves at the end of the rule *)
        f.ag.events <- Deactivated f.id :: f.ag.events
      | None -> err s.at "deactivate this outside a behaviour")
   | Send (perf, c, rs) ->

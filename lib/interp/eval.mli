@@ -145,8 +145,9 @@ type agent = {
           by a caller that writes no trace (the bench) *)
   mutable live : int;
       (** D19: the agent's active behaviour instances when the current rule
-          started ({!set_live}), plus the activations its bodies made since:
-          what [activate] checks against {!max_behaviours} *)
+          started ({!set_live}), plus the activations its bodies made since,
+          minus their [deactivate this]: what [activate] checks against
+          {!max_behaviours} *)
 }
 
 val property : agent -> string -> Value.t option

@@ -81,6 +81,23 @@ let d19_counts_active () =
           Alcotest.(check string) "no error" "" err;
           Alcotest.(check int) "exit 0" 0 status))
 
+(* With 10,000 active, a body that deactivates its own instance may then
+   activate one (the count is what JADE's agent sees: the deactivation
+   counts at once); the handler logs "after". *)
+let d19_deactivate_then_activate () =
+  let prog = "ontology O\n\tpredicate go(n as integer) extends percept\n\tproposition stop extends percept\n\n\
+              agent A uses ontology O\n\ton create do\n\t\tactivate behaviour Main\n\n\
+              cyclic behaviour Main for agent A\n\
+              \ton percept when content matches go(n) do\n\t\ti = 0\n\t\twhile i < n do\n\t\t\tactivate behaviour H\n\t\t\ti = i + 1\n\n\
+              \ton percept when content matches stop do\n\t\tdeactivate this\n\t\tactivate behaviour H\n\t\tlog \"after\"\n\n\
+              one shot behaviour H for agent A\n\tdo\n\t\tx = 1\n" in
+  with_file "jsref_act4.jade" prog (fun p ->
+      with_file "jsref_act4.jsonl" "{\"agent\": \"a\", \"notify\": \"go(9999)\"}\n{\"agent\": \"a\", \"notify\": \"stop\"}\n{\"run\": 1}\n" (fun ev ->
+          let (status, out, err) = run (Printf.sprintf "%s --agent a:A --events %s --max-steps 10" p ev) in
+          Alcotest.(check string) "no error" "" err;
+          Alcotest.(check int) "exit 0" 0 status;
+          Alcotest.(check string) "the activation after the deactivation" "a: after\n" out))
+
 (* ---------------------------------------------------------------- D20 *)
 
 (* A run count of 2^62 - 1 ends at once when every agent is idle; an agent
@@ -260,6 +277,7 @@ let () =
     ("limits", [
         Alcotest.test_case "D19 activation bound, no cubic cost" `Quick d19_bound;
         Alcotest.test_case "D19 counts active instances" `Quick d19_counts_active;
+        Alcotest.test_case "D19 a deactivation counts at once" `Quick d19_deactivate_then_activate;
         Alcotest.test_case "D20 rounds end when nothing can change" `Quick d20_rounds;
         Alcotest.test_case "D21 texts and maps bounded" `Quick d21_sizes;
         Alcotest.test_case "D22 --max-memory" `Quick d22_memory ]);
