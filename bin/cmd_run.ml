@@ -1,5 +1,6 @@
 (* jadescript-ref run FILE... --agent NAME:TYPE[:ARG,...] ... [--events FILE]
-   [--trace FILE] [--seed N] [--max-steps N] [--variant V] [--fuel N] *)
+   [--trace FILE] [--seed N] [--max-steps N] [--variant V] [--fuel N]
+   [--o2a-capacity N] [--max-memory MB] *)
 
 open Syntax
 open Cmdliner
@@ -15,8 +16,9 @@ let report_at file line col msg =
 let usage_error fmt =
   Printf.ksprintf (fun m -> prerr_endline ("jadescript-ref: error: " ^ m); raise (Stop 1)) fmt
 
-(* The number options of run and their ranges (README, "The command line";
-   D21): each a decimal integer in [lo, hi]. Integers are Java's int (D8). *)
+(* The number options of run and their ranges (README, "The command line"):
+   each a whole number in [lo, hi]; those the JADE harness also takes are
+   Java ints (D8). *)
 let int_max = 0x7FFF_FFFF
 
 let number ~opt ~lo ~hi ~what = function
