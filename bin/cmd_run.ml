@@ -1,5 +1,6 @@
 (* jadescript-ref run FILE... --agent NAME:TYPE[:ARG,...] ... [--events FILE]
-   [--trace FILE] [--seed N] [--max-steps N] [--variant V] [--fuel N] *)
+   [--trace FILE] [--seed N] [--max-steps N] [--variant V] [--fuel N]
+   [--o2a-capacity N] [--max-memory MB] *)
 
 open Syntax
 open Cmdliner
@@ -10,6 +11,22 @@ exception Stop of int
 
 let report_at file line col msg =
   prerr_endline (Printf.sprintf "%s:%d:%d: error: %s" file line col msg)
+
+(* A command-line value that is not good: one line, exit status 1. *)
+let usage_error fmt =
+  Printf.ksprintf (fun m -> prerr_endline ("jadescript-ref: error: " ^ m); raise (Stop 1)) fmt
+
+(* The number options of run and their ranges (README, "The command line"):
+   each a whole number in [lo, hi]; those the JADE harness also takes are
+   Java ints (D8). *)
+let int_max = 0x7FFF_FFFF
+
+let number ~opt ~lo ~hi ~what = function
+  | None -> None
+  | Some s ->
+    (match int_of_string_opt (String.trim s) with
+     | Some n when n >= lo && n <= hi -> Some n
+     | _ -> usage_error "option --%s: %S is not a whole number from %d to %d (%s)" opt s lo hi what)
 
 (* Parse and check the program; print every diagnostic; stop on an error. *)
 let load files =
@@ -35,6 +52,9 @@ let agent_spec env spec =
       | None -> (rest, "")
       | Some j -> (String.sub rest 0 j, String.sub rest (j + 1) (String.length rest - j - 1)) in
     if name = "" || ty = "" then fail "expected NAME:TYPE[:ARG,...]";
+    (* the sender of host messages (R5e) is host: no agent may be so named *)
+    if name = "host" then fail "the name host is reserved: it is the sender of the host's messages (R5e)";
+    if Syntax.Lexer.utf_8_error name <> None then fail "an agent's name is UTF-8 text";
     if Typing.Tenv.agent env ty = None then fail (Printf.sprintf "there is no agent type %s" ty);
     let values = List.map (fun a ->
         match List.assoc_opt a (Interp.Host.objects ()) with
@@ -54,7 +74,15 @@ let check_events env agents file =
   | _ -> raise (Stop 1)
   | exception Sys_error m -> report_at file 1 1 ("cannot read the events file: " ^ m); raise (Stop 1)
 
-let run files agent_specs events_file trace_file seed max_steps variant fuel capacity defect =
+(* Standard output that cannot be written is closed, its buffer dropped:
+   nothing would ever write it, and the flush at exit would fail again. *)
+let flush_stdout_quietly () = try flush stdout with Sys_error _ -> close_out_noerr stdout
+
+(* What a failed write reports; set once the trace is open. *)
+let try_writes : (string -> unit) ref =
+  ref (fun m -> prerr_endline ("jadescript-ref: error: " ^ m); raise (Stop 1))
+
+let run files agent_specs events_file trace_file seed max_steps variant fuel capacity max_memory defect =
   match
     let hooks = match defect with
       | None -> Interp.Runtime.reference_hooks
@@ -65,12 +93,36 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
     let env = load files in
     let specs = List.map (agent_spec env) agent_specs in
     if specs = [] then (prerr_endline "error: no agent: give at least one --agent NAME:TYPE"; raise (Stop 1));
+    ignore (List.fold_left (fun seen (n, ty, _) ->
+        if List.mem n seen then begin
+          prerr_endline (Printf.sprintf "--agent %s:%s: error: there is already an agent %s (agent names are unique)" n ty n);
+          raise (Stop 1)
+        end;
+        n :: seen) [] specs);
+    let seed = number ~opt:"seed" ~lo:0 ~hi:int_max ~what:"the scheduler's seed" seed in
+    let max_steps = Option.get (number ~opt:"max-steps" ~lo:0 ~hi:max_int ~what:"agent steps in the whole run" (Some max_steps)) in
+    let fuel = Option.get (number ~opt:"fuel" ~lo:1 ~hi:int_max ~what:"statements per handler or step" (Some fuel)) in
+    let capacity = number ~opt:"o2a-capacity" ~lo:0 ~hi:int_max ~what:"places in each O2A queue" capacity in
+    let max_memory = number ~opt:"max-memory" ~lo:16 ~hi:1_048_576 ~what:"megabytes of heap the run may take" (Some max_memory) in
+    Interp.Eval.set_max_memory max_memory;   (* D22 *)
     let agents = List.map (fun (n, ty, _) -> (n, ty)) specs in
     Option.iter (check_events env agents) events_file;
     let variant = match Mc.variant_of_string variant with
       | Some v -> v
       | None -> prerr_endline ("error: unknown variant " ^ variant ^ " (printed, reference, budgeted, native)"); raise (Stop 1) in
-    let trace = Option.map open_out_bin trace_file in
+    let trace = Option.map (fun f ->
+        try open_out_bin f with Sys_error m -> report_at f 1 1 ("cannot write the trace: " ^ m); raise (Stop 1))
+        trace_file in
+    (* a write that fails (a full disk, /dev/full) is a clean error: the
+       trace's, or standard output's *)
+    let write_failed m =
+      flush_stdout_quietly ();
+      (match trace_file, trace with
+       | Some f, Some oc when (try flush oc; false with Sys_error _ -> true) ->
+         report_at f 1 1 ("cannot write the trace: " ^ m)
+       | _ -> prerr_endline ("jadescript-ref: error: cannot write: " ^ m));
+      raise (Stop 1) in
+    try_writes := write_failed;
     (* a run stopped by a signal (a timeout, ^C) ends through exit, which
        flushes the trace: every event before the signal is in it *)
     List.iter (fun (s, code) -> Sys.set_signal s (Sys.Signal_handle (fun _ -> exit code)))
@@ -115,11 +167,19 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
     Interp.Runtime.run_until_idle rt;
     Interp.Runtime.finish rt;
     Option.iter close_out trace;
+    flush stdout;
     ignore !host_error;   (* a refused notify (R2d) is the host's answer, not an error *)
     if !run_errors > 0 then 1 else 0
   with
   | code -> code
   | exception Stop code -> code
+  | exception Sys_error m -> (try !try_writes m; 1 with Stop code -> code)
+  | exception Out_of_memory ->
+    (* the machine's memory ran out before --max-memory's bound (D22) was
+       seen: the trace so far is flushed at exit *)
+    flush_stdout_quietly ();
+    prerr_endline "jadescript-ref: error: out of memory (the machine's, below --max-memory)";
+    1
   | exception Semantics.Fault.Crash m ->
     (* a broken invariant of ours, never the program's or the host's fault *)
     flush stdout;
@@ -135,15 +195,21 @@ let cmd =
                       ~doc:"Host events, JSON lines (docs/trace-format.md).") in
   let trace = Arg.(value & opt (some string) None & info ["trace"] ~docv:"FILE"
                      ~doc:"Write the trace, JSON lines (docs/trace-format.md).") in
-  let seed = Arg.(value & opt (some int) None & info ["seed"] ~docv:"N"
-                    ~doc:"Interleave the agents in a random order drawn from this seed (R6); default round-robin.") in
-  let max_steps = Arg.(value & opt int 1_000_000 & info ["max-steps"] ~docv:"N" ~doc:"Stop after N agent steps.") in
+  let seed = Arg.(value & opt (some string) None & info ["seed"] ~docv:"N"
+                    ~doc:"Interleave the agents in a random order drawn from this seed (R6), 0 to 2147483647; \
+                          default round-robin.") in
+  let max_steps = Arg.(value & opt string "1000000" & info ["max-steps"] ~docv:"N"
+                         ~doc:"Stop after N agent steps, 0 to 4611686018427387903 (D20: rounds where every \
+                               agent is idle are not run).") in
   let variant = Arg.(value & opt string "reference" & info ["variant"] ~docv:"V"
                        ~doc:"The agent loop: reference (the rulings), printed, budgeted or native.") in
-  let fuel = Arg.(value & opt int 100_000 & info ["fuel"] ~docv:"N"
-                    ~doc:"Statements one handler or behaviour step may execute (R7).") in
-  let capacity = Arg.(value & opt (some int) None & info ["o2a-capacity"] ~docv:"N"
-                        ~doc:"Capacity of each agent's O2A queue (R2d); default unbounded.") in
+  let fuel = Arg.(value & opt string "100000" & info ["fuel"] ~docv:"N"
+                    ~doc:"Statements one handler or behaviour step may execute (R7), 1 to 2147483647.") in
+  let capacity = Arg.(value & opt (some string) None & info ["o2a-capacity"] ~docv:"N"
+                        ~doc:"Capacity of each agent's O2A queue (R2d), 0 to 2147483647; default unbounded.") in
+  let max_memory = Arg.(value & opt string "2048" & info ["max-memory"] ~docv:"MB"
+                          ~doc:"Megabytes of heap the run may take, 16 to 1048576 (D22): over it, the statement \
+                                running is an exhaustion error (R7) and the run carries on.") in
   (* hidden: a deliberately defective interpreter (lib/defects), for the
      vectors' kill count (jadescript-ref defects) *)
   let defect = Arg.(value & opt (some string) None & info ["defect"] ~docs:Manpage.s_none ~docv:"NAME"
@@ -161,4 +227,4 @@ let cmd =
                      anything runs, with exit status 1. The events file is read twice, one \
                      line at a time: every line is checked first, then the events are applied \
                      as they are read."])
-    Term.(const run $ files $ agents $ events $ trace $ seed $ max_steps $ variant $ fuel $ capacity $ defect)
+    Term.(const run $ files $ agents $ events $ trace $ seed $ max_steps $ variant $ fuel $ capacity $ max_memory $ defect)

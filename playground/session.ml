@@ -124,6 +124,8 @@ let on_event ?before st (pl : P.t) (e : P.event) =
   | P.Step (name, l) ->
     let i = index st name in
     let before = match before with Some c -> c | None -> prev.agents.(i).config in
+    let after = pl.agents.(i).config in
+    if after.active != before.active then E.set_live after.world (List.length after.active);  (* D19 *)
     Interp.Tracer.step st.tr ~agent:name ~before ~after:pl.agents.(i).config l
   | P.Delivered { receiver; _ } ->
     Interp.Tracer.host st.tr ~agent:receiver pl.agents.(index st receiver).config
@@ -172,6 +174,13 @@ let boot (s : setup) : (state, string list) result =
       match
         let specs = List.map (agent_spec env) (List.filter (fun a -> String.trim a <> "") s.agents) in
         if specs = [] then raise (Bad "error: no agent: give at least one NAME:TYPE");
+        (* as run: names unique, host reserved (the sender of host messages) *)
+        ignore (List.fold_left (fun seen (n, ty, _) ->
+            if n = "host" then
+              raise (Bad (Printf.sprintf "--agent %s:%s: error: the name host is reserved: it is the sender of the host's messages (R5e)" n ty));
+            if List.mem n seen then
+              raise (Bad (Printf.sprintf "--agent %s:%s: error: there is already an agent %s (agent names are unique)" n ty n));
+            n :: seen) [] specs);
         let st = { env; params = params_of s; platform = P.create []; steps = 0;
                    rand = Option.map (fun n -> Random.State.make [| n |]) s.seed;
                    tr = Interp.Tracer.create (Trace.nowhere ()) ~on_body:(fun _ _ -> ());
@@ -184,6 +193,7 @@ let boot (s : setup) : (state, string list) result =
               try E.create_agent env ~name ~atype:ty ~args ~fuel:s.fuel
               with E.Link (_, m) -> raise (Bad ("error: " ^ m)) in
             Interp.Tracer.created st.tr ~agent:name ~agent_type:ty args behs a;
+            E.set_live a (List.length behs);   (* D19 *)
             (name, M.init st.params ~world:a behs)) specs in
         st.platform <- P.create created;
         Array.iter (fun (ag : P.agent) ->
@@ -353,23 +363,29 @@ let run_idle ?(limit = 5000) t =
 
 (* One round of run's {"run": 1}: every agent that is not idle runs one
    iteration, in the round's order (the one in progress, if any, is
-   finished first; a new round draws its order from the seed even when every
-   agent is idle, as Runtime.run_rounds does). *)
+   finished first; a new round draws its order from the seed). *)
 let round_cmds st =
   if st.current = None && st.round = [] then
     st.round <- P.round st.rand st.platform
 
+(* D20, as Runtime.run_rounds: no round when every agent is idle (nothing
+   can change until the host acts; no order is drawn), none past the step
+   limit, none after a round that took no step. *)
 let run_rounds t n =
-  for _ = 1 to n do
-    record t Round;
-    round_cmds t.st;
-    let rec go () =
-      match guarded (fun () -> Ok (do_rule ~refill:false t.st 0)) with
-      | Ok Stepped -> record t (R (0, false)); go ()
-      | Ok _ -> ()
-      | Error m -> t.st.out <- m :: t.st.out in
-    go ()
-  done
+  let rec rounds n =
+    if n > 0 && t.st.steps < t.st.max_steps && not (P.all_idle t.st.platform) then begin
+      let before = t.st.steps in
+      record t Round;
+      round_cmds t.st;
+      let rec go () =
+        match guarded (fun () -> Ok (do_rule ~refill:false t.st 0)) with
+        | Ok Stepped -> record t (R (0, false)); go ()
+        | Ok _ -> ()
+        | Error m -> t.st.out <- m :: t.st.out in
+      go ();
+      if t.st.steps > before then rounds (n - 1)
+    end in
+  rounds n
 
 (* {"run": {"rules": n}} (D23, as Runtime.run_rules): n single rules, each
    by the first agent in creation order that is not idle. The agent is not

@@ -100,7 +100,8 @@ val run_idle : ?limit:int -> t -> int * outcome
 val run_rounds : t -> int -> unit
 (** [n] rounds, as [{"run": n}] of an events file: in each, every agent that
     is not idle runs one iteration (the iteration in progress is finished
-    first). *)
+    first). D20, as [run]: the rounds stop when every agent is idle, at the
+    step limit, or after a round that took no step. *)
 
 val run_rules : t -> int -> unit
 (** [n] single rules, as [{"run": {"rules": n}}] of an events file (D23):

@@ -80,6 +80,10 @@ type agent = {
   mutable fuel_limit : int;
   mutable pending : (int * int * frame) option;
   mutable record_ran : bool;   (* record Ran events (for a trace) *)
+  mutable live : int;
+      (* D19: active instances when the current rule started (set_live),
+         plus the activations its bodies made since, minus their
+         deactivations *)
 }
 
 (* What a running body sees. *)
@@ -131,16 +135,61 @@ let link at fmt = Printf.ksprintf (fun s -> raise (Link (at, s))) fmt
    deeper recursion is an exhaustion error, never an OCaml stack overflow. *)
 let max_call_depth = 200
 
+(* D19: active behaviour instances one agent may have. *)
+let max_behaviours = 10_000
+
+let set_live a n = a.live <- n
+
+(* D21: the largest text (bytes, also as printed by log, send, invoke) and
+   map (entries) a run may build. *)
+let max_text = 1_000_000
+let max_map_size = 1_000_000
+
+let too_big at what =
+  raise (Exhaustion (at, Printf.sprintf "value too large: %s (at most %d bytes in a text, %d entries in a map)"
+                       what max_text max_map_size))
+
+(* The text of [v] (log), or its literal (what a trace line carries), when
+   it is at most max_text bytes long. *)
+let bounded_text ~quote at v =
+  if not (V.printed_within ~quote max_text v) then too_big at "its text would be too long";
+  v
+
+let map_set_bounded at (m : V.map_v) k v =
+  if m.size >= max_map_size && V.map_find m k = None then too_big at "the map would have too many entries";
+  V.map_set m k v
+
 let uids = ref 0
 
 
 (* ------------------------------------------------------------ frames *)
 
 
+(* D22: the memory a run may take, in megabytes ([None]: no bound). Every
+   1,024 statements, and before a text of more than 64 KB is built, the
+   major heap's size is compared with it; over it, the heap is compacted
+   (garbage may be most of it) and compared again; still over it, the
+   statement is an exhaustion error (R7). *)
+let max_memory : int option ref = ref None
+
+let set_max_memory mb = max_memory := mb
+
+let check_memory at =
+  match !max_memory with
+  | None -> ()
+  | Some mb ->
+    let words = mb * (1024 * 1024 / (Sys.word_size / 8)) in
+    if (Gc.quick_stat ()).heap_words > words then begin
+      Gc.compact ();
+      if (Gc.quick_stat ()).heap_words > words then
+        raise (Exhaustion (at, Printf.sprintf "out of memory: the run takes more than %d MB (--max-memory)" mb))
+    end
+
 let tick (f : frame) at =
   decr f.fuel;
   if !(f.fuel) < 0 then
-    raise (Exhaustion (at, Printf.sprintf "step budget exhausted: more than %d statements in one handler or step (--fuel)" f.ag.fuel_limit))
+    raise (Exhaustion (at, Printf.sprintf "step budget exhausted: more than %d statements in one handler or step (--fuel)" f.ag.fuel_limit));
+  if !(f.fuel) land 1023 = 0 then check_memory at
 
 (* ------------------------------------------------------- conversions *)
 
@@ -366,7 +415,11 @@ let rec expr (f : frame) (e : Ast.expr) : V.t =
   | Binop (Add, l, r) ->
     let a = expr f l and b = expr f r in
     (match a, b with
-     | V.Text _, _ | _, V.Text _ -> V.Text (V.to_text a ^ V.to_text b)
+     | V.Text _, _ | _, V.Text _ ->
+       let a = V.to_text (bounded_text ~quote:false e.at a) and b = V.to_text (bounded_text ~quote:false e.at b) in
+       if String.length a + String.length b > max_text then too_big e.at "the text would be too long";
+       if String.length a + String.length b > 65536 then check_memory e.at;
+       V.Text (a ^ b)
      | _ -> arith e.at Add a b)
   | Binop (op, l, r) -> let a = expr f l in let b = expr f r in arith e.at op a b
   | Invoke i -> invoke f e.at i
@@ -430,7 +483,7 @@ and run_routine (f : frame) at (r : T.routine) beh args : V.t option =
 
 and invoke (f : frame) at (i : Ast.invoke) =
   let target = expr f i.target in
-  let args = List.map (expr f) i.args in
+  let args = List.map2 (fun (a : Ast.expr) v -> bounded_text ~quote:true a.at v) i.args (List.map (expr f) i.args) in
   match target with
   | V.Native n ->
     (match List.assoc_opt i.meth.it n.methods with
@@ -482,17 +535,18 @@ and stmt (f : frame) (s : Ast.stmt) =
        ()
      | Some _ ->
        f.ag.effects <- Semantics.Machine.Deactivate :: f.ag.effects;
+       f.ag.live <- f.ag.live - 1;   (* D19: the instance leaves at the end of the rule *)
        f.ag.events <- Deactivated f.id :: f.ag.events
      | None -> err s.at "deactivate this outside a behaviour")
   | Send (perf, c, rs) ->
-    let content = expr f c in
+    let content = bounded_text ~quote:true c.at (expr f c) in
     let receivers = List.concat_map (fun r -> match expr f r with
         | V.Aid a -> [ a ]
         | V.List l -> List.map (function V.Aid a -> a | v -> err r.at "a receiver is an aid, not a %s" (V.type_name v)) (V.list_items l)
         | v -> err r.at "a receiver is an aid, not a %s" (V.type_name v)) rs in
     List.iter (fun r -> f.ag.outbox <- (r, { perf = perf.it; content; sender = f.ag.name }) :: f.ag.outbox) receivers;
     f.ag.events <- Sent { perf = perf.it; content; receivers } :: f.ag.events
-  | Log e -> let v = expr f e in f.ag.events <- Log (V.to_text v) :: f.ag.events
+  | Log e -> let v = bounded_text ~quote:false e.at (expr f e) in f.ag.events <- Log (V.to_text v) :: f.ag.events
   | If (branches, els) ->
     let rec go = function
       | [] -> (match els with Some b -> block f b | None -> ())
@@ -534,7 +588,7 @@ and assign (f : frame) (lv : Ast.lvalue) v =
      | V.List l, V.Int i ->
        if i < 0 || i >= l.len then err lv.at "index %d is out of bounds (the list has %d elements)" i l.len;
        l.items.(i) <- v
-     | V.Map m, _ -> V.map_set m kv v
+     | V.Map m, _ -> map_set_bounded lv.at m kv v
      | _ -> err lv.at "cannot index a %s" (V.type_name mv))
   | LOf (p, e) ->
     (match expr f e with
@@ -558,6 +612,9 @@ and activate (f : frame) at name kvs =
   match T.behaviour f.ag.env name with
   | None -> err at "unknown behaviour %s" name
   | Some bt ->
+    if f.ag.live >= max_behaviours then
+      raise (Exhaustion (at, Printf.sprintf "too many behaviours: an agent has at most %d active behaviour instances"
+                           max_behaviours));
     incr uids;
     let handlers = T.behaviour_handlers f.ag.env name in
     let phandlers = Array.of_list (List.filter (fun (h : T.handler) -> h.h_kind = T.On_percept) handlers) in
@@ -574,6 +631,7 @@ and activate (f : frame) at name kvs =
      | Some r -> ignore (run_routine bf at r (Some b) (`Named kvs))
      | None -> ());
     f.ag.effects <- Semantics.Machine.Activate b :: f.ag.effects;
+    f.ag.live <- f.ag.live + 1;
     f.ag.events <- Activated name :: f.ag.events
 
 and default_value (ty : Ty.t) = match Ty.repr ty with
@@ -636,7 +694,7 @@ let create_agent env ~name ~atype ~args ~fuel =
   | None -> link Source.no_region "unknown agent type %s" atype
   | Some at ->
     let a = { env; name; atype = at; props = Names.create 16; acache = []; outbox = []; events = [];
-              effects = []; fuel_limit = fuel; pending = None; record_ran = true } in
+              effects = []; fuel_limit = fuel; pending = None; record_ran = true; live = 0 } in
     let f = frame a () in
     let params = match T.agent_create env atype with Some r -> r.r_params | None -> [] in
     if List.length params <> List.length args then

@@ -74,8 +74,34 @@ val wording : error_kind -> string -> string
     ["exhaustion: "] or ["link error: "] before the others'. *)
 
 val max_call_depth : int
+
 (** 200 nested calls: what a browser's JavaScript stack holds (the playground
     must report what [run] reports), with room to spare. *)
+
+val max_text : int
+val max_map_size : int
+(** D21: a text holds at most 1,000,000 bytes and a map at most 1,000,000
+    entries. Building a bigger one ([s + t], [m[k] = v] with a new key), or
+    a [log], [send] or [invoke] of a value whose text or literal would be
+    longer than [max_text], is an exhaustion error at that expression or
+    assignment (R7); the length is counted without building the text. *)
+
+val set_max_memory : int option -> unit
+(** D22: [set_max_memory (Some mb)]: a run takes at most [mb] megabytes of
+    heap. The evaluator compares the heap with it every 1,024 statements
+    and before building a text of more than 64 KB; over it (after a
+    compaction), the statement is an exhaustion error (R7): ["out of
+    memory: the run takes more than MB MB (--max-memory)"]. [None] (the
+    default of the library): no bound. Where the error falls depends on the
+    garbage collector: it is a safety net, not part of the conformance
+    contract (D21 is). *)
+
+val max_behaviours : int
+(** D19: 10,000 active behaviour instances per agent. An [activate] when
+    the agent has that many is an exhaustion error at the [activate]
+    (R7): the body stops, the instance is not made. The bound keeps the
+    rules' own work in each step (the ready list, the handler snapshot)
+    bounded. *)
 
 type event =
   | Log of string
@@ -117,6 +143,11 @@ type agent = {
       (** record a [Ran] event after each handler and action block (what
           the trace says of a rule's effects); [true] unless set otherwise
           by a caller that writes no trace (the bench) *)
+  mutable live : int;
+      (** D19: the agent's active behaviour instances when the current rule
+          started ({!set_live}), plus the activations its bodies made since,
+          minus their [deactivate this]: what [activate] checks against
+          {!max_behaviours} *)
 }
 
 val property : agent -> string -> Value.t option
@@ -124,6 +155,12 @@ val property : agent -> string -> Value.t option
 
 val take_events : agent -> event list
 (** The events since the last call, oldest first. *)
+
+val set_live : agent -> int -> unit
+(** [set_live a n]: the agent has [n] active instances now. Whoever runs
+    the machine calls it after each rule that changed them (the runtime,
+    the playground), so that {!max_behaviours} counts what is active, not
+    every activation ever made. *)
 
 val create_agent :
   Typing.Tenv.t -> name:string -> atype:string -> args:Value.t list -> fuel:int ->

@@ -19,6 +19,12 @@ let parse_line env ~agents ~file line : (t option, (int * string) list) result =
         bad 1 ("not a JSON object: " ^ String.concat " " (String.split_on_char '\n' m))
       | `Assoc fields ->
         let get f = List.assoc_opt f fields in
+        (* the column of a field's name in the line, for an error at that field *)
+        let col_of f =
+          let key = "\"" ^ f ^ "\"" in
+          let n = String.length line and k = String.length key in
+          let rec go i = if i + k > n then 1 else if String.sub line i k = key then i + 1 else go (i + 1) in
+          go 0 in
         let agent () = match get "agent" with
           | Some (`String a) ->
             (match List.assoc_opt a agents with
@@ -43,8 +49,12 @@ let parse_line env ~agents ~file line : (t option, (int * string) list) result =
                   | (v, default) ->
                     (match get "priority" with
                      | None -> Some (Notify { agent = a; percept = v; default; priority = None })
-                     | Some (`Int k) when k >= 0 -> Some (Notify { agent = a; percept = v; default; priority = Some k })
-                     | Some _ -> bad 1 "\"priority\" is a natural number (R2a)")
+                     | Some (`Int k) when k >= 0 && k <= 0x7FFF_FFFF ->
+                       Some (Notify { agent = a; percept = v; default; priority = Some k })
+                     | Some (`Int _ | `Intlit _) ->
+                       (* integers are Java's int (D8) *)
+                       bad (col_of "priority") "\"priority\" is a natural number of 32 bits (R2a, D8): 0 to 2147483647"
+                     | Some _ -> bad (col_of "priority") "\"priority\" is a natural number (R2a)")
                   | exception (Eval.Trap (at, m) | Eval.Link (at, m)) -> bad at.left.column m)))
          | None, Some (`String o), None, None ->
            (* the object is read before the agent, as the messages' order has always been *)
@@ -53,10 +63,19 @@ let parse_line env ~agents ~file line : (t option, (int * string) list) result =
             | Some (a, _), Some e -> Option.map (fun v -> Put { agent = a; obj = v }) (value e)
             | _ -> None)
          | None, None, Some (`String c), None ->
-           let perf = match get "performative" with Some (`String p) -> p | _ -> "inform" in
+           let perf = match get "performative" with
+             | None -> Some "inform"
+             | Some (`String p) when List.mem p Typing.performatives -> Some p
+             | Some _ ->
+               bad (col_of "performative")
+                 ("\"performative\" is one of the FIPA performatives the language knows: "
+                  ^ String.concat ", " Typing.performatives) in
            let e = expr "the content" c in
            (match agent (), e with
-            | Some (a, _), Some e -> Option.map (fun v -> Message { agent = a; perf; content = v }) (value e)
+            | Some (a, _), Some e ->
+              (match value e, perf with
+               | Some v, Some perf -> Some (Message { agent = a; perf; content = v })
+               | _ -> None)
             | _ -> None)
          | None, None, None, Some (`Int k) when k >= 0 -> Some (Run k)
          | None, None, None, Some (`String "idle") -> Some Run_idle

@@ -58,6 +58,10 @@ let on_event t (pl : P.t) (e : P.event) =
   match e with
   | P.Step (name, l) ->
     let i = index t name in
+    (* D19: the active instances, for the next activate *)
+    let after = pl.agents.(i).config in
+    if after.active != before.agents.(i).config.active then
+      Eval.set_live after.world (List.length after.active);
     Tracer.step t.tr ~agent:name ~before:before.agents.(i).config ~after:pl.agents.(i).config l
   | P.Delivered { receiver; _ } ->
     Tracer.host t.tr ~agent:receiver pl.agents.(index t receiver).config
@@ -79,6 +83,7 @@ let create ?(hooks = reference_hooks) env opts specs =
   let created = List.map (fun (name, ty, args) ->
       let (a, behs) = Eval.create_agent env ~name ~atype:ty ~args ~fuel:opts.fuel in
       Tracer.created t.tr ~agent:name ~agent_type:ty args behs a;
+      Eval.set_live a (List.length behs);   (* D19 *)
       (name, M.init opts.params ~world:a behs)) specs in
   t.platform <- P.create created;
   (* Messages sent by on create, once every agent exists. *)
@@ -139,10 +144,18 @@ let iterate t i =
     t.steps <- t.steps + List.length (List.filter (function P.Step _ -> true | _ -> false) evs)
   end
 
+(* D20: rounds end as soon as every agent is idle (nothing can change until
+   the host acts again: an idle round would only draw a seeded order) or the
+   step limit is reached, or a round takes no step (it changed nothing, nor
+   would the next); so [n] may be any count. *)
 let run_rounds t n =
-  for _ = 1 to n do
-    List.iter (fun i -> if not (M.is_idle t.platform.agents.(i).config) then iterate t i) (t.hooks.round t.rand t.platform)
-  done
+  let rec go n =
+    if n > 0 && t.steps < t.opts.max_steps && not (P.all_idle t.platform) then begin
+      let before = t.steps in
+      List.iter (fun i -> if not (M.is_idle t.platform.agents.(i).config) then iterate t i) (t.hooks.round t.rand t.platform);
+      if t.steps > before then go (n - 1)
+    end in
+  go n
 
 (* {"run": {"rules": n}} (D23, docs/trace-format.md): n single rules, each
    taken by the first agent in creation order that is not idle; fewer when
@@ -165,12 +178,7 @@ let run_rules t n =
         if n > 0 then go (k - 1) in
   go n
 
-let run_until_idle t =
-  let rec go () =
-    if t.steps < t.opts.max_steps && not (P.all_idle t.platform) then begin
-      run_rounds t 1; go ()
-    end in
-  go ()
+let run_until_idle t = run_rounds t max_int
 
 let finish t =
   Array.iter (fun (ag : P.agent) ->

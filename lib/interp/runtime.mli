@@ -63,7 +63,10 @@ val message : t -> agent:string -> perf:string -> Value.t -> (unit, string) resu
 
 val run_rounds : t -> int -> unit
 (** [n] rounds: in each, every agent that is not idle runs one loop iteration
-    (round-robin, or a seeded order). *)
+    (round-robin, or a seeded order). D20: the rounds stop early when every
+    agent is idle, when the step limit ([max_steps]) is reached, or after a
+    round that took no step: no seeded order is drawn for a round that
+    does not run. *)
 
 val run_rules : t -> int -> unit
 (** [n] single rules of the first agent, in creation order, that is not
@@ -71,7 +74,8 @@ val run_rules : t -> int -> unit
     The host can act between rules (R3d). *)
 
 val run_until_idle : t -> unit
-(** Until every agent is idle or the step limit is reached. *)
+(** Until every agent is idle or the step limit is reached ([run_rounds]
+    with no bound on the count). *)
 
 val finish : t -> unit
 (** Runs every agent's [on destroy], in creation order, and closes the trace. *)

@@ -7,13 +7,16 @@ module V = Value
 type config = (V.t, Eval.message, V.t, Eval.beh, Eval.agent) Mc.config
 type label = (V.t, Eval.message, V.t) Mc.label
 
+(* Per agent: instance id -> the behaviour type the instance had when last
+   seen active (a Skip may name an instance deactivated earlier in its
+   dispatch), in an array indexed by id ("?": never seen); and the active
+   list last noted, so that a rule that did not change it costs nothing. *)
+type names = { mutable types : string array; mutable noted : Eval.beh Mc.instance list }
+
 type t = {
   w : Trace.writer;
   on_body : string -> Eval.event -> unit;
-  names : (string * int, string) Hashtbl.t;
-      (* (agent, instance id) -> the behaviour type the instance had when
-         last seen active: a Skip may name an instance deactivated earlier
-         in its dispatch *)
+  names : (string, names) Hashtbl.t;
 }
 
 let create w ~on_body = { w; on_body; names = Hashtbl.create 16 }
@@ -61,11 +64,28 @@ let bodies t agent action evs =
       | Some b -> t.on_body agent e; Trace.write t.w ~agent (Trace.Body { action; body = b })
       | None -> ()) evs
 
+(* Each rule notes the active instances before and after it: one pass over
+   the list, no hashing (with many instances, D19, this was most of a
+   step's time). *)
 let note_active t agent (c : config) =
-  List.iter (fun (a : Eval.beh Mc.instance) -> Hashtbl.replace t.names (agent, a.id) (Eval.beh_type a.beh))
-    c.active
+  let n = match Hashtbl.find_opt t.names agent with
+    | Some n -> n
+    | None -> let n = { types = [||]; noted = [] } in Hashtbl.replace t.names agent n; n in
+  if n.noted != c.active then begin
+    n.noted <- c.active;
+    List.iter (fun (a : Eval.beh Mc.instance) ->
+        if a.id >= Array.length n.types then begin
+          let bigger = Array.make (max (a.id + 1) (2 * Array.length n.types)) "?" in
+          Array.blit n.types 0 bigger 0 (Array.length n.types);
+          n.types <- bigger
+        end;
+        n.types.(a.id) <- Eval.beh_type a.beh) c.active
+  end
 
-let name t agent id = Option.value (Hashtbl.find_opt t.names (agent, id)) ~default:"?"
+let name t agent id =
+  match Hashtbl.find_opt t.names agent with
+  | Some n when id >= 0 && id < Array.length n.types -> n.types.(id)
+  | _ -> "?"
 
 (* The effects of the body that ran as [which] in this step. *)
 let ran which evs =

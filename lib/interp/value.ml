@@ -154,6 +154,28 @@ let rec show ~quote v = match v with
 let to_text v = show ~quote:false v
 let to_literal v = show ~quote:true v
 
+(* D21: is [show ~quote v] at most [limit] bytes long? Counted as [show]
+   builds it, and given up as soon as the count passes the limit, so the
+   answer costs at most about [limit] steps even when a map holds the same
+   big value many times. *)
+exception Over
+
+let printed_within ~quote limit v =
+  let n = ref 0 in
+  let add k = n := !n + k; if !n > limit then raise Over in
+  let rec go ~quote v = match v with
+    | List l ->
+      add 2; List.iteri (fun i x -> if i > 0 then add 2; go ~quote:true x) (list_items l)
+    | Map m ->
+      add 2;
+      List.iteri (fun i (k, x) -> if i > 0 then add 2; go ~quote:true k; add 2; go ~quote:true x) (map_bindings m)
+    | Schema s when Array.length s.slots > 0 ->
+      add (String.length s.sname + 2);
+      Array.iteri (fun i (_, x) -> if i > 0 then add 2; go ~quote:true !x) s.slots
+    | Text t when not quote -> add (String.length t)
+    | v -> add (String.length (show ~quote v)) in
+  match go ~quote v with () -> true | exception Over -> false
+
 let type_name = function
   | Bool _ -> "boolean" | Int _ -> "integer" | Float _ -> "float" | Double _ -> "double"
   | Text _ -> "text" | Aid _ -> "aid" | List _ -> "list" | Map _ -> "map"

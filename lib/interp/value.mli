@@ -76,5 +76,10 @@ val to_text : t -> string
 val to_literal : t -> string
 (** As a Jadescript literal (texts quoted): used in traces. *)
 
+val printed_within : quote:bool -> int -> t -> bool
+(** [printed_within ~quote n v]: [to_literal v] ([quote]) or [to_text v]
+    is at most [n] bytes long (D21). It stops counting past [n]: its cost
+    is bounded by [n], whatever the value shares. *)
+
 val type_name : t -> string
 (** For error messages: [integer], [text], [position], ... *)

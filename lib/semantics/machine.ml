@@ -190,10 +190,17 @@ module Make (B : BODIES) = struct
     let s1 = remove_ready s id in
     { s1 with blocked = s.blocked @ [id] }
 
-  (* NewId: the smallest positive id not active and not reserved. *)
+  (* NewId: the smallest positive id not active and not reserved. Fewer
+     than [n] ids are used, so one of 1..n is free: the ids are marked in
+     an array of n places, then the first unmarked is taken (one pass over
+     each list, not one per candidate: D19). *)
   let new_id s reserved =
-    let used n = is_active_in s n || List.mem n reserved in
-    let rec go n = if used n then go (n + 1) else n in
+    let n = List.length s.active + List.length reserved + 1 in
+    let used = Array.make (n + 1) false in
+    let mark i = if i >= 1 && i <= n then used.(i) <- true in
+    List.iter (fun (a : B.beh instance) -> mark a.id) s.active;
+    List.iter mark reserved;
+    let rec go i = if used.(i) then go (i + 1) else i in
     go 1
 
   (* ApplyEffect / ApplyEffects (R5g, R5h). *)

@@ -1308,3 +1308,5 @@ let program (files : Parse.result list) =
   unused st;
   zonk_env st;
   (env, List.sort_uniq Diag.compare st.diags)
+
+let performative_names = List.map fst performatives

@@ -12,3 +12,7 @@
 val program : Syntax.Parse.result list -> Tenv.t * Syntax.Diag.t list
 (** Checks the files as one program. Diagnostics are sorted by position.
     May raise only on a bug: {!Typing.check} catches that. *)
+
+val performative_names : string list
+(** The FIPA performatives the language knows ([inform], [request], ...),
+    the only ones a message may carry. *)

@@ -23,3 +23,4 @@ let check files =
      [Syntax.Diag.make Syntax.Diag.Crash (first_file files) (Printexc.to_string e)])
 
 let has_errors ds = List.exists (fun d -> d.Syntax.Diag.severity = Syntax.Diag.Error) ds
+let performatives = Check.performative_names

@@ -11,5 +11,9 @@ module Tenv = Tenv
 
 val check : Syntax.Parse.result list -> Tenv.t * Syntax.Diag.t list
 
+val performatives : string list
+(** The FIPA performatives the language knows: a host message (an events
+    file) may carry only these. *)
+
 val has_errors : Syntax.Diag.t list -> bool
 (** Some diagnostic is an error (not a warning). *)

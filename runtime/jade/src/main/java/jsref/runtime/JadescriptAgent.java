@@ -295,6 +295,9 @@ public abstract class JadescriptAgent extends jade.core.Agent implements JadeHoo
       @param at the statement @param b the new instance @param names the
       arguments' names @param values their values */
   public final void activate(String at, JadescriptBehaviour b, String[] names, Object[] values) {
+    if (active.size() >= MAX_BEHAVIOURS)   // D19
+      throw JadescriptError.at(at, "too many behaviours: an agent has at most " + MAX_BEHAVIOURS
+          + " active behaviour instances");
     b.bind(this, UIDS.incrementAndGet());
     b.initProperties();
     b.onCreate(names, values);
@@ -938,15 +941,20 @@ public abstract class JadescriptAgent extends jade.core.Agent implements JadeHoo
   private transient JadescriptBehaviour[] snapB = new JadescriptBehaviour[16];
   private transient int[] snapH = new int[16];
 
-  /** NewId: the smallest positive id neither active nor reserved (D2). */
+  /** D19: active behaviour instances one agent may have (Eval.max_behaviours). */
+  public static final int MAX_BEHAVIOURS = 10_000;
+
+  /** NewId: the smallest positive id neither active nor reserved (D2).
+      Fewer than n ids are used, so one of 1..n is free: marked in one pass
+      over each collection, as Machine.new_id (D19). */
   private int newId() {
-    int n = 1;
-    while (true) {
-      boolean used = reserved.contains(n);
-      if (!used) for (JadescriptBehaviour b : active) if (b.id() == n) { used = true; break; }
-      if (!used) return n;
-      n++;
-    }
+    int n = active.size() + reserved.size() + 1;
+    boolean[] used = new boolean[n + 1];
+    for (JadescriptBehaviour b : active) if (b.id() >= 1 && b.id() <= n) used[b.id()] = true;
+    for (Integer k : reserved) if (k != null && k >= 1 && k <= n) used[k] = true;
+    int i = 1;
+    while (used[i]) i++;
+    return i;
   }
 
   private static List<Object> describe(List<Object> effs) {

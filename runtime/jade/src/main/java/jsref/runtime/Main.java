@@ -329,10 +329,16 @@ public final class Main {
       return true;
     }
 
+    /** D20: the rounds stop when every agent is idle, at the step limit, or
+        after a round that took no step (no seeded order is drawn for a
+        round that does not run), as Runtime.run_rounds. */
     void runRounds(long n) throws InterruptedException {
       if (!lockStep) { awaitIdle(); return; }
-      for (long r = 0; r < n; r++)
+      for (long r = 0; r < n && steps < maxSteps && !allIdle(); r++) {
+        int before = steps;
         for (int i : order()) if (!agents.get(i).isIdle()) iterate(i);
+        if (steps == before) break;
+      }
     }
 
     /** {@code {"run": {"rules": n}}} (D23, docs/trace-format.md): n single
@@ -354,7 +360,7 @@ public final class Main {
 
     void runUntilIdle() throws InterruptedException {
       if (!lockStep) { awaitIdle(); return; }
-      while (steps < maxSteps && !allIdle()) runRounds(1);
+      runRounds(Long.MAX_VALUE);
     }
 
     /** Free running: wait until every agent is asleep with nothing ready

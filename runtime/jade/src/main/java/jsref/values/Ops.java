@@ -243,8 +243,34 @@ public final class Ops {
       @param b right
       @return the sum */
   public static Object add(String at, Object a, Object b) {
-    if (a instanceof String || b instanceof String) return Text.text(a) + Text.text(b);
+    if (a instanceof String || b instanceof String) {
+      String x = Text.text(a), y = Text.text(b);
+      // D21: lengths in UTF-8 bytes, as the interpreter counts them
+      if (utf8Length(x) + utf8Length(y) > MAX_TEXT) throw tooBig(at, "the text would be too long");
+      return x + y;
+    }
     return arith(at, ADD, a, b);
+  }
+
+  /** D21: the largest text (UTF-8 bytes) and map (entries) a run may build
+      ({@code Eval.max_text}, {@code Eval.max_map_size}). */
+  public static final int MAX_TEXT = 1_000_000, MAX_MAP_SIZE = 1_000_000;
+
+  private static JadescriptError tooBig(String at, String what) {
+    return new JadescriptError(at, "value too large: " + what + " (at most " + MAX_TEXT
+        + " bytes in a text, " + MAX_MAP_SIZE + " entries in a map)");
+  }
+
+  private static long utf8Length(String s) {
+    long n = 0;
+    for (int i = 0; i < s.length(); i++) {
+      char c = s.charAt(i);
+      if (c < 0x80) n += 1;
+      else if (c < 0x800) n += 2;
+      else if (Character.isHighSurrogate(c) && i + 1 < s.length() && Character.isLowSurrogate(s.charAt(i + 1))) { n += 4; i++; }
+      else n += 3;
+    }
+    return n;
   }
 
   /** {@code a - b}.
@@ -413,7 +439,12 @@ public final class Ops {
       l.set(i, v);
       return;
     }
-    if (m instanceof JMap) { ((JMap) m).put(k, v); return; }
+    if (m instanceof JMap) {
+      JMap jm = (JMap) m;
+      if (jm.size() >= MAX_MAP_SIZE && !jm.containsKey(k)) throw tooBig(at, "the map would have too many entries");
+      jm.put(k, v);
+      return;
+    }
     throw new JadescriptError(at, "cannot index a " + Text.typeName(m));
   }
 
