@@ -3,6 +3,9 @@
 open Cmdliner
 open Explore
 
+(* Every rejection is one line (docs/trace-format.md). *)
+let one_line m = String.concat " " (List.filter (( <> ) "") (List.map String.trim (String.split_on_char '\n' m)))
+
 let run_one keep trace =
   match Validate.trace ?keep trace with
   | verdicts ->
@@ -13,16 +16,19 @@ let run_one keep trace =
             trace agent steps;
           code
         | Validate.Rejected { agent; line; step; after } ->
-          prerr_endline (Printf.sprintf "%s:%d:1: error: spec/AgentLoop.tla cannot take this step of agent %s after the %d before it: last = %s"
+          prerr_endline (Printf.sprintf "%s:%d:1: error: the spec cannot take this step of agent %s (after %d it takes): last = %s"
                            trace line agent after step);
+          1
+        | Validate.Invalid { line; message } ->
+          prerr_endline (Printf.sprintf "%s:%d:1: error: %s" trace line message);
           1
         | Validate.Cannot { agent; line; reason } ->
           prerr_endline (Printf.sprintf "%s:%d:1: error: agent %s: cannot validate: %s" trace line agent reason);
           1) 0 verdicts
-  | exception Failure msg -> prerr_endline msg; 1
-  | exception Tlc.Error msg -> prerr_endline (Printf.sprintf "%s:1:1: error: %s" trace msg); 1
-  | exception Model.Error msg -> prerr_endline (Printf.sprintf "%s:1:1: error: %s" trace msg); 1
-  | exception Sys_error msg -> prerr_endline (Printf.sprintf "%s:1:1: error: %s" trace msg); 1
+  | exception Failure msg -> prerr_endline (Printf.sprintf "%s:1:1: error: %s" trace (one_line msg)); 1
+  | exception Tlc.Error msg -> prerr_endline (Printf.sprintf "%s:1:1: error: %s" trace (one_line msg)); 1
+  | exception Model.Error msg -> prerr_endline (Printf.sprintf "%s:1:1: error: %s" trace (one_line msg)); 1
+  | exception Sys_error msg -> prerr_endline (Printf.sprintf "%s:1:1: error: %s" trace (one_line msg)); 1
 
 (* Every trace is validated, even after a rejection; the status is 1 when any
    step of any trace was rejected. *)
@@ -36,10 +42,16 @@ let cmd =
                     ~doc:"Also write the generated TLA+ modules into DIR.") in
   Cmd.v (Cmd.info "validate" ~doc:"Ask TLC whether a trace is a behaviour of spec/AgentLoop.tla."
            ~man:[`S Manpage.s_description;
-                 `P "For each agent, projects the trace onto the spec (each percept and \
+                 `P "First checks in OCaml what TLC does not see: the format (version 1, \
+                     every field of the right type), the agents against the header, step \
+                     numbers, the literals (a dequeue carries the percept notified with its \
+                     seq, a handle the percept dequeued, a delivery the content sent), \
+                     messages across agents (R5e) and the O2A capacity (R2d). Then, for each \
+                     agent, projects the trace onto the spec (each percept and \
                      message its own value; the model's constants read off the trace), \
                      writes a TLA+ module whose behaviours follow the trace's steps, and \
                      runs TLC on it. Reports each agent accepted, or the first step the spec \
-                     cannot take as $(i,TRACE:LINE:1: error: ...). Exit status 1 when a \
-                     step is rejected."])
+                     cannot take as $(i,TRACE:LINE:1: error: ...): every rejection is one \
+                     line. Exit status 1 when a trace is rejected. docs/trace-format.md \
+                     says what is checked where."])
     Term.(const run $ trace $ keep)

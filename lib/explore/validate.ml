@@ -2,6 +2,7 @@ type verdict =
   | Accepted of { agent : string; steps : int }
   | Rejected of { agent : string; line : int; step : string; after : int }
   | Cannot of { agent : string; line : int; reason : string }
+  | Invalid of { line : int; message : string }
 
 exception Cannot_express of int * string
 
@@ -15,14 +16,8 @@ let effect_value = function
   | Trace.Deactivated -> Agent_loop.deactivate
   | Trace.Activated b -> Agent_loop.activate b
 
-let read path =
-  match Trace.read_file path with
-  | Ok r -> r
-  | Error m -> failwith m
-
-let model_of_trace path ~agent =
+let model_of_trace (header : Trace.header) lines ~agent =
   try
-    let (header, lines) = read path in
     let events = List.filter (fun (_, (l : Trace.line)) -> l.agent = agent) lines in
     let behaviours = header.behaviours in
     let percept_defaults = header.percepts in
@@ -46,7 +41,7 @@ let model_of_trace path ~agent =
         match l.event with
         | Trace.Body { body = Trace.Deactivate id; _ } -> Hashtbl.replace deactivated id (); None
         | Trace.Body { body = Trace.Activate _; _ } -> Hashtbl.reset deactivated; None
-        | Trace.Body _ | Trace.Refused _ | Trace.Undeliverable _ | Trace.Destroy -> None
+        | Trace.Body _ | Trace.Refused _ | Trace.Refused_put _ | Trace.Undeliverable _ | Trace.Destroy -> None
         | Trace.Create { behaviours; _ } ->
           initial := behaviours;
           Some (Tla.record [ "act", str "Init" ], line)
@@ -177,14 +172,16 @@ let trace_module name (records : (Tla.t * int) list) =
   Buffer.add_string b "             \\/ /\\ traceIndex = Len(T)\n                /\\ UNCHANGED <<vars, traceIndex>>\n====\n";
   Buffer.contents b
 
-let agents_of path =
-  match read path with
-  | ({ agents = _ :: _ as l; _ }, _) -> List.map fst l
-  | _ -> failwith (Printf.sprintf "%s:1:1: error: the first line is not a trace header naming the agents" path)
+(* TLC's output, on one line: its first error message, else its last line. *)
+let tlc_summary output =
+  let ls = List.filter (fun l -> l <> "") (List.map String.trim (String.split_on_char '\n' output)) in
+  let is_error l = try ignore (Str_find.find l "rror"); true with Not_found -> false in
+  match List.find_opt is_error ls, List.rev ls with
+  | Some l, _ | None, l :: _ -> l
+  | None, [] -> "no output"
 
-let trace ?keep path =
-  List.map (fun agent ->
-      match model_of_trace path ~agent with
+let tlc_agent ?keep header lines agent =
+      match model_of_trace header lines ~agent with
       | Error (line, reason) -> Cannot { agent; line; reason }
       | Ok (constants, records) ->
         let dir = Filename.concat (Filename.get_temp_dir_name ())
@@ -217,9 +214,17 @@ let trace ?keep path =
           let (record, line) = List.nth records (min !k (List.length records - 1)) in
           Rejected { agent; line; after = !k;
                      step = Tla.to_string record }
-        | c ->
-          let o = r.output in
-          let n = String.length o in
-          failwith (Printf.sprintf "TLC failed (exit %d) validating agent %s: %s" c agent
-                      (if n > 800 then String.sub o (n - 800) 800 else o)))
-    (agents_of path)
+        | c -> raise (Tlc.Error (Printf.sprintf "TLC failed (exit %d) validating agent %s: %s" c agent (tlc_summary r.output)))
+
+let check path =
+  match Trace.read_located path with
+  | Error e -> Error e
+  | Ok (header, lines) -> Trace_check.check header lines
+
+let trace ?keep path =
+  match Trace.read_located path with
+  | Error (line, message) -> [ Invalid { line; message } ]
+  | Ok (header, lines) ->
+    match Trace_check.check header lines with
+    | Error (line, message) -> [ Invalid { line; message } ]
+    | Ok () -> List.map (fun (agent, _) -> tlc_agent ?keep header lines agent) header.agents

@@ -38,6 +38,8 @@ type event =
   | Create of { agent_type : string; args : string list; behaviours : string list }
   | Notify of { entry : entry; overridden : bool }   (** [NotifyWith] when overridden *)
   | Refused of { percept : string; reason : string } (** R2d *)
+  | Refused_put of { obj : string; reason : string }
+      (** R2d: a [put] refused; JSON ["refused"] with ["object"] *)
   | Put of { obj : string; index : int }
   | Deliver of { message : message; seq : int }
   | Undeliverable of { receiver : string; performative : string; content : string }
@@ -136,6 +138,12 @@ val fold_file : string -> ('a -> int -> Yojson.Safe.t -> 'a) -> 'a -> 'a
 (** [fold_file path f init]: every non-blank line of the file as JSON, with
     its line number, one at a time (memory does not grow with the file).
     @raise Failure ["PATH:LINE:1: error: not JSON: ..."] *)
+
+val read_located : string -> (header * (int * line) list, int * string) result
+(** A whole trace, strictly read: its header (the first non-blank line) and
+    its lines with their line numbers; [Error (line, message)] on the first
+    line that is not JSON, not a header of version 1 with known values, or not
+    an event with every field of the right type (docs/trace-format.md). *)
 
 val read_file : string -> (header * (int * line) list, string) result
 (** A whole trace: its header and its lines with their line numbers.
