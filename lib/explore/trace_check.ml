@@ -10,6 +10,7 @@ type agent = {
   mutable last_action : string;       (* the action of its last step *)
   notified : (int, Trace.entry) Hashtbl.t;   (* seq -> the percept notified (R2b) *)
   taken : (int, unit) Hashtbl.t;      (* seqs dequeued (or taken, native) *)
+  transferred : (int, unit) Hashtbl.t;   (* printed: seqs moved by transfer_one *)
   mutable next_seq : int;
   mutable puts : int;
   mutable o2a_percepts : int;
@@ -40,7 +41,7 @@ let check (h : Trace.header) lines =
       h.agents;
     let agents = List.map (fun (name, atype) ->
         (name, { name; atype; created = false; destroyed = 0; last_action = "Init";
-                 notified = Hashtbl.create 16; taken = Hashtbl.create 16; next_seq = 0; puts = 0;
+                 notified = Hashtbl.create 16; taken = Hashtbl.create 16; transferred = Hashtbl.create 16; next_seq = 0; puts = 0;
                  o2a_percepts = 0; o2a_objects = 0; msgq_percepts = 0; dispatch = None;
                  delivered = Hashtbl.create 16; consumed = Hashtbl.create 16; msg_seq = 0;
                  undeliverable = Queue.create () })) h.agents in
@@ -112,6 +113,13 @@ let check (h : Trace.header) lines =
          | Trace.Destroy, _ -> a.last_action <- "destroy"
          | _, Some act -> a.last_action <- act
          | _, None -> ());
+        (* A dispatch (Dequeue ... EndDispatch) is not interrupted by another
+           loop step (R3b). *)
+        (match l.event, a.dispatch with
+         | (Trace.Dequeue _ | Trace.Transfer _ | Trace.Transfer_one _ | Trace.Transfer_spin _ | Trace.Transfer_end
+           | Trace.Behaviour_step _ | Trace.Next_iteration | Trace.Idle), Some e ->
+           fail "%s, but the dispatch of seq %d has not ended" (Trace.event_name l.event) e.seq
+         | _ -> ());
         match l.event with
         | Trace.Create _ -> ()
         | Trace.Destroy -> a.destroyed <- n
@@ -168,6 +176,8 @@ let check (h : Trace.header) lines =
         | Trace.Transfer_one e ->
           if not printed then fail "transfer_one only happens in the printed loop";
           same_entry a "transfer_one" e;
+          if Hashtbl.mem a.transferred e.seq then fail "transfer_one of seq %d: that percept was already moved" e.seq;
+          Hashtbl.replace a.transferred e.seq ();
           if a.o2a_percepts = 0 then fail "transfer_one, but the O2A queue of %s holds no percept" a.name;
           a.o2a_percepts <- a.o2a_percepts - 1
         | Trace.Transfer_spin _ | Trace.Transfer_end ->

@@ -17,8 +17,10 @@
       [put] index 1, 2, 3... per agent; a [dequeue] (and [transfer_one], and in
       [native] a percept taken by a behaviour step) carries exactly the
       percept and priority notified with that seq, once; a [handle] the
-      percept being dispatched; a behaviour step's message exactly the message
-      delivered with that seq, once;
+      percept being dispatched, and no other loop step comes between a
+      [dequeue] and the [end_dispatch] or [discard] of its dispatch; a
+      behaviour step's message exactly the message delivered with that seq,
+      once;
     - the messages across agents (R5e): a [deliver] to B from agent A needs an
       earlier [send] by A naming B, with the same performative and content,
       and deliveries to B follow the order of the sends to B; a message to an

@@ -1,0 +1,238 @@
+(* validate checks everything it is given (issue 15, docs/trace-format.md
+   "What validate checks"): the traces of every conformance vector and of a
+   few runs are accepted; every kind of tampering of test/support/tamper.ml,
+   with several seeds, is rejected, as one located line. *)
+
+open Test_support
+open Support
+
+let long = Sys.getenv_opt "JSREF_LONG" = Some "1"
+
+let write_lines path lines =
+  let oc = open_out_bin path in
+  List.iter (fun l -> output_string oc l; output_char oc '\n') lines;
+  close_out oc
+
+let lines_of path =
+  List.filter (fun l -> String.trim l <> "") (String.split_on_char '\n' (read_file path))
+
+let with_lines lines k =
+  let f = Filename.temp_file "jsref-validate" ".jsonl" in
+  write_lines f lines;
+  Fun.protect ~finally:(fun () -> Sys.remove f) (fun () -> k f)
+
+(* ------------------------------------------------------------ the traces *)
+
+let vectors () =
+  let dir = Filename.concat root "conformance" in
+  Sys.readdir dir |> Array.to_list |> List.sort compare
+  |> List.filter (fun v -> Sys.file_exists (Filename.concat (Filename.concat dir v) "expected.jsonl"))
+  |> List.map (fun v -> (v, lines_of (Filename.concat (Filename.concat dir v) "expected.jsonl")))
+
+let robome = Filename.concat root "examples/paper/robome_completed.jade"
+
+(* A run of jadescript-ref: its trace's lines. *)
+let run_trace ~name ~program ~agents ~events ~options =
+  let dir = Filename.get_temp_dir_name () in
+  let p = match program with
+    | `File f -> f
+    | `Text t -> let f = Filename.concat dir (name ^ ".jade") in write_lines f [ t ]; f in
+  let ev = Filename.concat dir (name ^ ".events.jsonl") and tr = Filename.concat dir (name ^ ".trace.jsonl") in
+  write_lines ev events;
+  let (status, _, err) = run_command (Printf.sprintf "%s run %s %s --events %s --trace %s %s" exe p
+                                        (String.concat " " (List.map (fun a -> "--agent " ^ a) agents)) ev tr options) in
+  if status <> 0 then Alcotest.failf "run %s exits %d: %s" name status err;
+  let l = lines_of tr in
+  Sys.remove ev; Sys.remove tr;
+  (match program with `Text _ -> Sys.remove p | `File _ -> ());
+  ("run " ^ name, l)
+
+let paper_events = [
+  {|{"agent": "r", "notify": "position(1.5, 2.0)"}|}; {|{"agent": "r", "notify": "qrCodeRead(\"A7\")"}|};
+  {|{"agent": "r", "notify": "obstacle"}|}; {|{"run": 1}|}; {|{"agent": "r", "notify": "falling", "priority": 1}|};
+  {|{"agent": "r", "notify": "position(2, 3)"}|}; {|{"agent": "r", "put": "42"}|};
+  {|{"agent": "r", "notify": "obstacle"}|} ]
+
+let runs = lazy (
+  List.map (fun v -> run_trace ~name:("paper-" ^ v) ~program:(`File robome) ~agents:[ "r:RoboMe:@robome" ]
+               ~events:paper_events ~options:("--max-steps 300 --variant " ^ v))
+    [ "reference"; "budgeted"; "native"; "printed" ]
+  @ [ run_trace ~name:"paper-capacity" ~program:(`File robome) ~agents:[ "r:RoboMe:@robome" ]
+        ~events:paper_events ~options:"--o2a-capacity 2";
+      run_trace ~name:"no-behaviours" ~program:(`Text "agent A\n") ~agents:[ "a:A" ] ~events:[ {|{"run": 1}|} ] ~options:"" ])
+
+let traces () = vectors () @ Lazy.force runs
+
+(* ----------------------------------------------- untampered: accepted *)
+
+let untampered_checked () =
+  List.iter (fun (name, lines) ->
+      with_lines lines (fun f ->
+          match Explore.Validate.check f with
+          | Ok () -> ()
+          | Error (line, m) -> Alcotest.failf "%s: line %d: %s" name line m)) (traces ())
+
+let accepted name f =
+  List.iter (function
+      | Explore.Validate.Accepted _ -> ()
+      | Explore.Validate.Rejected { line; step; _ } -> Alcotest.failf "%s: TLC rejects line %d: %s" name line step
+      | Explore.Validate.Cannot { line; reason; _ } -> Alcotest.failf "%s: cannot validate line %d: %s" name line reason
+      | Explore.Validate.Invalid { line; message } -> Alcotest.failf "%s: line %d: %s" name line message)
+    (Explore.Validate.trace f)
+
+(* TLC on the runs and on a sample of the vectors (all of them with
+   JSREF_LONG=1; test/interp checks a sample too): a JVM per agent. *)
+let untampered_tlc () =
+  let vs = List.filteri (fun i _ -> long || i mod 12 = 0) (vectors ()) in
+  List.iter (fun (name, lines) -> with_lines lines (accepted name)) (vs @ Lazy.force runs)
+
+(* The known bug: an agent without behaviours ("Kind is bound to MCKind,
+   which is not a literal definition"). *)
+let no_behaviours () =
+  let (name, lines) = List.find (fun (n, _) -> n = "run no-behaviours") (Lazy.force runs) in
+  Alcotest.(check bool) "the header lists no behaviour" true
+    (try ignore (Explore.Str_find.find (List.hd lines) {|"behaviours":[]|}); true with Not_found -> false);
+  with_lines lines (accepted name)
+
+(* ------------------------------------------------ tampered: rejected *)
+
+let one_located_line file err =
+  match String.split_on_char '\n' err with
+  | [ l; "" ] ->
+    let prefix = file ^ ":" in
+    let n = String.length prefix in
+    String.length l > n && String.sub l 0 n = prefix
+    && (match String.index_from_opt l n ':' with
+        | Some k -> (match int_of_string_opt (String.sub l n (k - n)) with
+            | Some line when line >= 1 ->
+              let rest = String.sub l k (String.length l - k) in
+              String.length rest > 10 && String.sub rest 0 10 = ":1: error:"
+            | _ -> false)
+        | None -> false)
+  | _ -> false
+
+(* The kinds of tampering only TLC can see (the order of one agent's loop
+   steps); every other kind must be caught by the OCaml checks, before TLC. *)
+let tlc_kinds = [ "loop steps of one agent swapped" ]
+
+let seeds = if long then [ 1; 2; 3; 4; 5; 6; 7; 8 ] else [ 1; 2; 3 ]
+
+(* Every kind, every trace, several seeds: rejected, by the OCaml checks
+   where they can, else by TLC. Then, for each kind, the command line on one
+   tampered trace: exit 1 and one located line. *)
+let tampered_rejected () =
+  let ts = traces () in
+  let by_ocaml = ref 0 and by_tlc = ref 0 and applied = Hashtbl.create 64 in
+  let to_tlc = ref [] in
+  List.iter (fun (k : Tamper.t) ->
+      List.iter (fun (name, lines) ->
+          List.iter (fun seed ->
+              match k.apply (Random.State.make [| seed |]) lines with
+              | None -> ()
+              | Some bad ->
+                if not (Hashtbl.mem applied k.name) then Hashtbl.replace applied k.name (name, bad);
+                with_lines bad (fun f ->
+                    match Explore.Validate.check f with
+                    | Error _ -> incr by_ocaml
+                    | Ok () when List.mem k.name tlc_kinds -> to_tlc := (k.name, name, seed, bad) :: !to_tlc
+                    | Ok () -> Alcotest.failf "%s (seed %d) of %s passes the OCaml checks" k.name seed name)) seeds) ts)
+    Tamper.all;
+  (* what the OCaml checks let through goes to TLC; each distinct tampered
+     trace once *)
+  let distinct = List.sort_uniq (fun (_, _, _, a) (_, _, _, b) -> compare a b) !to_tlc in
+  let kinds = List.sort_uniq compare (List.map (fun (k, _, _, _) -> k) distinct) in
+  Printf.printf "%d tampered traces rejected by the OCaml checks; %d go to TLC:%s\n%!" !by_ocaml (List.length distinct)
+    (String.concat "" (List.map (fun k ->
+         Printf.sprintf " %s (%d)" k (List.length (List.filter (fun (k', _, _, _) -> k' = k) distinct))) kinds));
+  (* TLC on a sample of them (every one with JSREF_LONG=1): a JVM each *)
+  let sample = List.filteri (fun i _ -> long || i mod 6 = 0) distinct in
+  List.iter (fun (kind, name, seed, bad) ->
+      with_lines bad (fun f ->
+          match Explore.Validate.trace f with
+          | vs when List.exists (function Explore.Validate.Accepted _ -> false | _ -> true) vs -> incr by_tlc
+          | _ -> Alcotest.failf "%s (seed %d) of %s is accepted" kind seed name)) sample;
+  Printf.printf "tampered traces rejected: %d by the OCaml checks, %d by TLC (%d kinds)\n%!"
+    !by_ocaml !by_tlc (Hashtbl.length applied);
+  List.iter (fun (k : Tamper.t) ->
+      if not (Hashtbl.mem applied k.name) then Alcotest.failf "the tampering %S applies to no trace" k.name) Tamper.all;
+  (* the command line: one located line, exit 1 *)
+  Hashtbl.iter (fun kind (name, bad) ->
+      with_lines bad (fun f ->
+          let (status, _, err) = run_command (Printf.sprintf "%s validate %s" exe (Filename.quote f)) in
+          Alcotest.(check int) (Printf.sprintf "%s of %s: exit 1" kind name) 1 status;
+          if not (one_located_line f err) then
+            Alcotest.failf "%s of %s: not one located line: %S" kind name err)) applied
+
+(* ------------------------------------------------------ single cases *)
+
+let header = {|{"trace":"jadescript-ref","version":1,"variant":"reference","tie_policy":"stable","budget":1,"o2a_capacity":CAP,"seed":null,"agents":[{"name":"r","type":"R"}],"program":{"behaviours":[],"percepts":{"p":1}}}|}
+
+let with_capacity cap = Str_replace.replace header "CAP" cap
+
+let expect_invalid name lines ~line ~says =
+  with_lines lines (fun f ->
+      match Explore.Validate.check f with
+      | Ok () -> Alcotest.failf "%s: accepted" name
+      | Error (l, m) ->
+        Alcotest.(check int) (name ^ ": the line") line l;
+        if not (try ignore (Explore.Str_find.find m says); true with Not_found -> false) then
+          Alcotest.failf "%s: the message %S does not say %S" name m says)
+
+let create = {|{"step":1,"agent":"r","event":"create","action":"Init","type":"R","args":[],"behaviours":[]}|}
+let notify seq step = Printf.sprintf {|{"step":%d,"agent":"r","event":"notify","action":"Notify","percept":"p","priority":1,"seq":%d}|} step seq
+let refused_put step = Printf.sprintf {|{"step":%d,"agent":"r","event":"refused","action":null,"object":"42","reason":"the O2A queue is full (R2d)"}|} step
+let refused step = Printf.sprintf {|{"step":%d,"agent":"r","event":"refused","action":null,"percept":"p","reason":"the O2A queue is full (R2d)"}|} step
+
+(* R2d: a refused put or notify is valid only when the queue is full. *)
+let refusals () =
+  with_lines [ with_capacity "1"; create; notify 1 2; refused_put 3; refused 4 ] (fun f ->
+      match Explore.Validate.check f with
+      | Ok () -> ()
+      | Error (l, m) -> Alcotest.failf "a full queue refuses: line %d: %s" l m);
+  expect_invalid "a refused put with room" [ with_capacity "2"; create; notify 1 2; refused_put 3 ] ~line:4 ~says:"has room";
+  expect_invalid "a refused put, unbounded" [ with_capacity "null"; create; refused_put 2 ] ~line:3 ~says:"unbounded";
+  expect_invalid "a refused notify, unbounded" [ with_capacity "null"; create; refused 2 ] ~line:3 ~says:"unbounded";
+  expect_invalid "a notify beyond the capacity" [ with_capacity "1"; create; notify 1 2; notify 2 3 ] ~line:4 ~says:"must be refused"
+
+(* Integers are 32-bit in the language: a huge one is a located error, not
+   a TLC failure. *)
+let huge_integers () =
+  let huge = {|{"step":2,"agent":"r","event":"notify","action":"NotifyWith","percept":"p","priority":4611686018427387903,"seq":1}|} in
+  expect_invalid "a huge priority" [ with_capacity "null"; create; huge ] ~line:3 ~says:"out of range";
+  expect_invalid "a huge default priority" [ Str_replace.replace (with_capacity "null") {|"p":1|} {|"p":2147483648|}; create ]
+    ~line:1 ~says:"out of range";
+  expect_invalid "a version 99" [ Str_replace.replace (with_capacity "null") {|"version":1|} {|"version":99|}; create ]
+    ~line:1 ~says:"version 99"
+
+(* A step TLC rejects is one line naming the spec. *)
+let tlc_rejection_one_line () =
+  let (_, lines) = List.find (fun (n, _) -> n = "001-r3b-priority-order") (vectors ()) in
+  (* two dispatches' handles exchanged is a fact only TLC sees: the
+     handlers' order (R4a) *)
+  let k = List.find (fun (k : Tamper.t) -> k.name = "loop steps of one agent swapped") Tamper.all in
+  let rec find seed =
+    if seed > 50 then Alcotest.fail "no swap the OCaml checks let through"
+    else match k.apply (Random.State.make [| seed |]) lines with
+      | Some bad when with_lines bad (fun f -> Explore.Validate.check f = Ok ()) -> bad
+      | _ -> find (seed + 1) in
+  with_lines (find 1) (fun f ->
+      let (status, _, err) = run_command (Printf.sprintf "%s validate %s" exe (Filename.quote f)) in
+      Alcotest.(check int) "exit 1" 1 status;
+      Alcotest.(check bool) ("one located line: " ^ err) true (one_located_line f err);
+      Alcotest.(check bool) ("it names the spec: " ^ err) true
+        (try ignore (Explore.Str_find.find err "the spec cannot take this step"); true with Not_found -> false))
+
+let () =
+  Alcotest.run "validate" [
+    "untampered", [
+      Alcotest.test_case "every vector and run passes the OCaml checks" `Quick untampered_checked;
+      Alcotest.test_case "TLC accepts the runs and a sample of the vectors" `Slow untampered_tlc;
+      Alcotest.test_case "an agent without behaviours validates" `Quick no_behaviours;
+    ];
+    "tampered", [
+      Alcotest.test_case "every kind of tampering rejected, as one located line" `Slow tampered_rejected;
+      Alcotest.test_case "R2d refusals only when full" `Quick refusals;
+      Alcotest.test_case "32-bit integers, version 1" `Quick huge_integers;
+      Alcotest.test_case "a TLC rejection is one line" `Quick tlc_rejection_one_line;
+    ];
+  ]
