@@ -194,6 +194,28 @@ let refusals () =
   expect_invalid "a refused notify, unbounded" [ with_capacity "null"; create; refused 2 ] ~line:3 ~says:"unbounded";
   expect_invalid "a notify beyond the capacity" [ with_capacity "1"; create; notify 1 2; notify 2 3 ] ~line:4 ~says:"must be refused"
 
+(* D28: what on destroy sends is never delivered; a complete trace has
+   delivered every other message. *)
+let two = {|{"trace":"jadescript-ref","version":1,"variant":"reference","tie_policy":"stable","budget":1,"o2a_capacity":null,"seed":null,"agents":[{"name":"a","type":"A"},{"name":"b","type":"A"}],"program":{"behaviours":[],"percepts":{}}}|}
+
+let undelivered () =
+  let ev step agent rest = Printf.sprintf {|{"step":%d,"agent":"%s",%s}|} step agent rest in
+  let creates = [ ev 1 "a" {|"event":"create","action":"Init","type":"A","args":[],"behaviours":[]|};
+                  ev 2 "b" {|"event":"create","action":"Init","type":"A","args":[],"behaviours":[]|} ] in
+  let send step action = ev step "a" (Printf.sprintf {|"event":"send","action":"%s","performative":"inform","content":"1","to":["b"]|} action) in
+  let destroys k = [ ev k "a" {|"event":"destroy","action":null|}; ev (k + 1) "b" {|"event":"destroy","action":null|} ] in
+  with_lines ([ two ] @ creates @ destroys 3 @ [ send 5 "destroy" ]) (fun f ->
+      match Explore.Validate.check f with
+      | Ok () -> ()
+      | Error (l, m) -> Alcotest.failf "a send by on destroy: line %d: %s" l m);
+  expect_invalid "a message of on create never delivered" ([ two ] @ creates @ [ send 3 "Init" ] @ destroys 4)
+    ~line:6 ~says:"never delivered";
+  (* cut short (b not destroyed): checked as far as it goes *)
+  with_lines ([ two ] @ creates @ [ send 3 "Init"; ev 4 "a" {|"event":"destroy","action":null|} ]) (fun f ->
+      match Explore.Validate.check f with
+      | Ok () -> ()
+      | Error (l, m) -> Alcotest.failf "a trace cut short: line %d: %s" l m)
+
 (* Integers are 32-bit in the language: a huge one is a located error, not
    a TLC failure. *)
 let huge_integers () =
@@ -232,7 +254,8 @@ let () =
     "tampered", [
       Alcotest.test_case "every kind of tampering rejected, as one located line" `Slow tampered_rejected;
       Alcotest.test_case "R2d refusals only when full" `Quick refusals;
-      Alcotest.test_case "32-bit integers, version 1" `Quick huge_integers;
+      Alcotest.test_case "D27 32-bit integers, version 1" `Quick huge_integers;
+      Alcotest.test_case "D28 every message delivered by the end" `Quick undelivered;
       Alcotest.test_case "a TLC rejection is one line" `Quick tlc_rejection_one_line;
     ];
   ]
