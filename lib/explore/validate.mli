@@ -41,6 +41,15 @@ val trace : ?keep:string -> string -> verdict list
     write the generated modules into that folder.
     @raise Tlc.Error when TLC itself fails (a one-line message) *)
 
+val traces : ?keep:string -> string list -> (string * verdict list) list
+(** {!trace} of several files, with one TLC run for every agent of every
+    trace that passes the OCaml checks: each agent an instance of the spec
+    (its own constants and variables) in one generated module
+    [TraceCheckAll], checked one after another, so that one JVM start serves
+    them all; after a rejection, one more run for the agents after it. [keep]
+    gets [TraceCheckAll.tla] (or, for a single agent, its [MCTrace] and
+    [TraceCheck] modules). *)
+
 val check : string -> (unit, int * string) result
 (** Only the OCaml part of {!trace}: the strict reading and {!Trace_check};
     [Error (line, message)] as {!Invalid}. No TLC (fast: the fuzz campaign's

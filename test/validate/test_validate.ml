@@ -80,11 +80,43 @@ let accepted name f =
       | Explore.Validate.Invalid { line; message } -> Alcotest.failf "%s: line %d: %s" name line message)
     (Explore.Validate.trace f)
 
-(* TLC on the runs and on a sample of the vectors (all of them with
-   JSREF_LONG=1; test/interp checks a sample too): a JVM per agent. *)
+(* TLC on every vector and run, in one TLC run (Validate.traces: every
+   agent of every trace an instance of the spec in one module). *)
 let untampered_tlc () =
-  let vs = List.filteri (fun i _ -> long || i mod 12 = 0) (vectors ()) in
-  List.iter (fun (name, lines) -> with_lines lines (accepted name)) (vs @ Lazy.force runs)
+  let ts = traces () in
+  let files = List.map (fun (name, lines) ->
+      let f = Filename.temp_file "jsref-validate" ".jsonl" in write_lines f lines; (f, name)) ts in
+  Fun.protect ~finally:(fun () -> List.iter (fun (f, _) -> Sys.remove f) files) (fun () ->
+      let results = Explore.Validate.traces (List.map fst files) in
+      Alcotest.(check int) "a result per trace" (List.length files) (List.length results);
+      List.iter (fun (f, vs) ->
+          let name = List.assoc f files in
+          Alcotest.(check bool) (name ^ ": a verdict per agent") true (vs <> []);
+          List.iter (function
+              | Explore.Validate.Accepted _ -> ()
+              | Explore.Validate.Rejected { line; step; _ } -> Alcotest.failf "%s: TLC rejects line %d: %s" name line step
+              | Explore.Validate.Cannot { line; reason; _ } -> Alcotest.failf "%s: cannot validate line %d: %s" name line reason
+              | Explore.Validate.Invalid { line; message } -> Alcotest.failf "%s: line %d: %s" name line message) vs) results)
+
+(* Several traces in one TLC run: a rejected agent in the middle is told for
+   its trace and line; the agents before and after it are accepted. *)
+let shared_run_rejects () =
+  let vs = vectors () in
+  let get n = List.assoc n vs in
+  let k = List.find (fun (k : Tamper.t) -> k.name = "loop steps of one agent swapped") Tamper.all in
+  let rec bad seed =
+    if seed > 50 then Alcotest.fail "no swap the OCaml checks let through"
+    else match k.apply (Random.State.make [| seed |]) (get "047-r6-ping-pong") with
+      | Some b when with_lines b (fun f -> Explore.Validate.check f = Ok ()) -> b
+      | _ -> bad (seed + 1) in
+  let ls = [ get "001-r3b-priority-order"; bad 1; get "048-r6-three-agent-ring" ] in
+  let files = List.map (fun l -> let f = Filename.temp_file "jsref-validate" ".jsonl" in write_lines f l; f) ls in
+  Fun.protect ~finally:(fun () -> List.iter Sys.remove files) (fun () ->
+      match Explore.Validate.traces files with
+      | [ (_, [ Explore.Validate.Accepted _ ]); (_, v2); (_, [ Explore.Validate.Accepted _; Explore.Validate.Accepted _; Explore.Validate.Accepted _ ]) ] ->
+        Alcotest.(check bool) "the swapped trace is rejected" true
+          (List.exists (function Explore.Validate.Rejected _ -> true | _ -> false) v2)
+      | _ -> Alcotest.fail "not: the first and third accepted, the second rejected")
 
 (* The known bug: an agent without behaviours ("Kind is bound to MCKind,
    which is not a literal definition"). *)
@@ -248,7 +280,8 @@ let () =
   Alcotest.run "validate" [
     "untampered", [
       Alcotest.test_case "every vector and run passes the OCaml checks" `Quick untampered_checked;
-      Alcotest.test_case "TLC accepts the runs and a sample of the vectors" `Slow untampered_tlc;
+      Alcotest.test_case "TLC accepts every vector and run, in one run" `Slow untampered_tlc;
+      Alcotest.test_case "one TLC run for several traces tells which is rejected" `Slow shared_run_rejects;
       Alcotest.test_case "an agent without behaviours validates" `Quick no_behaviours;
     ];
     "tampered", [
