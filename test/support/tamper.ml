@@ -211,6 +211,13 @@ let all = [
   edit "priority: negative" (fun _ _ e -> has "priority" e) (fun _ _ e -> Some (set "priority" (`Int (-1)) e));
   edit "action: another" (fun _ _ _ -> true) (fun _ _ e ->
       Some (set "action" (`String (if str "action" e = "Handle" then "Skip" else "Handle")) e));
+  { name = "invalid UTF-8 in a text"; apply = fun rng lines ->
+        let cands = List.filteri (fun i _ -> i > 0) (List.mapi (fun i l -> (i, l)) lines) in
+        Option.bind (pick rng cands) (fun (i, l) ->
+            (* inside the line's last text: just before its closing quote *)
+            match String.rindex_opt l '"' with
+            | Some q -> Some (List.mapi (fun k x -> if k = i then String.sub l 0 q ^ "\xff" ^ String.sub l q (String.length l - q) else x) lines)
+            | None -> None) };
   { name = "a line cut short"; apply = fun rng lines ->
         let cands = List.filteri (fun i _ -> i > 0) (List.mapi (fun i l -> (i, l)) lines) in
         Option.map (fun (i, l) ->

@@ -23,7 +23,8 @@ val all : t list
     send or before its receiver exists, an undeliverable message to an agent
     that exists), the agents (an event of an agent not in the header, a step
     after destroy, a create of another type), the O2A queue (refused, notify
-    or put, while it has room or is unbounded), the format (an unknown event,
+    or put, while it has room or is unbounded), the format (a line cut short
+    or with invalid UTF-8, an unknown event,
     an unknown field, [moved] as ["zero"] or [1e30], a text seq, a huge or
     negative priority, a wrong action), the steps (decreasing, swapped loop
     steps, a duplicated or dropped line where that must show). *)

@@ -177,7 +177,7 @@ let tampered_rejected () =
     (String.concat "" (List.map (fun k ->
          Printf.sprintf " %s (%d)" k (List.length (List.filter (fun (k', _, _, _) -> k' = k) distinct))) kinds));
   (* TLC on a sample of them (every one with JSREF_LONG=1): a JVM each *)
-  let sample = List.filteri (fun i _ -> long || i mod 6 = 0) distinct in
+  let sample = List.filteri (fun i _ -> long || i mod 9 = 0) distinct in
   List.iter (fun (kind, name, seed, bad) ->
       with_lines bad (fun f ->
           match Explore.Validate.trace f with
