@@ -276,6 +276,65 @@ let tlc_rejection_one_line () =
       Alcotest.(check bool) ("it names the spec: " ^ err) true
         (try ignore (Explore.Str_find.find err "the spec cannot take this step"); true with Not_found -> false))
 
+(* ------------------------------------- random programs, random hosts *)
+
+let rec literal_of rand (ty : Typing.Types.t) =
+  match Typing.Types.repr ty with
+  | Typing.Types.Integer -> string_of_int (Random.State.int rand 5)
+  | Typing.Types.Double | Typing.Types.Float -> Printf.sprintf "%d.5" (Random.State.int rand 5)
+  | Typing.Types.Text -> Printf.sprintf "\"t%d\"" (Random.State.int rand 3)
+  | Typing.Types.Boolean -> if Random.State.bool rand then "true" else "false"
+  | Typing.Types.List t -> "[" ^ literal_of rand t ^ "]"
+  | _ -> "0"
+
+(* Runs of generated well-typed programs (test/support/typed_gen.ml), two
+   agents, every variant, bounded and unbounded O2A queues, seeded or not,
+   host notifications, overrides, puts and messages: the OCaml checks accept
+   every trace (no valid run is rejected; TLC on such runs is test/interp's
+   "random programs' traces validated by TLC"). *)
+let random_runs_checked (prog, seed) =
+  let text = Syntax.Print.program prog in
+  let env, diags = Typing.check [ Syntax.Parse.string ~file:"gen.jade" text ] in
+  if List.exists (fun d -> d.Syntax.Diag.severity = Syntax.Diag.Error) diags then
+    QCheck.Test.fail_reportf "the generated program does not check";
+  let rand = Random.State.make [| seed |] in
+  let percepts = List.filter (fun (s : Typing.Tenv.schema) -> s.s_percept) (Typing.Tenv.schemas env) in
+  let percept () =
+    let s = List.nth percepts (Random.State.int rand (List.length percepts)) in
+    let args = List.map (fun (_, ty) -> literal_of rand ty) s.s_slots in
+    if args = [] then s.s_name else s.s_name ^ "(" ^ String.concat ", " args ^ ")" in
+  let agent () = if Random.State.bool rand then "g1" else "g2" in
+  let events = List.init (2 + Random.State.int rand 10) (fun _ ->
+      match Random.State.int rand 8 with
+      | 0 | 1 -> Printf.sprintf {|{"run": %d}|} (1 + Random.State.int rand 3)
+      | 2 -> Printf.sprintf {|{"agent": "%s", "put": "%d"}|} (agent ()) (Random.State.int rand 9)
+      | 3 -> Printf.sprintf {|{"agent": "%s", "message": "%d"}|} (agent ()) (Random.State.int rand 9)
+      | 4 -> Printf.sprintf {|{"agent": "%s", "notify": %s, "priority": %d}|} (agent ())
+               (Yojson.Safe.to_string (`String (percept ()))) (Random.State.int rand 9)
+      | _ -> Printf.sprintf {|{"agent": "%s", "notify": %s}|} (agent ()) (Yojson.Safe.to_string (`String (percept ())))) in
+  let params = match Typing.Tenv.agent_create env "Ag" with Some r -> r.r_params | None -> [] in
+  let spec name = let args = List.map (fun (_, ty) -> literal_of rand ty) params in
+    Filename.quote (name ^ ":Ag" ^ (if args = [] then "" else ":" ^ String.concat "," args)) in
+  let variant = List.nth [ "reference"; "budgeted"; "native"; "printed" ] (Random.State.int rand 4) in
+  let capacity = match Random.State.int rand 3 with 0 -> "" | k -> Printf.sprintf " --o2a-capacity %d" k in
+  let seed_opt = if Random.State.bool rand then Printf.sprintf " --seed %d" (Random.State.int rand 100) else "" in
+  let dir = Filename.get_temp_dir_name () in
+  let p = Filename.concat dir (Printf.sprintf "jsref_vgen_%d.jade" seed) in
+  let ev = Filename.concat dir (Printf.sprintf "jsref_vgen_%d.events" seed) in
+  let tr = Filename.concat dir (Printf.sprintf "jsref_vgen_%d.jsonl" seed) in
+  write_lines p [ text ]; write_lines ev events;
+  let (status, _, err) = run_command (Printf.sprintf "%s run %s --agent %s --agent %s --events %s --trace %s --variant %s --max-steps 400%s%s"
+                                        exe p (spec "g1") (spec "g2") ev tr variant capacity seed_opt) in
+  let verdict = Explore.Validate.check tr in
+  List.iter (fun f -> try Sys.remove f with Sys_error _ -> ()) [ p; ev; tr ];
+  if status > 1 then QCheck.Test.fail_reportf "run failed (%d): %s" status err;
+  (match verdict with
+   | Ok () -> ()
+   | Error (line, m) ->
+     QCheck.Test.fail_reportf "a %s run%s%s: line %d: %s\nprogram:\n%s\nevents:\n%s" variant capacity seed_opt line m text
+       (String.concat "\n" events));
+  true
+
 let () =
   Alcotest.run "validate" [
     "untampered", [
@@ -283,6 +342,8 @@ let () =
       Alcotest.test_case "TLC accepts every vector and run, in one run" `Slow untampered_tlc;
       Alcotest.test_case "one TLC run for several traces tells which is rejected" `Slow shared_run_rejects;
       Alcotest.test_case "an agent without behaviours validates" `Quick no_behaviours;
+      qcheck ~count:100 "random programs' runs pass the OCaml checks"
+        (QCheck.pair Typed_gen.arb_program QCheck.small_nat) random_runs_checked;
     ];
     "tampered", [
       Alcotest.test_case "every kind of tampering rejected, as one located line" `Slow tampered_rejected;
