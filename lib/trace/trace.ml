@@ -433,23 +433,45 @@ let invalid_utf8 s =
       else Some i in
   go 0
 
+(* A trace line is far shorter than this; a longer one (a file of zeros, a
+   runaway writer) is an error, not a line read into memory without end. *)
+let max_line = 16 * 1024 * 1024
+
+(* The next line, without its newline; [None] at the end of the file.
+   @raise Located when longer than [max_line] *)
+let bounded_line ic n =
+  let b = Buffer.create 256 in
+  let rec go () =
+    match input_char ic with
+    | '\n' -> Some (Buffer.contents b)
+    | c ->
+      if Buffer.length b >= max_line then
+        raise (Located (n, Printf.sprintf "a line longer than %d bytes: not a trace" max_line));
+      Buffer.add_char b c; go ()
+    | exception End_of_file -> if Buffer.length b = 0 then None else Some (Buffer.contents b) in
+  go ()
+
+(* One printable line: control characters of a message shown as '?'. *)
+let printable m =
+  String.map (fun c -> if c = '\n' || c = '\t' then ' ' else if Char.code c < 0x20 || c = '\127' then '?' else c) m
+
 let read_located path =
   let located n fmt = Printf.ksprintf (fun m -> raise (Located (n, m))) fmt in
   match
     let ic = open_in_bin path in
     Fun.protect ~finally:(fun () -> close_in_noerr ic) (fun () ->
         let rec go h acc n =
-          match input_line ic with
-          | exception End_of_file -> (h, acc)
-          | l when String.trim l = "" -> go h acc (n + 1)
-          | l ->
+          match bounded_line ic n with
+          | None -> (h, acc)
+          | Some l when String.trim l = "" -> go h acc (n + 1)
+          | Some l ->
             (match invalid_utf8 l with
              | Some k -> located n "not JSON: byte %d is not valid UTF-8" (k + 1)
              | None -> ());
             let j = match Yojson.Safe.from_string l with
               | j -> j
               | exception Yojson.Json_error m ->
-                located n "not JSON: %s" (String.concat " " (String.split_on_char '\n' m)) in
+                located n "not JSON: %s" (printable m) in
             match h with
             | None ->
               (match header_of_json j with

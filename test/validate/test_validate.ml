@@ -258,6 +258,22 @@ let huge_integers () =
   expect_invalid "a version 99" [ Str_replace.replace (with_capacity "null") {|"version":1|} {|"version":99|}; create ]
     ~line:1 ~says:"version 99"
 
+(* Files that are no trace at all: one located line each, exit 1, and
+   every file given is told (/dev/zero: a line without end is not read into
+   memory without end). *)
+let bad_files () =
+  let zeros = Filename.temp_file "jsref-zeros" ".bin" in
+  let oc = open_out_bin zeros in output_string oc (String.make 1000 '\000'); close_out oc;
+  let files = [ "/nonexistent/t.jsonl"; Filename.get_temp_dir_name (); "/dev/null"; zeros; exe; "/dev/zero" ] in
+  let (status, _, err) = run_command (Printf.sprintf "%s validate %s" exe (String.concat " " (List.map Filename.quote files))) in
+  Sys.remove zeros;
+  Alcotest.(check int) "exit 1" 1 status;
+  let lines = List.filter (( <> ) "") (String.split_on_char '\n' err) in
+  Alcotest.(check int) ("one line per file:\n" ^ err) (List.length files) (List.length lines);
+  List.iter2 (fun f l ->
+      if not (one_located_line f (l ^ "\n")) then Alcotest.failf "not a located line for %s: %S" f l;
+      String.iter (fun c -> if Char.code c < 0x20 then Alcotest.failf "a control character in %S" l) l) files lines
+
 (* A step TLC rejects is one line naming the spec. *)
 let tlc_rejection_one_line () =
   let (_, lines) = List.find (fun (n, _) -> n = "001-r3b-priority-order") (vectors ()) in
@@ -351,5 +367,6 @@ let () =
       Alcotest.test_case "D27 32-bit integers, version 1" `Quick huge_integers;
       Alcotest.test_case "D28 every message delivered by the end" `Quick undelivered;
       Alcotest.test_case "a TLC rejection is one line" `Quick tlc_rejection_one_line;
+      Alcotest.test_case "files that are no trace: one located line each" `Quick bad_files;
     ];
   ]
