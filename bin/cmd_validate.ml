@@ -50,7 +50,7 @@ let cmd =
                            implementation, docs/trace-format.md).") in
   let keep = Arg.(value & opt (some string) None & info ["keep"] ~docv:"DIR"
                     ~doc:"Also write the generated TLA+ modules into DIR.") in
-  Cmd.v (Cmd.info "validate" ~doc:"Ask TLC whether a trace is a behaviour of spec/AgentLoop.tla."
+  Cmd.v (Cmd.info "validate" ~doc:"Check traces: the format, agents, literals and messages in OCaml, then each agent against spec/AgentLoop.tla with TLC."
            ~man:[`S Manpage.s_description;
                  `P "First checks in OCaml what TLC does not see: the format (version 1, \
                      every field of the right type), the agents against the header, step \
