@@ -329,6 +329,8 @@ let traces ?keep paths =
       | `Agents l ->
         (path, List.map (fun (_, r) -> match r with
              | Error v -> v
-             | Ok _ -> (match !verdicts with v :: rest -> verdicts := rest; v | [] -> assert false)) l)) prepared
+             | Ok _ -> (match !verdicts with
+                 | v :: rest -> verdicts := rest; v
+                 | [] -> Semantics.Fault.crash "Validate: fewer TLC verdicts than agents")) l)) prepared
 
 let trace ?keep path = snd (List.hd (traces ?keep [ path ]))
