@@ -113,6 +113,24 @@ let all = [
       | _ -> None);
   header "header: capacity 0" (fun _ h -> Some (set "o2a_capacity" (`Int 0) h));
   header "header: budget 0" (fun _ h -> Some (set "budget" (`Int 0) h));
+  { name = "header: a default priority changed"; apply = fun rng lines ->
+        (* a type notified with its default (action Notify): the header's
+           default no longer matches *)
+        match load lines with
+        | None -> None
+        | Some t ->
+          let ty p = match String.index_opt p '(' with Some i -> String.sub p 0 i | None -> p in
+          let types = List.sort_uniq compare (List.filter_map (fun e ->
+              if event e = "notify" && str "action" e = "Notify" then Some (ty (str "percept" e)) else None) t.events) in
+          Option.bind (pick rng types) (fun p ->
+              match get "program" t.header with
+              | Some prog ->
+                (match get "percepts" prog with
+                 | Some (`Assoc ps) ->
+                   let ps = List.map (fun (n, v) -> match v with `Int k when n = p -> (n, `Int (k + 1)) | _ -> (n, v)) ps in
+                   out (set "program" (set "percepts" (`Assoc ps) prog) t.header) t.events
+                 | _ -> None)
+              | None -> None) };
   header "header: unknown field" (fun _ h -> Some (set "colour" (`String "blue") h));
   (* --- literals *)
   edit "dequeue: another percept than notified" (is "dequeue") (fun rng t e -> Some (set "percept" (`String (other_percept rng t e)) e));

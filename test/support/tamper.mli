@@ -17,7 +17,7 @@ type t = { name : string;
 val all : t list
 (** Every kind, each with a distinct [name]: the header (version 99, a text
     version, none, an unknown variant or tie policy, an agent type that is not
-    its create's, an agent twice, capacity 0), the literals (a dequeue, handle,
+    its create's, an agent twice, capacity 0, a default priority changed), the literals (a dequeue, handle,
     deliver or behaviour step carrying another percept, priority, content or
     seq than notified, dequeued or sent), the messages (a delivery before its
     send or before its receiver exists, an undeliverable message to an agent
