@@ -12,7 +12,9 @@ let str s = Tla.Str s
 let int i = Tla.Int i
 
 let constants c =
-  let per f = Tla.record (List.map (fun b -> (b, f b)) c.behaviours) in
+  (* A function of the behaviours; with none, the empty function <<>> (an
+     empty record [] is not TLA+: an agent without behaviours failed). *)
+  let per f = if c.behaviours = [] then Tla.Fn [] else Tla.record (List.map (fun b -> (b, f b)) c.behaviours) in
   [ "Variant", str c.variant;
     "TiePolicy", str c.tie_policy;
     "Budget", int c.budget;

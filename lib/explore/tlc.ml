@@ -74,7 +74,7 @@ let distinct_states output =
 (* Copy the spec modules and the model into a fresh folder, let [prepare]
    add files, write [Run.cfg], run TLC on module [main] there with the options
    [options dir], call [k dir], remove the folder. *)
-let run_in_dir ?(prefix = "") (m : Model.t) ~main ~cfg_lines ~options ~prepare k =
+let run_in_dir ?(prefix = "") (m : Model.t option) ~main ~cfg_lines ~options ~prepare k =
   let jar = jar () in
   let dir = temp_dir () in
   Fun.protect ~finally:(fun () -> remove_tree dir) (fun () ->
@@ -82,7 +82,7 @@ let run_in_dir ?(prefix = "") (m : Model.t) ~main ~cfg_lines ~options ~prepare k
       Array.iter (fun f ->
           if Filename.check_suffix f ".tla" then copy (Filename.concat sd f) (Filename.concat dir f))
         (Sys.readdir sd);
-      copy (Filename.concat m.dir (m.name ^ ".tla")) (Filename.concat dir (m.name ^ ".tla"));
+      Option.iter (fun (m : Model.t) -> copy (Filename.concat m.dir (m.name ^ ".tla")) (Filename.concat dir (m.name ^ ".tla"))) m;
       prepare dir;
       write_file (Filename.concat dir "Run.cfg") (String.concat "\n" cfg_lines ^ "\n");
       let out = Filename.concat dir "tlc.out" in
@@ -116,16 +116,21 @@ let run_model ?prefix ?(extra_cfg = []) ?(options = []) ?(keep_properties = fals
     starts "CONSTANT" || starts "SPECIFICATION" || starts "INIT" || starts "NEXT"
     || (keep_properties && (starts "INVARIANT" || starts "PROPERTY")) in
   let lines = List.filter keep (String.split_on_char '\n' cfg) @ extra_cfg in
-  run_in_dir ?prefix m ~main:m.name ~cfg_lines:lines ~options:(fun _ -> options) ~prepare:(fun _ -> ()) k
+  run_in_dir ?prefix (Some m) ~main:m.name ~cfg_lines:lines ~options:(fun _ -> options) ~prepare:(fun _ -> ()) k
 
 let run_module (m : Model.t) ~module_name ~text ~cfg_lines ~options =
-  run_in_dir m ~main:module_name ~cfg_lines:(constant_lines m @ cfg_lines) ~options:(fun _ -> options)
+  run_in_dir (Some m) ~main:module_name ~cfg_lines:(constant_lines m @ cfg_lines) ~options:(fun _ -> options)
+    ~prepare:(fun dir -> write_file (Filename.concat dir (module_name ^ ".tla")) text)
+    (fun _ -> ())
+
+let run_text ~module_name ~text ~cfg_lines ~options =
+  run_in_dir None ~main:module_name ~cfg_lines ~options:(fun _ -> options)
     ~prepare:(fun dir -> write_file (Filename.concat dir (module_name ^ ".tla")) text)
     (fun _ -> ())
 
 let run_simulation (m : Model.t) ~traces ~depth ~seed =
   let texts = ref [] in
-  let r = run_in_dir m ~main:m.name
+  let r = run_in_dir (Some m) ~main:m.name
       ~cfg_lines:(constant_lines m @ [ "SPECIFICATION Spec" ])
       ~options:(fun dir ->
           [ "-simulate"; Printf.sprintf "file=%s,num=%d" (Filename.concat dir "sim") traces;

@@ -31,6 +31,12 @@ val run_module :
 (** Runs TLC on a generated module (extending the model) with the model's
     constant bindings plus [cfg_lines]. *)
 
+val run_text :
+  module_name:string -> text:string -> cfg_lines:string list -> options:string list -> run
+(** Runs TLC on a module of its own (beside the spec's modules), with only
+    [cfg_lines]: a module that instantiates the spec with every constant
+    given, as [validate] writes for several agents at once. *)
+
 val run_simulation : Model.t -> traces:int -> depth:int -> seed:int -> string list
 (** [-simulate file=...,num=traces -depth depth -seed seed]: the text of each
     behaviour file TLC writes. @raise Error when TLC fails. *)

@@ -2,6 +2,7 @@ type verdict =
   | Accepted of { agent : string; steps : int }
   | Rejected of { agent : string; line : int; step : string; after : int }
   | Cannot of { agent : string; line : int; reason : string }
+  | Invalid of { line : int; message : string }
 
 exception Cannot_express of int * string
 
@@ -15,14 +16,8 @@ let effect_value = function
   | Trace.Deactivated -> Agent_loop.deactivate
   | Trace.Activated b -> Agent_loop.activate b
 
-let read path =
-  match Trace.read_file path with
-  | Ok r -> r
-  | Error m -> failwith m
-
-let model_of_trace path ~agent =
+let model_of_trace (header : Trace.header) lines ~agent =
   try
-    let (header, lines) = read path in
     let events = List.filter (fun (_, (l : Trace.line)) -> l.agent = agent) lines in
     let behaviours = header.behaviours in
     let percept_defaults = header.percepts in
@@ -177,49 +172,165 @@ let trace_module name (records : (Tla.t * int) list) =
   Buffer.add_string b "             \\/ /\\ traceIndex = Len(T)\n                /\\ UNCHANGED <<vars, traceIndex>>\n====\n";
   Buffer.contents b
 
-let agents_of path =
-  match read path with
-  | ({ agents = _ :: _ as l; _ }, _) -> List.map fst l
-  | _ -> failwith (Printf.sprintf "%s:1:1: error: the first line is not a trace header naming the agents" path)
+(* TLC's output, on one line: its first error message, else its last line. *)
+let tlc_summary output =
+  let ls = List.filter (fun l -> l <> "") (List.map String.trim (String.split_on_char '\n' output)) in
+  let is_error l = try ignore (Str_find.find l "rror"); true with Not_found -> false in
+  match List.find_opt is_error ls, List.rev ls with
+  | Some l, _ | None, l :: _ -> l
+  | None, [] -> "no output"
 
-let trace ?keep path =
-  List.map (fun agent ->
-      match model_of_trace path ~agent with
-      | Error (line, reason) -> Cannot { agent; line; reason }
-      | Ok (constants, records) ->
-        let dir = Filename.concat (Filename.get_temp_dir_name ())
-            (Printf.sprintf "jsref-validate-%d-%d" (Unix.getpid ()) (Random.bits ())) in
-        Unix.mkdir dir 0o700;
-        let tla = Random_model.write ~dir ~name:"MCTrace" constants in
-        let m = Model.load tla in
-        let text = trace_module "TraceCheck" records in
-        (match keep with
-         | Some k ->
-           (try Unix.mkdir k 0o755 with Unix.Unix_error (Unix.EEXIST, _, _) -> ());
-           let copy f = let oc = open_out_bin (Filename.concat k (agent ^ "_" ^ f)) in
-             output_string oc (if f = "TraceCheck.tla" then text else Tlc.read_file (Filename.concat dir f));
-             close_out oc in
-           copy "MCTrace.tla"; copy "MCTrace.cfg"; copy "TraceCheck.tla"
-         | None -> ());
-        let r = Tlc.run_module m ~module_name:"TraceCheck" ~text
-            ~cfg_lines:[ "INIT TraceInit"; "NEXT TraceNext" ] ~options:[ "-workers"; "1" ] in
-        Array.iter (fun f -> Sys.remove (Filename.concat dir f)) (Sys.readdir dir);
-        Unix.rmdir dir;
-        match r.exit_code with
-        | 0 -> Accepted { agent; steps = List.length records }
-        | 11 ->
-          (* The last state of the counterexample says how far the trace went. *)
-          let k = ref 1 in
-          List.iter (fun l ->
-              let l = String.trim l in
-              try Scanf.sscanf l "/\\ traceIndex = %d" (fun n -> k := n) with _ -> ())
-            (String.split_on_char '\n' r.output);
-          let (record, line) = List.nth records (min !k (List.length records - 1)) in
-          Rejected { agent; line; after = !k;
-                     step = Tla.to_string record }
-        | c ->
-          let o = r.output in
-          let n = String.length o in
-          failwith (Printf.sprintf "TLC failed (exit %d) validating agent %s: %s" c agent
-                      (if n > 800 then String.sub o (n - 800) 800 else o)))
-    (agents_of path)
+(* The last value TLC printed for [name] in its counterexample. *)
+let last_value output name =
+  List.fold_left (fun acc l ->
+      try Scanf.sscanf (String.trim l) ("/\\ " ^^ "%s@ = %d") (fun v n -> if v = name then Some n else acc)
+      with _ -> acc) None (String.split_on_char '\n' output)
+
+let rejected agent records k =
+  let (record, line) = List.nth records (min k (List.length records - 1)) in
+  Rejected { agent; line; after = k; step = Tla.to_string record }
+
+(* One agent alone, as a model of its own (MCTrace) and a trace module. *)
+let tlc_one ?keep agent (constants, records) =
+  let dir = Filename.concat (Filename.get_temp_dir_name ())
+      (Printf.sprintf "jsref-validate-%d-%d" (Unix.getpid ()) (Random.bits ())) in
+  Unix.mkdir dir 0o700;
+  let tla = Random_model.write ~dir ~name:"MCTrace" constants in
+  let m = Model.load tla in
+  let text = trace_module "TraceCheck" records in
+  (match keep with
+   | Some k ->
+     (try Unix.mkdir k 0o755 with Unix.Unix_error (Unix.EEXIST, _, _) -> ());
+     let copy f = let oc = open_out_bin (Filename.concat k (agent ^ "_" ^ f)) in
+       output_string oc (if f = "TraceCheck.tla" then text else Tlc.read_file (Filename.concat dir f));
+       close_out oc in
+     copy "MCTrace.tla"; copy "MCTrace.cfg"; copy "TraceCheck.tla"
+   | None -> ());
+  let r = Tlc.run_module m ~module_name:"TraceCheck" ~text
+      ~cfg_lines:[ "INIT TraceInit"; "NEXT TraceNext" ] ~options:[ "-workers"; "1" ] in
+  Array.iter (fun f -> Sys.remove (Filename.concat dir f)) (Sys.readdir dir);
+  Unix.rmdir dir;
+  match r.exit_code with
+  | 0 -> Accepted { agent; steps = List.length records }
+  | 11 ->
+    (* The last state of the counterexample says how far the trace went. *)
+    rejected agent records (Option.value (last_value r.output "traceIndex") ~default:1)
+  | c -> raise (Tlc.Error (Printf.sprintf "TLC failed (exit %d) validating agent %s: %s" c agent (tlc_summary r.output)))
+
+(* The variables of spec/AgentLoop.tla (its [vars]), given to each instance
+   under a name of its own. *)
+let spec_variables =
+  [ "o2a"; "pq"; "msgq"; "nextSeq"; "msgSeq"; "puts"; "active"; "ready"; "blocked"; "pos"; "phase";
+    "cur"; "dispatched"; "done"; "waits"; "last" ]
+
+(* Several agents (of one trace or of several) in one TLC run, so that one
+   JVM checks them all: each agent is an instance [A<i>] of the spec with its
+   own constants and variables, and the behaviour follows [T1] (agent 1's
+   steps), then [T2], ...; a deadlock says which agent ([agentIdx]) and how
+   far ([traceIndex]). The agents are independent: the facts between them
+   are Trace_check's. *)
+let combined_module jobs =
+  let b = Buffer.create 16384 in
+  let pr fmt = Printf.bprintf b fmt in
+  let k = List.length jobs in
+  let vars i = String.concat ", " (List.map (fun v -> Printf.sprintf "%s_%d" v i) spec_variables) in
+  let all_vars = String.concat ", " (List.init k (fun i -> Printf.sprintf "vars%d" (i + 1))) in
+  pr "---- MODULE TraceCheckAll ----\n(* Generated by jadescript-ref validate. *)\nEXTENDS Naturals, Sequences\n\n";
+  List.iteri (fun i _ -> pr "VARIABLES %s\n" (vars (i + 1))) jobs;
+  pr "VARIABLES agentIdx, traceIndex\n\n";
+  List.iteri (fun i (_, (constants, records)) ->
+      let n = i + 1 in
+      pr "A%d == INSTANCE AgentLoop WITH\n    %s\n\n" n
+        (String.concat ",\n    "
+           (List.map (fun (c, v) -> Printf.sprintf "%s <- %s" c (Tla.to_string v)) constants
+            @ List.map (fun v -> Printf.sprintf "%s <- %s_%d" v v n) spec_variables));
+      pr "T%d == <<\n  %s\n>>\n\nvars%d == <<%s>>\n\n" n
+        (String.concat ",\n  " (List.map (fun (r, _) -> Tla.to_string r) records)) n (vars n)) jobs;
+  pr "TraceInit == /\\ agentIdx = 1 /\\ traceIndex = 1\n";
+  List.iteri (fun i _ -> pr "             /\\ A%d!Init /\\ last_%d = T%d[1]\n" (i + 1) (i + 1) (i + 1)) jobs;
+  pr "\nTraceNext ==\n";
+  List.iteri (fun i _ ->
+      let n = i + 1 in
+      let others = String.concat "" (List.filter_map (fun j ->
+          if j = n then None else Some (Printf.sprintf ", vars%d" j)) (List.init k (fun j -> j + 1))) in
+      pr "  \\/ /\\ agentIdx = %d /\\ traceIndex < Len(T%d) /\\ A%d!Next\n" n n n;
+      pr "     /\\ last_%d' = T%d[traceIndex + 1] /\\ traceIndex' = traceIndex + 1 /\\ UNCHANGED <<agentIdx%s>>\n" n n others;
+      if n < k then
+        pr "  \\/ /\\ agentIdx = %d /\\ traceIndex = Len(T%d) /\\ agentIdx' = %d /\\ traceIndex' = 1 /\\ UNCHANGED <<%s>>\n"
+          n n (n + 1) all_vars
+      else
+        pr "  \\/ /\\ agentIdx = %d /\\ traceIndex = Len(T%d) /\\ UNCHANGED <<agentIdx, traceIndex, %s>>\n" n n all_vars)
+    jobs;
+  pr "====\n";
+  Buffer.contents b
+
+(* At most this many agents in one TLC run: TLC's evaluation of the
+   initial state recurses through the module's conjunctions, and overflows
+   its stack somewhere below a hundred agents. *)
+let agents_per_run = 10
+
+(* [jobs]: (agent, model) in order -> a verdict for each, in one TLC run per
+   [agents_per_run] agents when it can (again after a rejection, for the
+   agents after it); one run per agent if TLC fails on a combined module. *)
+let rec tlc_all ?keep jobs =
+  match jobs with
+  | [] -> []
+  | [ (agent, job) ] -> [ tlc_one ?keep agent job ]
+  | _ when List.length jobs > agents_per_run ->
+    let first = List.filteri (fun i _ -> i < agents_per_run) jobs
+    and rest = List.filteri (fun i _ -> i >= agents_per_run) jobs in
+    let v = tlc_all ?keep first in
+    v @ tlc_all ?keep rest
+  | _ ->
+    let text = combined_module jobs in
+    (match keep with
+     | Some k ->
+       (try Unix.mkdir k 0o755 with Unix.Unix_error (Unix.EEXIST, _, _) -> ());
+       let oc = open_out_bin (Filename.concat k "TraceCheckAll.tla") in
+       output_string oc text; close_out oc
+     | None -> ());
+    let r = Tlc.run_text ~module_name:"TraceCheckAll" ~text ~cfg_lines:[ "INIT TraceInit"; "NEXT TraceNext" ]
+        ~options:[ "-workers"; "1" ] in
+    let accepted (agent, (_, records)) = Accepted { agent; steps = List.length records } in
+    match r.exit_code, last_value r.output "agentIdx", last_value r.output "traceIndex" with
+    | 0, _, _ -> List.map accepted jobs
+    | 11, Some a, Some k when a >= 1 && a <= List.length jobs ->
+      let before = List.filteri (fun i _ -> i < a - 1) jobs and after = List.filteri (fun i _ -> i >= a) jobs in
+      let (agent, (_, records)) = List.nth jobs (a - 1) in
+      List.map accepted before @ [ rejected agent records k ] @ tlc_all ?keep after
+    | _ -> List.map (fun (agent, job) -> tlc_one ?keep agent job) jobs
+
+let check path =
+  match Trace.read_located path with
+  | Error e -> Error e
+  | Ok (header, lines) -> Trace_check.check header lines
+
+let traces ?keep paths =
+  (* per trace: Invalid, or per agent Cannot or a model for TLC *)
+  let prepared = List.map (fun path ->
+      match Trace.read_located path with
+      | Error (line, message) -> (path, `Invalid (Invalid { line; message }))
+      | Ok (header, lines) ->
+        match Trace_check.check header lines with
+        | Error (line, message) -> (path, `Invalid (Invalid { line; message }))
+        | Ok () ->
+          (path, `Agents (List.map (fun (agent, _) ->
+               match model_of_trace header lines ~agent with
+               | Error (line, reason) -> (agent, Error (Cannot { agent; line; reason }))
+               | Ok job -> (agent, Ok job)) header.agents))) paths in
+  let jobs = List.concat_map (fun (_, p) -> match p with
+      | `Invalid _ -> []
+      | `Agents l -> List.filter_map (fun (agent, r) -> match r with Ok job -> Some (agent, job) | Error _ -> None) l)
+      prepared in
+  let verdicts = ref (tlc_all ?keep jobs) in
+  List.map (fun (path, p) ->
+      match p with
+      | `Invalid v -> (path, [ v ])
+      | `Agents l ->
+        (path, List.map (fun (_, r) -> match r with
+             | Error v -> v
+             | Ok _ -> (match !verdicts with
+                 | v :: rest -> verdicts := rest; v
+                 | [] -> Semantics.Fault.crash "Validate: fewer TLC verdicts than agents")) l)) prepared
+
+let trace ?keep path = snd (List.hd (traces ?keep [ path ]))

@@ -1,6 +1,11 @@
 (** Trace validation ([jadescript-ref validate TRACE]): is an interpreter run a
     behaviour of [spec/AgentLoop.tla]?
 
+    First, in OCaml, over the whole trace: the strict reading of the format
+    ([Trace.read_located]) and the facts that the per-agent projection below
+    cannot see ({!Trace_check}: agents, step numbers, literals, messages across
+    agents, the O2A capacity). Then TLC, agent by agent:
+
     For each agent of the trace, the run is projected onto the spec: every
     percept notified becomes its own percept value [n<seq>], every message
     [m<seq>], every object [o<k>]; the model's constants are read off the trace
@@ -24,8 +29,28 @@ type verdict =
   | Rejected of { agent : string; line : int; step : string; after : int }
       (** the trace line of the first step the spec does not take *)
   | Cannot of { agent : string; line : int; reason : string }
+  | Invalid of { line : int; message : string }
+      (** not a trace of version 1, or a fact TLC does not see is wrong: the
+          strict reading of [Trace.read_located] and the checks of
+          {!Trace_check} (agents, steps, literals, messages across agents, the
+          O2A capacity), made before TLC runs *)
 
 val trace : ?keep:string -> string -> verdict list
-(** One verdict per agent of the trace file. [keep]: also write the generated
-    modules into that folder.
-    @raise Failure on a file that is not a trace (with the line), Tlc.Error *)
+(** The trace file is read and checked in OCaml; if it is [Invalid], that is
+    the one verdict; otherwise one verdict per agent, from TLC. [keep]: also
+    write the generated modules into that folder.
+    @raise Tlc.Error when TLC itself fails (a one-line message) *)
+
+val traces : ?keep:string -> string list -> (string * verdict list) list
+(** {!trace} of several files, with one TLC run for every agent of every
+    trace that passes the OCaml checks: each agent an instance of the spec
+    (its own constants and variables) in one generated module
+    [TraceCheckAll], checked one after another, so that one JVM start serves
+    them all; after a rejection, one more run for the agents after it. [keep]
+    gets [TraceCheckAll.tla] (or, for a single agent, its [MCTrace] and
+    [TraceCheck] modules). *)
+
+val check : string -> (unit, int * string) result
+(** Only the OCaml part of {!trace}: the strict reading and {!Trace_check};
+    [Error (line, message)] as {!Invalid}. No TLC (fast: the fuzz campaign's
+    first filter). *)

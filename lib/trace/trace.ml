@@ -165,34 +165,76 @@ let without_step = function
 
 (* ------------------------------------------------------------ decoding *)
 
+(* Reading is strict (docs/trace-format.md, "What validate checks"): every
+   field of the right JSON type, no field the format does not have, no field
+   twice, integers in the language's 32-bit range, the [action] field the
+   one of the event, the header of version 1 with known values. A bad value
+   is never read as 0 or "" (D27: version 1 is closed). *)
+
 exception Bad of string
 
 let bad fmt = Printf.ksprintf (fun s -> raise (Bad s)) fmt
 
+let int32_min = -0x8000_0000
+let int32_max = 0x7fff_ffff
+
+let describe : Yojson.Safe.t -> string = function
+  | `Int _ | `Intlit _ -> "an integer" | `Float _ -> "a decimal number" | `String _ -> "a text"
+  | `Bool _ -> "a boolean" | `Null -> "null" | `List _ | `Tuple _ -> "a list"
+  | `Assoc _ -> "an object" | `Variant _ -> "a variant"
+
 let field f fs = match List.assoc_opt f fs with Some v -> v | None -> bad "no field %S" f
-let get_str f fs = match field f fs with `String s -> s | _ -> bad "field %S is not a string" f
-let get_int f fs = match field f fs with `Int i -> i | _ -> bad "field %S is not an integer" f
-let get_bool f fs = match field f fs with `Bool b -> b | _ -> bad "field %S is not a boolean" f
+let get_str f fs = match field f fs with `String s -> s | v -> bad "field %S is %s, not a text" f (describe v)
+let int_value f = function
+  | `Int i when i >= int32_min && i <= int32_max -> i
+  | `Int _ | `Intlit _ -> bad "field %S is out of range (integers are 32-bit, %d to %d)" f int32_min int32_max
+  | v -> bad "field %S is %s, not an integer" f (describe v)
+let get_int f fs = int_value f (field f fs)
+let get_nat f fs = let i = get_int f fs in if i < 0 then bad "field %S is negative (%d)" f i else i
+let get_pos f fs = let i = get_int f fs in if i < 1 then bad "field %S must be at least 1 (it is %d)" f i else i
+let get_bool f fs = match field f fs with `Bool b -> b | v -> bad "field %S is %s, not a boolean" f (describe v)
 let get_strs f fs = match field f fs with
-  | `List l -> List.map (function `String s -> s | _ -> bad "field %S holds a non-string" f) l
-  | _ -> bad "field %S is not a list" f
+  | `List l -> List.map (function `String s -> s | v -> bad "field %S holds %s, not a text" f (describe v)) l
+  | v -> bad "field %S is %s, not a list" f (describe v)
 let get_opt_int f fs = match List.assoc_opt f fs with
-  | None | Some `Null -> None | Some (`Int i) -> Some i | Some _ -> bad "field %S is not an integer" f
-let get_obj f fs = match field f fs with `Assoc o -> o | _ -> bad "field %S is not an object" f
+  | None -> bad "no field %S" f
+  | Some `Null -> None
+  | Some v -> Some (int_value f v)
+let get_obj f fs = match field f fs with `Assoc o -> o | v -> bad "field %S is %s, not an object" f (describe v)
+
+(* The fields of an object are exactly [expected] (in any order), each once. *)
+let exact_fields what fs expected =
+  let rec dups = function
+    | (k, _) :: rest -> if List.mem_assoc k rest then bad "field %S appears twice%s" k what else dups rest
+    | [] -> () in
+  dups fs;
+  List.iter (fun (k, _) -> if not (List.mem k expected) then bad "unknown field %S%s" k what) fs
 
 let effect_of_string s =
   match String.split_on_char ' ' s with
   | [ "deactivate" ] -> Deactivated
-  | [ "activate"; b ] -> Activated b
+  | [ "activate"; b ] when b <> "" -> Activated b
   | _ -> bad "unknown effect %S" s
 
 let get_effects f fs = List.map effect_of_string (get_strs f fs)
 
-let entry_of fs = { percept = get_str "percept" fs; priority = get_int "priority" fs; seq = get_int "seq" fs }
+let entry_of fs = { percept = get_str "percept" fs; priority = get_nat "priority" fs; seq = get_pos "seq" fs }
 let message_of fs = { performative = get_str "performative" fs; content = get_str "content" fs; from = get_str "from" fs }
 
+(* The actions a body event may name: the spec's actions, and "destroy". *)
+let body_actions =
+  [ "Init"; "Notify"; "NotifyWith"; "Put"; "Send"; "Transfer"; "TransferOne"; "TransferSpin"; "TransferEnd";
+    "Dequeue"; "Handle"; "Skip"; "EndDispatch"; "BehaviourStep"; "NextIteration"; "Idle"; "destroy" ]
+
 let event_of name fs =
-  let action = match List.assoc_opt "action" fs with Some (`String a) -> a | _ -> "" in
+  let action = match List.assoc_opt "action" fs with
+    | Some (`String a) -> a
+    | Some `Null -> ""
+    | Some v -> bad "field \"action\" is %s, not a text or null" (describe v)
+    | None -> bad "no field \"action\"" in
+  let body b =
+    if not (List.mem action body_actions) then bad "a %s event happens during a step: its action %S is not one" name action;
+    Body { action; body = b } in
   match name with
   | "create" -> Create { agent_type = get_str "type" fs; args = get_strs "args" fs;
                          behaviours = get_strs "behaviours" fs }
@@ -200,76 +242,130 @@ let event_of name fs =
   | "refused" when List.mem_assoc "object" fs ->
     Refused_put { obj = get_str "object" fs; reason = get_str "reason" fs }
   | "refused" -> Refused { percept = get_str "percept" fs; reason = get_str "reason" fs }
-  | "put" -> Put { obj = get_str "object" fs; index = get_int "index" fs }
-  | "deliver" -> Deliver { message = message_of fs; seq = get_int "seq" fs }
+  | "put" -> Put { obj = get_str "object" fs; index = get_pos "index" fs }
+  | "deliver" -> Deliver { message = message_of fs; seq = get_pos "seq" fs }
   | "undeliverable" -> Undeliverable { receiver = get_str "to" fs; performative = get_str "performative" fs;
                                        content = get_str "content" fs }
-  | "transfer" -> Transfer (get_int "moved" fs)
+  | "transfer" -> Transfer (get_nat "moved" fs)
   | "transfer_one" -> Transfer_one (entry_of fs)
   | "transfer_spin" -> Transfer_spin (get_str "object" fs)
   | "transfer_end" -> Transfer_end
   | "dequeue" -> Dequeue (entry_of fs)
-  | "handle" -> Handle { instance = get_int "instance" fs; behaviour = get_str "behaviour" fs;
-                         handler = get_int "handler" fs; percept = get_str "percept" fs;
-                         seq = get_int "seq" fs; effects = get_effects "effects" fs }
-  | "skip" -> Skip { instance = get_int "instance" fs; behaviour = get_str "behaviour" fs;
-                     handler = get_int "handler" fs }
-  | "discard" | "end_dispatch" -> End_dispatch { seq = get_int "seq" fs; discarded = name = "discard" }
+  | "handle" -> Handle { instance = get_pos "instance" fs; behaviour = get_str "behaviour" fs;
+                         handler = get_pos "handler" fs; percept = get_str "percept" fs;
+                         seq = get_pos "seq" fs; effects = get_effects "effects" fs }
+  | "skip" -> Skip { instance = get_pos "instance" fs; behaviour = get_str "behaviour" fs;
+                     handler = get_pos "handler" fs }
+  | "discard" | "end_dispatch" -> End_dispatch { seq = get_pos "seq" fs; discarded = name = "discard" }
   | "behaviour_step" ->
     let taken = match field "message" fs with
       | `Null -> None
-      | `Assoc m when List.mem_assoc "performative" m -> Some (Took_message (message_of m, get_int "seq" m))
-      | `Assoc m -> Some (Took_percept (entry_of m))
-      | _ -> bad "field \"message\" is not an object" in
+      | `Assoc m when List.mem_assoc "performative" m ->
+        exact_fields " in \"message\"" m [ "performative"; "content"; "from"; "seq" ];
+        Some (Took_message (message_of m, get_pos "seq" m))
+      | `Assoc m ->
+        exact_fields " in \"message\"" m [ "percept"; "priority"; "seq" ];
+        Some (Took_percept (entry_of m))
+      | v -> bad "field \"message\" is %s, not an object or null" (describe v) in
+    let handler = match List.mem_assoc "handler" fs, List.mem_assoc "effects" fs with
+      | true, _ -> Some (get_pos "handler" fs, get_effects "effects" fs)
+      | false, true -> bad "field \"effects\" without \"handler\""
+      | false, false -> None in
+    if handler <> None && taken = None then bad "a behaviour step that took no message has no handler";
     Behaviour_step {
-      instance = get_int "instance" fs; behaviour = get_str "behaviour" fs; taken;
+      instance = get_pos "instance" fs; behaviour = get_str "behaviour" fs; taken;
       action_effects = (if List.mem_assoc "action_effects" fs then Some (get_effects "action_effects" fs) else None);
-      handler = (if List.mem_assoc "handler" fs then Some (get_int "handler" fs, get_effects "effects" fs) else None) }
+      handler }
   | "next_iteration" -> Next_iteration
   | "idle" -> Idle
   | "destroy" -> Destroy
-  | "log" -> Body { action; body = Log (get_str "text" fs) }
-  | "invoke" -> Body { action; body = Invoke { meth = get_str "method" fs; obj = get_str "object" fs;
-                                               args = get_strs "args" fs; result = get_str "result" fs } }
-  | "send" -> Body { action; body = Send { performative = get_str "performative" fs;
-                                           content = get_str "content" fs; receivers = get_strs "to" fs } }
-  | "activate" -> Body { action; body = Activate (get_str "behaviour" fs) }
-  | "deactivate" -> Body { action; body = Deactivate (get_int "instance" fs) }
-  | "error" -> Body { action; body = Error { at = get_str "at" fs; message = get_str "message" fs } }
+  | "log" -> body (Log (get_str "text" fs))
+  | "invoke" -> body (Invoke { meth = get_str "method" fs; obj = get_str "object" fs;
+                               args = get_strs "args" fs; result = get_str "result" fs })
+  | "send" -> body (Send { performative = get_str "performative" fs;
+                           content = get_str "content" fs; receivers = get_strs "to" fs })
+  | "activate" -> body (Activate (get_str "behaviour" fs))
+  | "deactivate" -> body (Deactivate (get_pos "instance" fs))
+  | "error" -> body (Error { at = get_str "at" fs; message = get_str "message" fs })
   | e -> bad "unknown event %S" e
 
 let line_of_json j =
   match j with
   | `Assoc fs ->
-    (try Ok { step = get_int "step" fs; agent = get_str "agent" fs; event = event_of (get_str "event" fs) fs }
+    (try
+       let step = match field "step" fs with
+         | `Int i when i >= 1 -> i
+         | `Int i -> bad "field \"step\" must be at least 1 (it is %d)" i
+         | v -> bad "field \"step\" is %s, not an integer" (describe v) in
+       let l = { step; agent = get_str "agent" fs; event = event_of (get_str "event" fs) fs } in
+       exact_fields "" fs (List.map fst (match line_to_json l with `Assoc f -> f | _ -> []));
+       (match action l.event, List.assoc_opt "action" fs with
+        | Some a, Some (`String b) when a = b -> ()
+        | None, Some `Null -> ()
+        | expected, _ ->
+          bad "the action of a %s event is %s" (event_name l.event)
+            (match expected with Some a -> Printf.sprintf "%S" a | None -> "null"));
+       Ok l
      with Bad m -> Error m)
-  | _ -> Error "a trace line is a JSON object"
+  | v -> Error (Printf.sprintf "a trace line is a JSON object, not %s" (describe v))
+
+let variants = [ "reference"; "printed"; "budgeted"; "native" ]
+let tie_policies = [ "stable"; "unstable" ]
+let kinds = [ "cyclic"; "oneshot" ]
+
+let one_of f fs known =
+  let v = get_str f fs in
+  if List.mem v known then v
+  else bad "unknown %s %S (known: %s)" f v (String.concat ", " known)
 
 let header_of_json j =
   match j with
   | `Assoc fs when is_header j ->
     (try
        if get_str "trace" fs <> "jadescript-ref" then bad "not a jadescript-ref trace";
+       (match List.assoc_opt "version" fs with
+        | Some (`Int v) when v = version -> ()
+        | Some (`Int v) -> bad "trace format version %d is not supported (this reader knows version %d)" v version
+        | Some v -> bad "field \"version\" is %s, not the integer %d" (describe v) version
+        | None -> bad "the header has no field \"version\" (this reader knows version %d)" version);
+       exact_fields " in the header" fs
+         [ "trace"; "version"; "variant"; "tie_policy"; "budget"; "o2a_capacity"; "seed"; "agents"; "program" ];
        let program = get_obj "program" fs in
-       Ok { variant = get_str "variant" fs; tie_policy = get_str "tie_policy" fs;
-            budget = get_int "budget" fs; o2a_capacity = get_opt_int "o2a_capacity" fs;
-            seed = get_opt_int "seed" fs;
+       exact_fields " in \"program\"" program [ "behaviours"; "percepts" ];
+       let o2a_capacity = get_opt_int "o2a_capacity" fs in
+       (match o2a_capacity with
+        | Some c when c < 1 -> bad "field \"o2a_capacity\" must be at least 1 or null (it is %d)" c
+        | _ -> ());
+       let seed = match List.assoc_opt "seed" fs with
+         | Some `Null -> None | Some (`Int s) -> Some s
+         | Some v -> bad "field \"seed\" is %s, not an integer or null" (describe v)
+         | None -> bad "no field \"seed\"" in
+       let percepts = get_obj "percepts" program in
+       exact_fields " in \"percepts\"" percepts (List.map fst percepts);
+       Ok { variant = one_of "variant" fs variants; tie_policy = one_of "tie_policy" fs tie_policies;
+            budget = get_pos "budget" fs; o2a_capacity; seed;
             agents = (match field "agents" fs with
                 | `List l -> List.map (function
-                    | `Assoc a -> (get_str "name" a, get_str "type" a)
-                    | _ -> bad "an agent is an object") l
-                | _ -> bad "field \"agents\" is not a list");
+                    | `Assoc a ->
+                      exact_fields " in an agent" a [ "name"; "type" ];
+                      (get_str "name" a, get_str "type" a)
+                    | v -> bad "an agent is an object, not %s" (describe v)) l
+                | v -> bad "field \"agents\" is %s, not a list" (describe v));
             behaviours = (match field "behaviours" program with
                 | `List l -> List.map (function
-                    | `Assoc b -> { name = get_str "name" b; kind = get_str "kind" b;
-                                    has_action = get_bool "action" b;
-                                    percept_handlers = get_int "percept_handlers" b;
-                                    message_handlers = get_int "message_handlers" b }
-                    | _ -> bad "a behaviour is an object") l
-                | _ -> bad "field \"behaviours\" is not a list");
-            percepts = List.map (function
-                | (n, `Int k) -> (n, k)
-                | (n, _) -> bad "the priority of %s is not an integer" n) (get_obj "percepts" program) }
+                    | `Assoc b ->
+                      exact_fields " in a behaviour" b
+                        [ "name"; "kind"; "action"; "percept_handlers"; "message_handlers" ];
+                      { name = get_str "name" b; kind = one_of "kind" b kinds;
+                        has_action = get_bool "action" b;
+                        percept_handlers = get_nat "percept_handlers" b;
+                        message_handlers = get_nat "message_handlers" b }
+                    | v -> bad "a behaviour is an object, not %s" (describe v)) l
+                | v -> bad "field \"behaviours\" is %s, not a list" (describe v));
+            percepts = List.map (fun (n, v) ->
+                let k = int_value ("priority of " ^ n) v in
+                if k < 0 then bad "the default priority of %s is negative (%d)" n k;
+                (n, k)) percepts }
      with Bad m -> Error m)
   | _ -> Error "not a jadescript-ref trace (no header line)"
 
@@ -316,20 +412,84 @@ let fold_file path f init =
                           (String.concat " " (String.split_on_char '\n' m))) in
       go init 1)
 
-let read_file path =
+exception Located of int * string
+
+(* The index of the first byte of [s] that is not part of valid UTF-8 (JSON
+   text is UTF-8, RFC 8259), if any. *)
+let invalid_utf8 s =
+  let n = String.length s in
+  let cont i = i < n && Char.code s.[i] land 0xc0 = 0x80 in
+  let rec go i =
+    if i >= n then None
+    else
+      let c = Char.code s.[i] in
+      if c < 0x80 then go (i + 1)
+      else if c >= 0xc2 && c <= 0xdf && cont (i + 1) then go (i + 2)
+      else if c >= 0xe0 && c <= 0xef && cont (i + 1) && cont (i + 2)
+              && (let d = Char.code s.[i + 1] in
+                  (c <> 0xe0 || d >= 0xa0) && (c <> 0xed || d < 0xa0)) then go (i + 3)
+      else if c >= 0xf0 && c <= 0xf4 && cont (i + 1) && cont (i + 2) && cont (i + 3)
+              && (let d = Char.code s.[i + 1] in
+                  (c <> 0xf0 || d >= 0x90) && (c <> 0xf4 || d < 0x90)) then go (i + 4)
+      else Some i in
+  go 0
+
+(* A trace line is far shorter than this; a longer one (a file of zeros, a
+   runaway writer) is an error, not a line read into memory without end. *)
+let max_line = 16 * 1024 * 1024
+
+(* The next line, without its newline; [None] at the end of the file.
+   @raise Located when longer than [max_line] *)
+let bounded_line ic n =
+  let b = Buffer.create 256 in
+  let rec go () =
+    match input_char ic with
+    | '\n' -> Some (Buffer.contents b)
+    | c ->
+      if Buffer.length b >= max_line then
+        raise (Located (n, Printf.sprintf "a line longer than %d bytes: not a trace" max_line));
+      Buffer.add_char b c; go ()
+    | exception End_of_file -> if Buffer.length b = 0 then None else Some (Buffer.contents b) in
+  go ()
+
+(* One printable line: control characters of a message shown as '?'. *)
+let printable m =
+  String.map (fun c -> if c = '\n' || c = '\t' then ' ' else if Char.code c < 0x20 || c = '\127' then '?' else c) m
+
+let read_located path =
+  let located n fmt = Printf.ksprintf (fun m -> raise (Located (n, m))) fmt in
   match
-    fold_file path (fun (h, acc) n j ->
-        match h with
-        | None ->
-          (match header_of_json j with
-           | Ok h -> (Some h, acc)
-           | Error m -> failwith (Printf.sprintf "%s:%d:1: error: %s" path n m))
-        | Some _ ->
-          (match line_of_json j with
-           | Ok l -> (h, (n, l) :: acc)
-           | Error m -> failwith (Printf.sprintf "%s:%d:1: error: %s" path n m))) (None, [])
+    let ic = open_in_bin path in
+    Fun.protect ~finally:(fun () -> close_in_noerr ic) (fun () ->
+        let rec go h acc n =
+          match bounded_line ic n with
+          | None -> (h, acc)
+          | Some l when String.trim l = "" -> go h acc (n + 1)
+          | Some l ->
+            (match invalid_utf8 l with
+             | Some k -> located n "not JSON: byte %d is not valid UTF-8" (k + 1)
+             | None -> ());
+            let j = match Yojson.Safe.from_string l with
+              | j -> j
+              | exception Yojson.Json_error m ->
+                located n "not JSON: %s" (printable m) in
+            match h with
+            | None ->
+              (match header_of_json j with
+               | Ok h -> go (Some h) acc (n + 1)
+               | Error m -> located n "%s" m)
+            | Some _ ->
+              (match line_of_json j with
+               | Ok l -> go h ((n, l) :: acc) (n + 1)
+               | Error m -> located n "%s" m) in
+        go None [] 1)
   with
   | (Some h, lines) -> Ok (h, List.rev lines)
-  | (None, _) -> Error (Printf.sprintf "%s:1:1: error: not a jadescript-ref trace (no header line)" path)
-  | exception Failure m -> Error m
-  | exception Sys_error m -> Error (Printf.sprintf "%s:1:1: error: %s" path m)
+  | (None, _) -> Error (1, "not a jadescript-ref trace (no header line)")
+  | exception Located (n, m) -> Error (n, m)
+  | exception Sys_error m -> Error (1, m)
+
+let read_file path =
+  match read_located path with
+  | Ok r -> Ok r
+  | Error (n, m) -> Error (Printf.sprintf "%s:%d:1: error: %s" path n m)

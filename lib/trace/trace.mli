@@ -139,6 +139,12 @@ val fold_file : string -> ('a -> int -> Yojson.Safe.t -> 'a) -> 'a -> 'a
     its line number, one at a time (memory does not grow with the file).
     @raise Failure ["PATH:LINE:1: error: not JSON: ..."] *)
 
+val read_located : string -> (header * (int * line) list, int * string) result
+(** A whole trace, strictly read: its header (the first non-blank line) and
+    its lines with their line numbers; [Error (line, message)] on the first
+    line that is not JSON, not a header of version 1 with known values, or not
+    an event with every field of the right type (docs/trace-format.md). *)
+
 val read_file : string -> (header * (int * line) list, string) result
 (** A whole trace: its header and its lines with their line numbers.
     [Error "PATH:LINE:COL: error: message"] on the first bad line. *)

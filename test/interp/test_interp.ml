@@ -272,7 +272,8 @@ let validate_file trace =
   List.iter (function
       | Explore.Validate.Accepted _ -> ()
       | Explore.Validate.Rejected { line; step; _ } -> Alcotest.failf "TLC rejects line %d: %s" line step
-      | Explore.Validate.Cannot { line; reason; _ } -> Alcotest.failf "cannot validate (line %d): %s" line reason)
+      | Explore.Validate.Cannot { line; reason; _ } -> Alcotest.failf "cannot validate (line %d): %s" line reason
+      | Explore.Validate.Invalid { line; message } -> Alcotest.failf "invalid (line %d): %s" line message)
     (Explore.Validate.trace trace)
 
 let paper_run_validated () =
@@ -296,7 +297,7 @@ let paper_run_validated () =
               then rep "\"moved\":" "\"moved\":1" l else l) lines in
           let oc = open_out_bin trace in output_string oc (String.concat "\n" swapped); close_out oc;
           (match Explore.Validate.trace trace with
-           | [ Explore.Validate.Rejected _ ] -> ()
+           | [ Explore.Validate.Rejected _ ] | [ Explore.Validate.Invalid _ ] -> ()
            | _ -> Alcotest.failf "a tampered %s trace was not rejected" variant);
           Sys.remove trace)) [ "reference"; "budgeted"; "native" ]
 
@@ -472,6 +473,8 @@ let random_run_validates =
      | [ Explore.Validate.Rejected { line; step; _ } ] ->
        QCheck.Test.fail_reportf "TLC rejects line %d of the %s trace: %s\nprogram:\n%s\nevents:\n%s" line variant step text (String.concat "\n" events)
      | [ Explore.Validate.Cannot { reason; _ } ] -> ignore reason   (* documented limits *)
+     | [ Explore.Validate.Invalid { line; message } ] ->
+       QCheck.Test.fail_reportf "validate finds line %d of the %s trace invalid: %s\nprogram:\n%s\nevents:\n%s" line variant message text (String.concat "\n" events)
      | _ -> QCheck.Test.fail_reportf "one agent expected");
     List.iter (fun f -> try Sys.remove f with Sys_error _ -> ()) [ prog_file; ev_file; trace ];
     ignore arb;
