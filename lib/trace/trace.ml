@@ -295,6 +295,13 @@ let write w ~agent event =
 
 let lines_written w = w.lines
 
+let writes w = w.emit <> None
+
+let write_with w ~agent event =
+  match w.emit with
+  | Some _ -> write w ~agent (event ())
+  | None -> w.lines <- w.lines + 1
+
 (* ------------------------------------------------------------- reading *)
 
 let fold_file path f init =

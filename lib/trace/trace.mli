@@ -130,6 +130,14 @@ val write_header : writer -> header -> unit
 val write : writer -> agent:string -> event -> unit
 val lines_written : writer -> int
 
+val writes : writer -> bool
+(** Does the writer write anywhere? One from {!nowhere} does not: a caller
+    may then skip what only the trace needs (issue 17). *)
+
+val write_with : writer -> agent:string -> (unit -> event) -> unit
+(** [write] of the event the function builds, built only when the writer
+    writes somewhere; the line is numbered either way. *)
+
 (** {1 Reading} *)
 
 val fold_file : string -> ('a -> int -> Yojson.Safe.t -> 'a) -> 'a -> 'a
