@@ -74,147 +74,152 @@ let parse_line env ~agents ~file line : (t option, (int * string) list) result =
    with [Eval.percept_value] as [parse_line] does. It only takes a strict
    subset of what the full path takes: the two fields "agent" and "notify"
    once each, no other field, printable ASCII, no JSON escape but those of
-   a quote and a backslash, and a percept made of names, calls, integer, decimal, text (no
+   a quote and a backslash, and a percept made of schema names, calls, integer, decimal, text (no
    escapes) and boolean literals. Any other line, and any line that would be
    an error, is [None]: it goes the full way, which reports it. The test
    "events: quick path = full path" holds the two equal. *)
 
 exception Not_quick
 
-let quick_expr s : Syntax.Ast.expr =
+(* The readers below take the text and a position and answer the position
+   after what they read; they allocate only what they return. *)
+
+let is_digit c = c >= '0' && c <= '9'
+let is_alpha c = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c = '_'
+let at s i = if i < String.length s then String.unsafe_get s i else '\000'
+
+let rec spaces s i = if at s i = ' ' then spaces s (i + 1) else i
+let rec digits_from s i = if is_digit (at s i) then digits_from s (i + 1) else i
+let digits s i = let j = digits_from s i in if j = i then raise Not_quick else j
+let rec ident_end s i = let c = at s i in if is_alpha c || is_digit c then ident_end s (i + 1) else i
+let rec text_end s i = match at s i with
+  | '"' | '\\' -> i
+  | _ when i >= String.length s -> raise Not_quick
+  | _ -> text_end s (i + 1)
+
+let mk it = { Syntax.Source.it; at = Syntax.Source.no_region }
+
+(* The lexer's INT and REAL: digit+ ('.' digit+)? (e [+-]? digit+)?. *)
+let number s i : Syntax.Ast.expr' * int =
+  let j = digits s i in
+  let (j, real) = if at s j = '.' then (digits s (j + 1), true) else (j, false) in
+  let (j, real) =
+    match at s j with
+    | 'e' | 'E' ->
+      let k = match at s (j + 1) with '+' | '-' -> j + 2 | _ -> j + 1 in
+      (digits s k, true)
+    | _ -> (j, real) in
+  if is_alpha (at s j) || at s j = '.' then raise Not_quick;
+  let text = String.sub s i (j - i) in
+  if real then (Lit (Real text), j)
+  else match int_of_string_opt text with
+    | Some n -> (Lit (Int n), j)
+    | None -> raise Not_quick
+
+(* Whether a schema's name is a keyword, remembered: a name the program
+   declares as a schema is an identifier, so this is a safeguard that costs
+   one lookup per schema name. *)
+let keyword_memo : bool Syntax.Strtbl.t = Syntax.Strtbl.create 64
+
+let is_keyword id =
+  match Syntax.Strtbl.find_opt keyword_memo id with
+  | Some k -> k
+  | None ->
+    let k = Syntax.Lexer.keyword_of_string id <> None in
+    Syntax.Strtbl.replace keyword_memo id k;
+    k
+
+let rec quick_expr_at env s i : Syntax.Ast.expr * int =
   let open Syntax.Ast in
-  let n = String.length s in
-  let pos = ref 0 in
-  let peek () = if !pos < n then s.[!pos] else '\000' in
-  let spaces () = while !pos < n && s.[!pos] = ' ' do incr pos done in
-  let mk it = { Syntax.Source.it; at = Syntax.Source.no_region } in
-  let is_digit c = c >= '0' && c <= '9' in
-  let is_alpha c = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c = '_' in
-  let digits () =
-    let start = !pos in
-    while is_digit (peek ()) do incr pos done;
-    if !pos = start then raise Not_quick in
-  (* the lexer's INT and REAL: digit+ ('.' digit+)? (e [+-]? digit+)? *)
-  let number () =
-    let start = !pos in
-    digits ();
-    let real = ref false in
-    if peek () = '.' then (incr pos; digits (); real := true);
-    if peek () = 'e' || peek () = 'E' then begin
-      incr pos;
-      if peek () = '+' || peek () = '-' then incr pos;
-      digits (); real := true
-    end;
-    if is_alpha (peek ()) || peek () = '.' then raise Not_quick;
-    let text = String.sub s start (!pos - start) in
-    if !real then Lit (Real text)
-    else match int_of_string_opt text with
-      | Some i -> Lit (Int i)
-      | None -> raise Not_quick in
-  let rec expr () =
-    match peek () with
-    | '-' -> incr pos; if not (is_digit (peek ())) then raise Not_quick; mk (Unop (Neg, mk (number ())))
-    | c when is_digit c -> mk (number ())
-    | '"' ->
-      incr pos;
-      let start = !pos in
-      while !pos < n && s.[!pos] <> '"' && s.[!pos] <> '\\' do incr pos done;
-      if peek () <> '"' then raise Not_quick;
-      let t = String.sub s start (!pos - start) in
-      incr pos;
-      mk (Lit (Text t))
-    | c when is_alpha c ->
-      let start = !pos in
-      while is_alpha (peek ()) || is_digit (peek ()) do incr pos done;
-      let id = String.sub s start (!pos - start) in
-      (match id with
-       | "true" -> mk (Lit (Bool true))
-       | "false" -> mk (Lit (Bool false))
-       | _ when Syntax.Lexer.keyword_of_string id <> None -> raise Not_quick
-       | _ ->
-         if peek () = '(' then begin
-           incr pos;
-           let rec args acc =
-             spaces ();
-             let a = expr () in
-             spaces ();
-             match peek () with
-             | ',' -> incr pos; args (a :: acc)
-             | ')' -> incr pos; List.rev (a :: acc)
-             | _ -> raise Not_quick in
-           let a = args [] in
-           mk (Call (mk id, a))
-         end else mk (Name id))
-    | _ -> raise Not_quick in
-  let e = expr () in
-  if !pos <> n then raise Not_quick;
+  match at s i with
+  | '-' -> if not (is_digit (at s (i + 1))) then raise Not_quick;
+    let (e, j) = number s (i + 1) in (mk (Unop (Neg, mk e)), j)
+  | c when is_digit c -> let (e, j) = number s i in (mk e, j)
+  | '"' ->
+    let j = text_end s (i + 1) in
+    if at s j <> '"' then raise Not_quick;
+    (mk (Lit (Text (String.sub s (i + 1) (j - i - 1)))), j + 1)
+  | c when is_alpha c ->
+    let j = ident_end s i in
+    let id = String.sub s i (j - i) in
+    (match id with
+     | "true" -> (mk (Lit (Bool true)), j)
+     | "false" -> (mk (Lit (Bool false)), j)
+     | _ when Typing.Tenv.schema env id = None || is_keyword id -> raise Not_quick
+     | _ when at s j = '(' ->
+       let (args, j) = quick_args env s (j + 1) [] in
+       (mk (Call (mk id, args)), j)
+     | _ -> (mk (Name id), j))
+  | _ -> raise Not_quick
+
+and quick_args env s i acc =
+  let (a, j) = quick_expr_at env s (spaces s i) in
+  let j = spaces s j in
+  match at s j with
+  | ',' -> quick_args env s (j + 1) (a :: acc)
+  | ')' -> (List.rev (a :: acc), j + 1)
+  | _ -> raise Not_quick
+
+(* A percept as Syntax.Parse.expr reads it, for the few forms above; the
+   only names taken are the program's schemas. *)
+let quick_expr env s =
+  let (e, j) = quick_expr_at env s 0 in
+  if j <> String.length s then raise Not_quick;
   e
 
-(* A JSON string of printable ASCII at [!pos] in [line], whose only escapes
-   are those of a quote and a backslash. *)
-let quick_string line pos =
-  let n = String.length line in
-  if !pos >= n || line.[!pos] <> '"' then raise Not_quick;
-  incr pos;
-  let start = !pos in
-  let plain = ref true in
-  let rec go () =
-    if !pos >= n then raise Not_quick;
-    match line.[!pos] with
-    | '"' -> ()
-    | '\\' ->
-      plain := false;
-      if !pos + 1 < n && (line.[!pos + 1] = '"' || line.[!pos + 1] = '\\') then (pos := !pos + 2; go ())
-      else raise Not_quick
-    | c when c >= ' ' && c <= '~' -> incr pos; go ()
-    | _ -> raise Not_quick in
-  go ();
-  let raw = String.sub line start (!pos - start) in
-  incr pos;
-  if !plain then raw
-  else begin
-    let b = Buffer.create (String.length raw) in
-    let i = ref 0 in
-    while !i < String.length raw do
-      if raw.[!i] = '\\' then incr i;
-      Buffer.add_char b raw.[!i];
-      incr i
-    done;
-    Buffer.contents b
-  end
+(* The end of a JSON string of printable ASCII whose only escapes are those
+   of a quote and a backslash, and whether it has one. *)
+let rec string_end s i escaped =
+  match at s i with
+  | '"' -> (i, escaped)
+  | '\\' -> (match at s (i + 1) with
+      | '"' | '\\' -> string_end s (i + 2) true
+      | _ -> raise Not_quick)
+  | c when c >= ' ' && c <= '~' -> string_end s (i + 1) escaped
+  | _ -> raise Not_quick
+
+let unescape raw =
+  let b = Buffer.create (String.length raw) in
+  let i = ref 0 in
+  while !i < String.length raw do
+    if raw.[!i] = '\\' then incr i;
+    Buffer.add_char b raw.[!i];
+    incr i
+  done;
+  Buffer.contents b
+
+(* The JSON string at [i]: its text and the position after it. *)
+let quick_string s i =
+  if at s i <> '"' then raise Not_quick;
+  let (j, escaped) = string_end s (i + 1) false in
+  let raw = String.sub s (i + 1) (j - i - 1) in
+  ((if escaped then unescape raw else raw), j + 1)
+
+(* ["KEY": "VALUE"] at [i] (spaces allowed around): the key, the value and
+   the position after it. *)
+let quick_field s i =
+  let (key, j) = quick_string s (spaces s i) in
+  let j = spaces s j in
+  if at s j <> ':' then raise Not_quick;
+  let (v, j) = quick_string s (spaces s (j + 1)) in
+  (key, v, spaces s j)
 
 let quick_notify env ~agents line =
   match
-    let n = String.length line in
-    let pos = ref 0 in
-    let spaces () = while !pos < n && line.[!pos] = ' ' do incr pos done in
-    let expect c = spaces (); if !pos < n && line.[!pos] = c then incr pos else raise Not_quick in
-    let agent = ref None and percept = ref None in
-    let field () =
-      spaces ();
-      let key = quick_string line pos in
-      expect ':';
-      spaces ();
-      let v = quick_string line pos in
-      match key with
-      | "agent" when !agent = None -> agent := Some v
-      | "notify" when !percept = None -> percept := Some v
+    if at line 0 <> '{' then raise Not_quick;
+    let (k1, v1, i) = quick_field line 1 in
+    if at line i <> ',' then raise Not_quick;
+    let (k2, v2, i) = quick_field line (i + 1) in
+    if at line i <> '}' || i + 1 <> String.length line then raise Not_quick;
+    let (a, p) = match k1, k2 with
+      | "agent", "notify" -> (v1, v2)
+      | "notify", "agent" -> (v2, v1)
       | _ -> raise Not_quick in
-    if n = 0 || line.[0] <> '{' then raise Not_quick;
-    incr pos;
-    field ();
-    expect ',';
-    field ();
-    expect '}';
-    if !pos <> n then raise Not_quick;
-    match !agent, !percept with
-    | Some a, Some p ->
-      (match List.assoc_opt a agents with
-       | None -> raise Not_quick
-       | Some ty ->
-         let (v, default) = Eval.percept_value env ~agent_type:ty (quick_expr p) in
-         Notify { agent = a; percept = v; default; priority = None })
-    | _ -> raise Not_quick
+    match List.find_opt (fun (n, _) -> String.equal n a) agents with
+    | None -> raise Not_quick
+    | Some (_, ty) ->
+      let (v, default) = Eval.percept_value env ~agent_type:ty (quick_expr env p) in
+      Notify { agent = a; percept = v; default; priority = None }
   with
   | e -> Some e
   | exception (Not_quick | Eval.Trap _ | Eval.Link _) -> None

@@ -14,9 +14,13 @@ type t = {
       (* (agent, instance id) -> the behaviour type the instance had when
          last seen active: a Skip may name an instance deactivated earlier
          in its dispatch *)
+  mutable noted : (string * Eval.beh Mc.instance list) option;
+      (* the agent and the [active] list (physically) last put in [names]:
+         most steps leave [active] as it was, and noting it again would
+         change nothing *)
 }
 
-let create w ~on_body = { w; on_body; names = Hashtbl.create 16 }
+let create w ~on_body = { w; on_body; names = Hashtbl.create 16; noted = None }
 let writer t = t.w
 
 let header t env (p : Mc.params) ~seed agents =
@@ -67,10 +71,24 @@ let bodies t agent action evs =
             | None -> Semantics.Fault.crash "Tracer: an event with no body")) evs
 
 let note_active t agent (c : config) =
-  List.iter (fun (a : Eval.beh Mc.instance) -> Hashtbl.replace t.names (agent, a.id) (Eval.beh_type a.beh))
-    c.active
+  match t.noted with
+  | Some (a, l) when a == agent && l == c.active -> ()
+  | _ ->
+    List.iter (fun (a : Eval.beh Mc.instance) -> Hashtbl.replace t.names (agent, a.id) (Eval.beh_type a.beh))
+      c.active;
+    t.noted <- Some (agent, c.active)
 
-let name t agent id = Option.value (Hashtbl.find_opt t.names (agent, id)) ~default:"?"
+(* The behaviour type of an instance: in [active] of the configuration last
+   noted for this agent, whose every instance [names] holds as it is there,
+   or else in [names]. *)
+let name t agent id =
+  let in_names () = Option.value (Hashtbl.find_opt t.names (agent, id)) ~default:"?" in
+  match t.noted with
+  | Some (a, l) when a == agent ->
+    (match List.find_opt (fun (i : Eval.beh Mc.instance) -> i.id = id) l with
+     | Some i -> Eval.beh_type i.beh
+     | None -> in_names ())
+  | _ -> in_names ()
 
 (* The effects of the body that ran as [which] in this step. *)
 let ran which evs =

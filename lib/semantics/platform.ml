@@ -43,7 +43,7 @@ module Make (B : Machine.BODIES) = struct
     | Machine.Behaviour_step _ | Machine.Next_iteration | Machine.Idle -> true
     | _ -> false
 
-  let iteration ?(max_steps = 1_000_000) ?(on_event = fun _ _ -> ()) ?(step = M.step) p t i =
+  let iteration ?(max_steps = 1_000_000) ?(on_event = fun _ _ -> ()) ?(step = M.step) ?(keep = true) p t i =
     let name = t.agents.(i).name in
     let rec go t n acc =
       if n >= max_steps then (t, List.rev acc)
@@ -53,7 +53,7 @@ module Make (B : Machine.BODIES) = struct
           let t = set t i c in
           on_event t (Step (name, l));
           let (t, evs) = flush ~on_event p t i in
-          let acc = List.rev_append evs (Step (name, l) :: acc) in
+          let acc = if keep then List.rev_append evs (Step (name, l) :: acc) else acc in
           if ends_iteration l then (t, List.rev acc) else go t (n + 1) acc in
     go t 0 []
 

@@ -91,6 +91,11 @@ type header = {
 (** {1 JSON} *)
 
 val line_to_json : line -> Yojson.Safe.t
+val line_to_buffer : Buffer.t -> line -> unit
+(** Appends the line's JSON, byte for byte what
+    [Yojson.Safe.to_string (line_to_json l)] is, without building the JSON
+    tree ({!write} uses it). *)
+
 val line_of_json : Yojson.Safe.t -> (line, string) result
 val header_to_json : header -> Yojson.Safe.t
 val header_of_json : Yojson.Safe.t -> (header, string) result
