@@ -369,6 +369,61 @@ let jade_results ?(steady_only = false) ?(env = "") quick =
           Some (kind, kv)
         | _ -> None) (List.rev !lines)
 
+(* End to end (issue 17): jadescript-ref run on an events file of [n]
+   notifies of the same percepts as the steady run, 1,024 at a time, each
+   batch followed by {"run":"idle"}; once without a trace, once with one
+   (written to a temporary file). The rate is percepts per second of wall
+   clock, and of the command's CPU time (user + system), which the other
+   tenants of the machine disturb less. *)
+let run_command_timed prog args =
+  let t0 = Unix.gettimeofday () and c0 = Unix.times () in
+  let pid = Unix.create_process prog (Array.of_list (prog :: args)) Unix.stdin Unix.stdout Unix.stderr in
+  let (_, status) = Unix.waitpid [] pid in
+  let t1 = Unix.gettimeofday () and c1 = Unix.times () in
+  let cpu = (c1.tms_cutime -. c0.tms_cutime) +. (c1.tms_cstime -. c0.tms_cstime) in
+  (status, t1 -. t0, cpu)
+
+let interp_end_to_end env ~n ~machine_rate =
+  let program = find_program "percepts.jade" in
+  let root = Filename.dirname (Filename.dirname (Filename.dirname program)) in
+  let exe = List.find_opt Sys.file_exists
+      [ Filename.concat root "_build/default/bin/main.exe"; Filename.concat root "bin/main.exe" ] in
+  match exe with
+  | None -> Printf.printf "  end to end: _build/default/bin/main.exe not found (dune build first)\n%!"
+  | Some exe ->
+    let percept = percept_maker env in
+    let events = Filename.temp_file "jsref_bench" ".jsonl" and trace = Filename.temp_file "jsref_bench" ".trace" in
+    let oc = open_out_bin events in
+    for k = 0 to n - 1 do
+      let (p, default) = percept k in
+      output_string oc (Interp.Events.to_line (Notify { agent = "l"; percept = p; default; priority = None }));
+      output_char oc '\n';
+      if k land 1023 = 1023 then (output_string oc (Interp.Events.to_line Run_idle); output_char oc '\n')
+    done;
+    close_out oc;
+    let size f = (Unix.stat f).st_size in
+    let run with_trace =
+      let args = [ "run"; program; "--agent"; "l:Loader"; "--events"; events; "--max-steps"; "1000000000" ]
+                 @ (if with_trace then [ "--trace"; trace ] else []) in
+      let (status, wall, cpu) = run_command_timed exe args in
+      (status = Unix.WEXITED 0, wall, cpu) in
+    let report label goal (ok, wall, cpu) extra =
+      if not ok then Printf.printf "  %-46s failed\n%!" label
+      else Printf.printf "  %-46s %12.0f percepts/s  (%.2f s wall; %.0f/s of its CPU time, %.2f s; goal %s)%s\n%!"
+          label (float_of_int n /. wall) wall (float_of_int n /. cpu) cpu goal extra in
+    Printf.printf "  end to end, jadescript-ref run on an events file of %d notifies (%d bytes):\n" n (size events);
+    let r0 = run false in
+    report "  run, no trace" "1M/s" r0 "";
+    let r1 = run true in
+    let lines = let ic = open_in_bin trace in
+      let k = ref 0 in (try while true do ignore (input_line ic); incr k done with End_of_file -> ());
+      close_in ic; !k in
+    report "  run --trace FILE" "300k/s" r1 (Printf.sprintf "; %d lines, %d bytes" lines (size trace));
+    let (_, w0, _) = r0 and (_, w1, _) = r1 in
+    Printf.printf "  %-46s machine level %.0f percepts/s: %.1fx the run without a trace, %.1fx the run with one\n%!"
+      "  distance" machine_rate (machine_rate *. w0 /. float_of_int n) (machine_rate *. w1 /. float_of_int n);
+    List.iter (fun f -> try Sys.remove f with Sys_error _ -> ()) [ events; trace ]
+
 let interp_bench () =
   (* The same GC settings as jadescript-ref run (Interp.Runtime.tune_gc). *)
   Interp.Runtime.tune_gc ();
@@ -379,6 +434,7 @@ let interp_bench () =
   let (rate_s, dt_s) = interp_steady env steady_n in
   Printf.printf "  %-46s %12.0f percepts/s  (%d in %.2f s)\n" "jadescript-ref, 1,024 in flight" rate_s steady_n dt_s;
   flush stdout;
+  interp_end_to_end env ~n:(if quick then 100_000 else 1_000_000) ~machine_rate:rate_s;
   interp_where env (if quick then 100_000 else 1_000_000);
   if Sys.getenv_opt "JSREF_BENCH_STEADY_ONLY" = Some "1" then exit 0;
   let floods = List.map (fun n -> interp_flood env n) flood_sizes in

@@ -116,18 +116,18 @@ let number s i : Syntax.Ast.expr' * int =
     | Some n -> (Lit (Int n), j)
     | None -> raise Not_quick
 
-(* Whether a schema's name is a keyword, remembered: a name the program
-   declares as a schema is an identifier, so this is a safeguard that costs
-   one lookup per schema name. *)
-let keyword_memo : bool Syntax.Strtbl.t = Syntax.Strtbl.create 64
+(* Is [id] a schema name of the program (never a keyword: the program
+   declared it as an identifier; checked all the same)? Remembered for the
+   names that are, per type environment. *)
+let schema_names : (Typing.Tenv.t * unit Syntax.Strtbl.t) option ref = ref None
 
-let is_keyword id =
-  match Syntax.Strtbl.find_opt keyword_memo id with
-  | Some k -> k
-  | None ->
-    let k = Syntax.Lexer.keyword_of_string id <> None in
-    Syntax.Strtbl.replace keyword_memo id k;
-    k
+let is_schema_name env id =
+  let known = match !schema_names with
+    | Some (e, t) when e == env -> t
+    | _ -> let t = Syntax.Strtbl.create 64 in schema_names := Some (env, t); t in
+  Syntax.Strtbl.mem known id
+  || (Typing.Tenv.schema env id <> None && Syntax.Lexer.keyword_of_string id = None
+      && (Syntax.Strtbl.replace known id (); true))
 
 let rec quick_expr_at env s i : Syntax.Ast.expr * int =
   let open Syntax.Ast in
@@ -145,7 +145,7 @@ let rec quick_expr_at env s i : Syntax.Ast.expr * int =
     (match id with
      | "true" -> (mk (Lit (Bool true)), j)
      | "false" -> (mk (Lit (Bool false)), j)
-     | _ when Typing.Tenv.schema env id = None || is_keyword id -> raise Not_quick
+     | _ when not (is_schema_name env id) -> raise Not_quick
      | _ when at s j = '(' ->
        let (args, j) = quick_args env s (j + 1) [] in
        (mk (Call (mk id, args)), j)
@@ -195,31 +195,56 @@ let quick_string s i =
   let raw = String.sub s (i + 1) (j - i - 1) in
   ((if escaped then unescape raw else raw), j + 1)
 
-(* ["KEY": "VALUE"] at [i] (spaces allowed around): the key, the value and
-   the position after it. *)
-let quick_field s i =
-  let (key, j) = quick_string s (spaces s i) in
+(* Does [s] hold [w] from [i] on? *)
+let rec holds s i w k = k >= String.length w || (at s (i + k) = w.[k] && holds s i w (k + 1))
+
+(* A key at [i] (spaces allowed before it and around the colon): [`Agent]
+   or [`Notify], and the position of its value. *)
+let quick_key s i =
+  let i = spaces s i in
+  let (key, j) =
+    if holds s i "\"agent\"" 0 then (`Agent, i + 7)
+    else if holds s i "\"notify\"" 0 then (`Notify, i + 8)
+    else raise Not_quick in
   let j = spaces s j in
   if at s j <> ':' then raise Not_quick;
-  let (v, j) = quick_string s (spaces s (j + 1)) in
-  (key, v, spaces s j)
+  (key, spaces s (j + 1))
+
+(* The agent named by the JSON string at [i] (no escapes), found without
+   copying the name, and the position after it (and its spaces). *)
+let quick_agent s i agents =
+  if at s i <> '"' then raise Not_quick;
+  let (j, escaped) = string_end s (i + 1) false in
+  if escaped then raise Not_quick;
+  let len = j - i - 1 in
+  match List.find_opt (fun (n, _) -> String.length n = len && holds s (i + 1) n 0) agents with
+  | Some a -> (a, spaces s (j + 1))
+  | None -> raise Not_quick
 
 let quick_notify env ~agents line =
   match
     if at line 0 <> '{' then raise Not_quick;
-    let (k1, v1, i) = quick_field line 1 in
-    if at line i <> ',' then raise Not_quick;
-    let (k2, v2, i) = quick_field line (i + 1) in
+    let (k1, i) = quick_key line 1 in
+    let (agent, percept, i) = match k1 with
+      | `Agent ->
+        let (a, i) = quick_agent line i agents in
+        if at line i <> ',' then raise Not_quick;
+        let (k2, i) = quick_key line (i + 1) in
+        if k2 <> `Notify then raise Not_quick;
+        let (p, i) = quick_string line i in
+        (a, p, spaces line i)
+      | `Notify ->
+        let (p, i) = quick_string line i in
+        let i = spaces line i in
+        if at line i <> ',' then raise Not_quick;
+        let (k2, i) = quick_key line (i + 1) in
+        if k2 <> `Agent then raise Not_quick;
+        let (a, i) = quick_agent line i agents in
+        (a, p, i) in
     if at line i <> '}' || i + 1 <> String.length line then raise Not_quick;
-    let (a, p) = match k1, k2 with
-      | "agent", "notify" -> (v1, v2)
-      | "notify", "agent" -> (v2, v1)
-      | _ -> raise Not_quick in
-    match List.find_opt (fun (n, _) -> String.equal n a) agents with
-    | None -> raise Not_quick
-    | Some (_, ty) ->
-      let (v, default) = Eval.percept_value env ~agent_type:ty (quick_expr env p) in
-      Notify { agent = a; percept = v; default; priority = None }
+    let (name, ty) = agent in
+    let (v, default) = Eval.percept_value env ~agent_type:ty (quick_expr env percept) in
+    Notify { agent = name; percept = v; default; priority = None }
   with
   | e -> Some e
   | exception (Not_quick | Eval.Trap _ | Eval.Link _) -> None
@@ -230,6 +255,19 @@ let parse_line env ~agents ~file line =
   match quick_notify env ~agents line with
   | Some e -> Ok (Some e)
   | None -> parse_line_full env ~agents ~file line
+
+(* The line of an event, as [parse_line] reads it back (a generated events
+   file: the bench, tests). *)
+let to_line = function
+  | Notify { agent; percept; default = _; priority } ->
+    Yojson.Safe.to_string (`Assoc ([ "agent", `String agent; "notify", `String (Value.to_literal percept) ]
+                                    @ (match priority with Some k -> [ "priority", `Int k ] | None -> [])))
+  | Put { agent; obj } -> Yojson.Safe.to_string (`Assoc [ "agent", `String agent; "put", `String (Value.to_literal obj) ])
+  | Message { agent; perf; content } ->
+    Yojson.Safe.to_string (`Assoc [ "agent", `String agent; "message", `String (Value.to_literal content);
+                                    "performative", `String perf ])
+  | Run k -> Yojson.Safe.to_string (`Assoc [ "run", `Int k ])
+  | Run_idle -> Yojson.Safe.to_string (`Assoc [ "run", `String "idle" ])
 
 (* Every line of the file, one at a time, with its number. *)
 let fold_lines path f init =

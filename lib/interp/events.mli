@@ -53,3 +53,8 @@ val quick_notify : Typing.Tenv.t -> agents:(string * string) list -> string -> t
     calls, and integer, decimal, text (no escapes) and boolean literals, and
     is a good percept for that agent; then {!parse_line_full} answers the
     same event. [None] for any other line. *)
+
+val to_line : t -> string
+(** The line of an event (without its newline), which {!parse_line} reads
+    back as the same event (a notify's [default] is the percept type's, so
+    it is not written): for generated events files (the bench). *)

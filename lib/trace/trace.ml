@@ -369,16 +369,17 @@ let line_to_buffer b l =
 
 (* ------------------------------------------------------------- writing *)
 
-type writer = { emit : (string -> unit) option; mutable lines : int; buf : Buffer.t }
+type writer = { emit : (string -> unit) option; mutable lines : int; buf : Buffer.t;
+                oc : out_channel option (* to_channel's: lines go from [buf] to it *) }
 
-let writer emit = { emit = Some emit; lines = 0; buf = Buffer.create 256 }
+let writer emit = { emit = Some emit; lines = 0; buf = Buffer.create 256; oc = None }
 let to_channel oc =
   (* buffered; flushed by the channel when its buffer fills, and when the
      program ends: normally, by [exit] (a signal handler may call it), or by
      an uncaught exception *)
   at_exit (fun () -> try flush oc with Sys_error _ -> ());
-  writer (output_string oc)
-let nowhere () = { emit = None; lines = 0; buf = Buffer.create 1 }
+  { (writer (output_string oc)) with oc = Some oc }
+let nowhere () = { emit = None; lines = 0; buf = Buffer.create 1; oc = None }
 
 let write_header w h =
   match w.emit with
@@ -392,7 +393,9 @@ let write w ~agent event =
     Buffer.clear w.buf;
     line_to_buffer w.buf { step = w.lines; agent; event };
     Buffer.add_char w.buf '\n';
-    emit (Buffer.contents w.buf)
+    (match w.oc with
+     | Some oc -> Buffer.output_buffer oc w.buf
+     | None -> emit (Buffer.contents w.buf))
   | None -> ()
 
 let lines_written w = w.lines
