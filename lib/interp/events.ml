@@ -116,18 +116,31 @@ let number s i : Syntax.Ast.expr' * int =
     | Some n -> (Lit (Int n), j)
     | None -> raise Not_quick
 
-(* Is [id] a schema name of the program (never a keyword: the program
-   declared it as an identifier; checked all the same)? Remembered for the
-   names that are, per type environment. *)
-let schema_names : (Typing.Tenv.t * unit Syntax.Strtbl.t) option ref = ref None
+(* Does [s] hold [w] from [i] on? *)
+let rec holds_from s i w k =
+  k >= String.length w || (String.unsafe_get s (i + k) = String.unsafe_get w k && holds_from s i w (k + 1))
+let holds s i w = i + String.length w <= String.length s && holds_from s i w 0
 
-let is_schema_name env id =
-  let known = match !schema_names with
-    | Some (e, t) when e == env -> t
-    | _ -> let t = Syntax.Strtbl.create 64 in schema_names := Some (env, t); t in
-  Syntax.Strtbl.mem known id
-  || (Typing.Tenv.schema env id <> None && Syntax.Lexer.keyword_of_string id = None
-      && (Syntax.Strtbl.replace known id (); true))
+(* The program's schema names (never keywords: the program declared them as
+   identifiers; checked all the same), for the last type environment seen. *)
+let schema_names : (Typing.Tenv.t * string array) option ref = ref None
+
+(* The schema name spelled by [s] from [i] to [j], found without copying it
+   (the name itself is answered: the lexer's copy). *)
+let schema_name env s i j =
+  let names = match !schema_names with
+    | Some (e, a) when e == env -> a
+    | _ ->
+      let a = Array.of_list (List.filter_map (fun (sc : Typing.Tenv.schema) ->
+          if Syntax.Lexer.keyword_of_string sc.s_name = None then Some sc.s_name else None)
+          (Typing.Tenv.schemas env)) in
+      schema_names := Some (env, a); a in
+  let len = j - i in
+  let rec find k =
+    if k >= Array.length names then raise Not_quick
+    else let n = names.(k) in
+      if String.length n = len && holds s i n then n else find (k + 1) in
+  find 0
 
 let rec quick_expr_at env s i : Syntax.Ast.expr * int =
   let open Syntax.Ast in
@@ -141,11 +154,11 @@ let rec quick_expr_at env s i : Syntax.Ast.expr * int =
     (mk (Lit (Text (String.sub s (i + 1) (j - i - 1)))), j + 1)
   | c when is_alpha c ->
     let j = ident_end s i in
-    let id = String.sub s i (j - i) in
+    if j - i = 4 && holds s i "true" then (mk (Lit (Bool true)), j)
+    else if j - i = 5 && holds s i "false" then (mk (Lit (Bool false)), j)
+    else
+    let id = schema_name env s i j in
     (match id with
-     | "true" -> (mk (Lit (Bool true)), j)
-     | "false" -> (mk (Lit (Bool false)), j)
-     | _ when not (is_schema_name env id) -> raise Not_quick
      | _ when at s j = '(' ->
        let (args, j) = quick_args env s (j + 1) [] in
        (mk (Call (mk id, args)), j)
@@ -195,16 +208,14 @@ let quick_string s i =
   let raw = String.sub s (i + 1) (j - i - 1) in
   ((if escaped then unescape raw else raw), j + 1)
 
-(* Does [s] hold [w] from [i] on? *)
-let rec holds s i w k = k >= String.length w || (at s (i + k) = w.[k] && holds s i w (k + 1))
 
 (* A key at [i] (spaces allowed before it and around the colon): [`Agent]
    or [`Notify], and the position of its value. *)
 let quick_key s i =
   let i = spaces s i in
   let (key, j) =
-    if holds s i "\"agent\"" 0 then (`Agent, i + 7)
-    else if holds s i "\"notify\"" 0 then (`Notify, i + 8)
+    if holds s i "\"agent\"" then (`Agent, i + 7)
+    else if holds s i "\"notify\"" then (`Notify, i + 8)
     else raise Not_quick in
   let j = spaces s j in
   if at s j <> ':' then raise Not_quick;
@@ -217,7 +228,7 @@ let quick_agent s i agents =
   let (j, escaped) = string_end s (i + 1) false in
   if escaped then raise Not_quick;
   let len = j - i - 1 in
-  match List.find_opt (fun (n, _) -> String.length n = len && holds s (i + 1) n 0) agents with
+  match List.find_opt (fun (n, _) -> String.length n = len && holds s (i + 1) n) agents with
   | Some a -> (a, spaces s (j + 1))
   | None -> raise Not_quick
 
