@@ -278,7 +278,18 @@ let header_of_json j =
    here go through the tree. The test "trace: direct encoding = JSON tree"
    holds the two equal over every event. *)
 
-let put_str b key s = Buffer.add_string b key; Yojson.Safe.write_string b s
+(* Does the string need no JSON escape (none of the characters Yojson
+   escapes: a quote, a backslash, a control character, DEL)? *)
+let rec plain s i =
+  i >= String.length s
+  || (let c = String.unsafe_get s i in
+      c >= ' ' && c <> '"' && c <> '\\' && c <> '\x7F' && plain s (i + 1))
+
+let write_string b s =
+  if plain s 0 then (Buffer.add_char b '"'; Buffer.add_string b s; Buffer.add_char b '"')
+  else Yojson.Safe.write_string b s
+
+let put_str b key s = Buffer.add_string b key; write_string b s
 let put_int b key i = Buffer.add_string b key; Yojson.Safe.write_int b i
 
 let put_list b key f l =
@@ -287,7 +298,7 @@ let put_list b key f l =
   List.iteri (fun i x -> if i > 0 then Buffer.add_char b ','; f x) l;
   Buffer.add_char b ']'
 
-let put_effects b key l = put_list b key (fun e -> Yojson.Safe.write_string b (effect_to_string e)) l
+let put_effects b key l = put_list b key (fun e -> write_string b (effect_to_string e)) l
 
 (* [sep] comes before the first field: "," inside a line, "" in an object
    of its own *)
@@ -301,14 +312,28 @@ let put_message b sep m =
   put_str b ",\"content\":" m.content;
   put_str b ",\"from\":" m.from
 
+(* The agent's name as JSON, for the last name seen (physically): a run
+   writes the same few names on every line. *)
+let agent_json = ref ("", "\"\"")
+
 let line_to_buffer b l =
   let head () =
     put_int b "{\"step\":" l.step;
-    put_str b ",\"agent\":" l.agent;
-    put_str b ",\"event\":" (event_name l.event);
-    (match action l.event with
-     | Some a -> put_str b ",\"action\":" a
-     | None -> Buffer.add_string b ",\"action\":null") in
+    Buffer.add_string b ",\"agent\":";
+    (match !agent_json with
+     | (a, j) when a == l.agent -> Buffer.add_string b j
+     | _ ->
+       let j = Buffer.create 16 in
+       write_string j l.agent;
+       agent_json := (l.agent, Buffer.contents j);
+       Buffer.add_string b (Buffer.contents j));
+    (* event names and the actions of this module need no escape *)
+    Buffer.add_string b ",\"event\":\"";
+    Buffer.add_string b (event_name l.event);
+    (match l.event, action l.event with
+     | Body _, Some a -> put_str b "\",\"action\":" a
+     | _, Some a -> Buffer.add_string b "\",\"action\":\""; Buffer.add_string b a; Buffer.add_char b '"'
+     | _, None -> Buffer.add_string b "\",\"action\":null") in
   match l.event with
   | Notify { entry; _ } | Transfer_one entry | Dequeue entry ->
     head (); put_entry b "," entry; Buffer.add_char b '}'
@@ -357,10 +382,10 @@ let line_to_buffer b l =
      | Log s -> put_str b ",\"text\":" s
      | Invoke { meth; obj; args; result } ->
        put_str b ",\"method\":" meth; put_str b ",\"object\":" obj;
-       put_list b ",\"args\":" (Yojson.Safe.write_string b) args; put_str b ",\"result\":" result
+       put_list b ",\"args\":" (write_string b) args; put_str b ",\"result\":" result
      | Send { performative; content; receivers } ->
        put_str b ",\"performative\":" performative; put_str b ",\"content\":" content;
-       put_list b ",\"to\":" (Yojson.Safe.write_string b) receivers
+       put_list b ",\"to\":" (write_string b) receivers
      | Activate beh -> put_str b ",\"behaviour\":" beh
      | Deactivate id -> put_int b ",\"instance\":" id
      | Error { at; message } -> put_str b ",\"at\":" at; put_str b ",\"message\":" message);
