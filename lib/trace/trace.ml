@@ -289,8 +289,21 @@ let write_string b s =
   if plain s 0 then (Buffer.add_char b '"'; Buffer.add_string b s; Buffer.add_char b '"')
   else Yojson.Safe.write_string b s
 
+(* A natural number's decimal digits, as Yojson writes them, at once;
+   other integers by Yojson. *)
+let digits = Bytes.create 20
+
+let write_int b i =
+  if i > 0 then begin
+    let k = ref 20 and n = ref i in
+    while !n > 0 do
+      decr k; Bytes.unsafe_set digits !k (Char.unsafe_chr (48 + !n mod 10)); n := !n / 10
+    done;
+    Buffer.add_subbytes b digits !k (20 - !k)
+  end else Yojson.Safe.write_int b i
+
 let put_str b key s = Buffer.add_string b key; write_string b s
-let put_int b key i = Buffer.add_string b key; Yojson.Safe.write_int b i
+let put_int b key i = Buffer.add_string b key; write_int b i
 
 let put_list b key f l =
   Buffer.add_string b key;
