@@ -232,6 +232,33 @@ let quick_agent s i agents =
   | Some a -> (a, spaces s (j + 1))
   | None -> raise Not_quick
 
+(* [Eval.percept_value]: the value of the literal, checked to be a percept
+   of a type the agent type sees, and that type's default priority. The
+   check's answer is remembered for the agent types and percept types met
+   (by address: the type names are the program's own strings), for the last
+   type environment seen; a literal of a type not met yet goes through
+   [Eval.percept_value] itself. *)
+let percept_checks : (Typing.Tenv.t * (string * string * int) list ref) option ref = ref None
+
+let quick_percept_value env agent_type e =
+  let known = match !percept_checks with
+    | Some (en, l) when en == env -> l
+    | _ -> let l = ref [] in percept_checks := Some (env, l); l in
+  let v = Eval.literal_value env e in
+  let rec find = function
+    | [] -> None
+    | (ty, name, prio) :: rest ->
+      if ty == agent_type && (match v with Value.Schema s -> s.sname == name | _ -> false)
+      then Some prio else find rest in
+  match find !known with
+  | Some prio -> (v, prio)
+  | None ->
+    let (v, prio) = Eval.percept_value env ~agent_type e in
+    (match v with
+     | Value.Schema s when List.length !known < 64 -> known := (agent_type, s.sname, prio) :: !known
+     | _ -> ());
+    (v, prio)
+
 let quick_notify env ~agents line =
   match
     if at line 0 <> '{' then raise Not_quick;
@@ -254,7 +281,7 @@ let quick_notify env ~agents line =
         (a, p, i) in
     if at line i <> '}' || i + 1 <> String.length line then raise Not_quick;
     let (name, ty) = agent in
-    let (v, default) = Eval.percept_value env ~agent_type:ty (quick_expr env percept) in
+    let (v, default) = quick_percept_value env ty (quick_expr env percept) in
     Notify { agent = name; percept = v; default; priority = None }
   with
   | e -> Some e
