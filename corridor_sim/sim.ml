@@ -90,7 +90,11 @@ module Make (A : Agent.AGENT) = struct
     let agenda : ev Event_queue.t = Event_queue.create () in
     let rng_uwb = Random.State.make [| seed; 1 |] and rng_flood = Random.State.make [| seed; 2 |] in
     let buf = Buffer.create (if trace then 65536 else 16) in
-    let tr fmt = Printf.ksprintf (fun l -> if trace then (Buffer.add_string buf l; Buffer.add_char buf '\n')) fmt in
+    (* without a trace, nothing is formatted (issue 17: formatting the
+       numbers of every event was a fifth of the run) *)
+    let tr fmt =
+      if trace then Printf.ksprintf (fun l -> Buffer.add_string buf l; Buffer.add_char buf '\n') fmt
+      else Printf.ifprintf () fmt in
     let now = ref 0. in
     (* records *)
     let trajectory = ref [ (0., sc.start) ] and last_traj = ref 0. in
