@@ -110,9 +110,13 @@ let number s i : Syntax.Ast.expr' * int =
       (digits s k, true)
     | _ -> (j, real) in
   if is_alpha (at s j) || at s j = '.' then raise Not_quick;
-  let text = String.sub s i (j - i) in
-  if real then (Lit (Real text), j)
-  else match int_of_string_opt text with
+  if real then (Lit (Real (String.sub s i (j - i))), j)
+  else if j - i <= 18 then begin
+    (* at most 18 digits: the value fits, as int_of_string reads it *)
+    let n = ref 0 in
+    for k = i to j - 1 do n := !n * 10 + (Char.code (String.unsafe_get s k) - 48) done;
+    (Lit (Int !n), j)
+  end else match int_of_string_opt (String.sub s i (j - i)) with
     | Some n -> (Lit (Int n), j)
     | None -> raise Not_quick
 
