@@ -60,6 +60,9 @@ let create env opts specs =
   let created = List.map (fun (name, ty, args) ->
       let (a, behs) = Eval.create_agent env ~name ~atype:ty ~args ~fuel:opts.fuel in
       Tracer.created t.tr ~agent:name ~agent_type:ty args behs a;
+      (* the bodies' Ran records (the effects of each handler) are for the
+         trace's lines only *)
+      if not (Trace.writes w) then a.record_ran <- false;
       (name, M.init opts.params ~world:a behs)) specs in
   t.platform <- P.create created;
   (* Messages sent by on create, once every agent exists. *)
