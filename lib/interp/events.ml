@@ -122,7 +122,10 @@ let number s i : Syntax.Ast.expr' * int =
 
 (* Does [s] hold [w] from [i] on? *)
 let rec holds_from s i w k =
-  k >= String.length w || (String.unsafe_get s (i + k) = String.unsafe_get w k && holds_from s i w (k + 1))
+  if k + 8 <= String.length w then
+    (* eight bytes at a time *)
+    (String.get_int64_ne s (i + k) : int64) = String.get_int64_ne w k && holds_from s i w (k + 8)
+  else k >= String.length w || (String.unsafe_get s (i + k) = String.unsafe_get w k && holds_from s i w (k + 1))
 let holds s i w = i + String.length w <= String.length s && holds_from s i w 0
 
 (* The program's schema names (never keywords: the program declared them as
