@@ -111,6 +111,27 @@ let quick_refused () =
       {|{"agent":"a","notify":"agent"}|};
       "# a comment"; "" ]
 
+(* Events.to_line writes what parse_line reads back as the same event
+   (the bench writes its events file with it). *)
+let to_line_round_trip () =
+  let env = Lazy.force env in
+  let read line = match Ev.parse_line env ~agents ~file:"e.jsonl" line with
+    | Ok (Some e) -> e
+    | r -> Alcotest.failf "%s: %s" line (show_result r) in
+  List.iter (fun line ->
+      let e = read line in
+      let line' = Ev.to_line e in
+      Alcotest.(check string) line (show_result (Ok (Some e))) (show_result (Ok (Some (read line'))));
+      if compare e (read line') <> 0 then Alcotest.failf "%s: %s reads back differently" line line')
+    [ {|{"agent":"a","notify":"position(-3)"}|};
+      {|{"agent":"a","notify":"reading(1, 2.5)","priority":4}|};
+      {|{"agent":"a","notify":"seen(\"a\\\"b\\nc\", false)"}|};
+      {|{"agent":"a","notify":"who(aid(\"x\"))"}|};
+      {|{"agent":"a","notify":"at(point(1, 2))"}|};
+      {|{"agent":"a","put":"[1, 2]"}|};
+      {|{"agent":"a","message":"position(1)","performative":"request"}|};
+      {|{"run":3}|}; {|{"run":"idle"}|} ]
+
 (* Random lines: well-formed ones of every shape the quick path knows and
    some it does not, then, one time in two, a few characters changed. *)
 let gen_line =
@@ -318,6 +339,7 @@ let () =
     ("events", [
         Alcotest.test_case "quick path takes percept literals" `Quick quick_taken;
         Alcotest.test_case "quick path leaves the rest to the full path" `Quick quick_refused;
+        Alcotest.test_case "to_line reads back as the same event" `Quick to_line_round_trip;
         qcheck ~count:3000 "events: quick path = full path" arb_line quick_agrees ]);
     ("trace", [
         Alcotest.test_case "direct encoding = JSON tree, every event" `Quick every_event;
