@@ -92,10 +92,12 @@ let rec spaces s i = if at s i = ' ' then spaces s (i + 1) else i
 let rec digits_from s i = if is_digit (at s i) then digits_from s (i + 1) else i
 let digits s i = let j = digits_from s i in if j = i then raise Not_quick else j
 let rec ident_end s i = let c = at s i in if is_alpha c || is_digit c then ident_end s (i + 1) else i
+(* The end of a text literal's characters: printable ASCII up to a
+   backslash (in the JSON line, the text's closing quote is one). *)
 let rec text_end s i = match at s i with
   | '"' | '\\' -> i
-  | _ when i >= String.length s -> raise Not_quick
-  | _ -> text_end s (i + 1)
+  | c when c >= ' ' && c <= '~' -> text_end s (i + 1)
+  | _ -> raise Not_quick
 
 let mk it = { Syntax.Source.it; at = Syntax.Source.no_region }
 
@@ -155,10 +157,12 @@ let rec quick_expr_at env s i : Syntax.Ast.expr * int =
   | '-' -> if not (is_digit (at s (i + 1))) then raise Not_quick;
     let (e, j) = number s (i + 1) in (mk (Unop (Neg, mk e)), j)
   | c when is_digit c -> let (e, j) = number s i in (mk e, j)
-  | '"' ->
-    let j = text_end s (i + 1) in
-    if at s j <> '"' then raise Not_quick;
-    (mk (Lit (Text (String.sub s (i + 1) (j - i - 1)))), j + 1)
+  | '\\' ->
+    (* a text literal: its quotes are escaped in the JSON string *)
+    if at s (i + 1) <> '"' then raise Not_quick;
+    let j = text_end s (i + 2) in
+    if at s j <> '\\' || at s (j + 1) <> '"' then raise Not_quick;
+    (mk (Lit (Text (String.sub s (i + 2) (j - i - 2)))), j + 2)
   | c when is_alpha c ->
     let j = ident_end s i in
     if j - i = 4 && holds s i "true" then (mk (Lit (Bool true)), j)
@@ -180,12 +184,16 @@ and quick_args env s i acc =
   | ')' -> (List.rev (a :: acc), j + 1)
   | _ -> raise Not_quick
 
-(* A percept as Syntax.Parse.expr reads it, for the few forms above; the
-   only names taken are the program's schemas. *)
-let quick_expr env s =
-  let (e, j) = quick_expr_at env s 0 in
-  if j <> String.length s then raise Not_quick;
-  e
+(* The percept of the JSON string that starts at [i] (its opening quote),
+   read where it stands in the line, as Syntax.Parse.expr reads the
+   string's text, for the few forms above (the only names taken are the
+   program's schemas; the only JSON escapes met are the quotes of text
+   literals); and the position after the string. *)
+let quick_expr env s i =
+  if at s i <> '"' then raise Not_quick;
+  let (e, j) = quick_expr_at env s (i + 1) in
+  if at s j <> '"' then raise Not_quick;
+  (e, j + 1)
 
 (* The end of a JSON string of printable ASCII whose only escapes are those
    of a quote and a backslash, and whether it has one. *)
@@ -197,24 +205,6 @@ let rec string_end s i escaped =
       | _ -> raise Not_quick)
   | c when c >= ' ' && c <= '~' -> string_end s (i + 1) escaped
   | _ -> raise Not_quick
-
-let unescape raw =
-  let b = Buffer.create (String.length raw) in
-  let i = ref 0 in
-  while !i < String.length raw do
-    if raw.[!i] = '\\' then incr i;
-    Buffer.add_char b raw.[!i];
-    incr i
-  done;
-  Buffer.contents b
-
-(* The JSON string at [i]: its text and the position after it. *)
-let quick_string s i =
-  if at s i <> '"' then raise Not_quick;
-  let (j, escaped) = string_end s (i + 1) false in
-  let raw = String.sub s (i + 1) (j - i - 1) in
-  ((if escaped then unescape raw else raw), j + 1)
-
 
 (* A key at [i] (spaces allowed before it and around the colon): [`Agent]
    or [`Notify], and the position of its value. *)
@@ -276,10 +266,10 @@ let quick_notify env ~agents line =
         if at line i <> ',' then raise Not_quick;
         let (k2, i) = quick_key line (i + 1) in
         if k2 <> `Notify then raise Not_quick;
-        let (p, i) = quick_string line i in
+        let (p, i) = quick_expr env line i in
         (a, p, spaces line i)
       | `Notify ->
-        let (p, i) = quick_string line i in
+        let (p, i) = quick_expr env line i in
         let i = spaces line i in
         if at line i <> ',' then raise Not_quick;
         let (k2, i) = quick_key line (i + 1) in
@@ -288,7 +278,7 @@ let quick_notify env ~agents line =
         (a, p, i) in
     if at line i <> '}' || i + 1 <> String.length line then raise Not_quick;
     let (name, ty) = agent in
-    let (v, default) = quick_percept_value env ty (quick_expr env percept) in
+    let (v, default) = quick_percept_value env ty percept in
     Notify { agent = name; percept = v; default; priority = None }
   with
   | e -> Some e
