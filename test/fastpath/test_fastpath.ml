@@ -150,10 +150,21 @@ let gen_line =
                       map2 (fun a b -> Printf.sprintf "point(%s, %s)" a b) signed signed ] in
   let sep = oneofl [ ","; ", "; " , "; ",  " ] in
   let call name n = map2 (fun args s -> name ^ "(" ^ String.concat s args ^ ")") (list_repeat n value) sep in
-  let percept = oneof [
+  let any_percept = oneof [
       call "position" 1; call "reading" 2; call "seen" 2; call "at" 1; call "who" 1; call "tags" 1;
       call "point" 2; call "position" 2;
       oneofl [ "falling"; "hidden"; "falling()"; "position"; "aid(\"a\")"; "tags([1, 2])" ] ] in
+  (* percepts of the right types, so that most lines are good ones *)
+  let small_int = map2 (fun neg n -> (if neg then "-" else "") ^ string_of_int n) bool (int_range 0 1000) in
+  let good_text = map (fun l -> "\"" ^ String.of_seq (List.to_seq l) ^ "\"")
+      (list_size (int_range 0 5) (oneofl [ 'a'; 'Z'; ' '; '#'; '0'; '\''; '{'; '~'; '!'; ',' ])) in
+  let well_typed = oneof [
+      map (fun n -> "position(" ^ n ^ ")") small_int;
+      map3 (fun a s b -> "reading(" ^ a ^ s ^ b ^ ")") signed sep signed;
+      map3 (fun t s b -> "seen(" ^ t ^ s ^ b ^ ")") good_text sep (oneofl [ "true"; "false" ]);
+      map2 (fun a b -> Printf.sprintf "at(point(%s, %s))" a b) small_int small_int;
+      return "falling" ] in
+  let percept = frequency [ 3, well_typed; 2, any_percept ] in
   let json_string s = Yojson.Safe.to_string (`String s) in
   let line = map3 (fun (agent, p) order extra ->
       let a = Printf.sprintf "\"agent\":%s" (json_string agent)
