@@ -301,8 +301,9 @@ let same_without_trace (prog, seed) =
         let a = List.map (fun (_, ty) -> literal_of rand ty) s.s_slots in
         let t = if a = [] then s.s_name else s.s_name ^ "(" ^ String.concat ", " a ^ ")" in
         let (v, default) = Interp.Eval.percept_value env ~agent_type:"Ag" (Parse.expr ~file:"e" t) in
-        `Notify (v, default, if Random.State.int rand 4 = 0 then Some (Random.State.int rand 9) else None)) in
-  let max_steps = if seed mod 3 = 0 then 100_000 else 1 + Random.State.int rand 150 in
+        let agent = if Random.State.bool rand then "provider" else "Bob" in
+        `Notify (agent, v, default, if Random.State.int rand 4 = 0 then Some (Random.State.int rand 9) else None)) in
+  let max_steps = if seed mod 3 = 0 then 3_000 else 1 + Random.State.int rand 150 in
   let variant = List.nth [ Mc.Reference; Mc.Budgeted; Mc.Reference ] (seed mod 3) in
   let run traced =
     let out = ref [] in
@@ -312,27 +313,32 @@ let same_without_trace (prog, seed) =
                  fuel = 500; max_steps; trace = oc;
                  on_log = (fun a s -> out := Printf.sprintf "log %s: %s" a s :: !out);
                  on_error = (fun _ at m -> out := Printf.sprintf "error %s %s" (Source.string_of_region at) m :: !out) } in
-    let rt = Interp.Runtime.create env opts [ ("g", "Ag", args) ] in
+    (* the generated bodies send to aid("Bob") and aid("provider"): two
+       agents of those names receive them, one its own messages *)
+    let rt = Interp.Runtime.create env opts [ ("provider", "Ag", args); ("Bob", "Ag", args) ] in
     List.iter (function
         | `Run k -> Interp.Runtime.run_rounds rt k
         | `Idle -> Interp.Runtime.run_until_idle rt
-        | `Notify (v, default, priority) ->
-          (match Interp.Runtime.notify rt ~agent:"g" v ~default ~priority with
+        | `Notify (agent, v, default, priority) ->
+          (match Interp.Runtime.notify rt ~agent v ~default ~priority with
            | Ok () -> ()
            | Error m -> out := ("refused " ^ m) :: !out)) host;
     Interp.Runtime.run_until_idle rt;
-    let c = (Interp.Runtime.platform rt).agents.(0).config in
+    let show_agent (ag : Interp.Runtime.P.agent) =
+    let c = ag.config in
     let props = List.map (fun (pr : Typing.Tenv.property) ->
         pr.p_name ^ "=" ^ (match Interp.Eval.property c.world pr.p_name with Some v -> V.to_literal v | None -> "?"))
         (Typing.Tenv.agent_properties env "Ag") in
-    let state = Printf.sprintf "steps=%d phase=%s o2a=%d pq=%d next_seq=%d dispatched=%d active=[%s] last=%s props=[%s]"
-        (Interp.Runtime.steps rt)
+    Printf.sprintf "%s: phase=%s o2a=%d pq=%d next_seq=%d dispatched=%d active=[%s] last=%s props=[%s]"
+        ag.name
         (match c.phase with Mc.Transfer_phase -> "transfer" | Dispatch_phase -> "dispatch"
                           | Handle_phase -> "handle" | Idle_phase -> "idle")
         (Semantics.Fqueue.length c.o2a) (List.length (Semantics.Pqueue.to_sorted_list c.pq))
         c.next_seq c.dispatched
         (String.concat ";" (List.map (fun (a : Interp.Eval.beh Mc.instance) -> string_of_int a.id) c.active))
         (Mc.action_name c.last) (String.concat ";" props) in
+    let state = Printf.sprintf "steps=%d %s" (Interp.Runtime.steps rt)
+        (String.concat " / " (Array.to_list (Array.map show_agent (Interp.Runtime.platform rt).agents))) in
     Interp.Runtime.finish rt;
     Option.iter close_out oc;
     Sys.remove file;
