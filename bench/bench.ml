@@ -391,6 +391,92 @@ let jade_results ?(steady_only = false) ?(env = "") quick =
           Some (kind, kv)
         | _ -> None) (List.rev !lines)
 
+(* End to end (issue 17): jadescript-ref run on an events file of [n]
+   notifies of the same percepts as the steady run, 1,024 at a time, each
+   batch followed by {"run":"idle"}; once without a trace, once with one
+   (written to a temporary file). The rate is percepts per second of wall
+   clock, and of the command's CPU time (user + system), which the other
+   tenants of the machine disturb less. *)
+let run_command_timed prog args =
+  let t0 = Unix.gettimeofday () and c0 = Unix.times () in
+  let pid = Unix.create_process prog (Array.of_list (prog :: args)) Unix.stdin Unix.stdout Unix.stderr in
+  let (_, status) = Unix.waitpid [] pid in
+  let t1 = Unix.gettimeofday () and c1 = Unix.times () in
+  let cpu = (c1.tms_cutime -. c0.tms_cutime) +. (c1.tms_cstime -. c0.tms_cstime) in
+  (status, t1 -. t0, cpu)
+
+let interp_end_to_end env ~n ~machine_rate =
+  let program = find_program "percepts.jade" in
+  let root = Filename.dirname (Filename.dirname (Filename.dirname program)) in
+  let exe = List.find_opt Sys.file_exists
+      [ Filename.concat root "_build/default/bin/main.exe"; Filename.concat root "bin/main.exe" ] in
+  match exe with
+  | None -> Printf.printf "  end to end: _build/default/bin/main.exe not found (dune build first)\n%!"
+  | Some exe ->
+    let percept = percept_maker env in
+    let events = Filename.temp_file "jsref_bench" ".jsonl" and trace = Filename.temp_file "jsref_bench" ".trace" in
+    let oc = open_out_bin events in
+    for k = 0 to n - 1 do
+      let (p, default) = percept k in
+      output_string oc (Interp.Events.to_line (Notify { agent = "l"; percept = p; default; priority = None }));
+      output_char oc '\n';
+      if k land 1023 = 1023 then (output_string oc (Interp.Events.to_line Run_idle); output_char oc '\n')
+    done;
+    close_out oc;
+    let size f = (Unix.stat f).st_size in
+    let run with_trace =
+      let args = [ "run"; program; "--agent"; "l:Loader"; "--events"; events; "--max-steps"; "1000000000" ]
+                 @ (if with_trace then [ "--trace"; trace ] else []) in
+      let (status, wall, cpu) = run_command_timed exe args in
+      (status = Unix.WEXITED 0, wall, cpu) in
+    let report label goal (ok, wall, cpu) extra =
+      if not ok then Printf.printf "  %-46s failed\n%!" label
+      else Printf.printf "  %-46s %12.0f percepts/s  (%.2f s wall; %.0f/s of its CPU time, %.2f s; goal %s)%s\n%!"
+          label (float_of_int n /. wall) wall (float_of_int n /. cpu) cpu goal extra in
+    Printf.printf "  end to end, jadescript-ref run on an events file of %d notifies (%d bytes), 3 alternating rounds:\n" n (size events);
+    let rounds = List.init 3 (fun _ -> let r0 = run false in let r1 = run true in (r0, r1)) in
+    let lines = let ic = open_in_bin trace in
+      let k = ref 0 in (try while true do ignore (input_line ic); incr k done with End_of_file -> ());
+      close_in ic; !k in
+    (* the median round by wall clock, and the spread of the rates *)
+    let summary label goal rs extra =
+      if List.exists (fun (ok, _, _) -> not ok) rs then Printf.printf "  %-46s failed\n%!" label
+      else begin
+        let by_wall = List.sort (fun (_, a, _) (_, b, _) -> compare a b) rs in
+        let med = List.nth by_wall 1 in
+        report label goal med extra;
+        let rate (_, w, _) = float_of_int n /. w and crate (_, _, c) = float_of_int n /. c in
+        Printf.printf "  %-46s rounds %s percepts/s (wall), %s (CPU time)\n%!" ""
+          (String.concat ", " (List.map (fun r -> Printf.sprintf "%.0f" (rate r)) rs))
+          (String.concat ", " (List.map (fun r -> Printf.sprintf "%.0f" (crate r)) rs))
+      end in
+    summary "  run, no trace" "1M/s" (List.map fst rounds) "";
+    summary "  run --trace FILE" "300k/s" (List.map snd rounds) (Printf.sprintf "; %d lines, %d bytes" lines (size trace));
+    let med rs = let l = List.sort compare (List.map (fun (_, w, _) -> w) rs) in List.nth l 1 in
+    let w0 = med (List.map fst rounds) and w1 = med (List.map snd rounds) in
+    Printf.printf "  %-46s machine level %.0f percepts/s: %.1fx the run without a trace, %.1fx the run with one\n%!"
+      "  distance" machine_rate (machine_rate *. w0 /. float_of_int n) (machine_rate *. w1 /. float_of_int n);
+    List.iter (fun f -> try Sys.remove f with Sys_error _ -> ()) [ events; trace ]
+
+(* The machine the figures come from: processors, CPU model, date. *)
+let machine () =
+  let cpus = ref 0 and model = ref "?" in
+  (try
+     let ic = open_in "/proc/cpuinfo" in
+     (try while true do
+          let l = input_line ic in
+          if String.length l > 9 && String.sub l 0 9 = "processor" then incr cpus;
+          if String.length l > 10 && String.sub l 0 10 = "model name" then
+            (match String.index_opt l ':' with
+             | Some i -> model := String.trim (String.sub l (i + 1) (String.length l - i - 1))
+             | None -> ())
+        done with End_of_file -> ());
+     close_in ic
+   with Sys_error _ -> ());
+  let t = Unix.gmtime (Unix.time ()) in
+  Printf.sprintf "%d processors, %s, %04d-%02d-%02d %02d:%02d UTC" !cpus !model
+    (t.tm_year + 1900) (t.tm_mon + 1) t.tm_mday t.tm_hour t.tm_min
+
 let interp_bench () =
   (* The same GC settings as jadescript-ref run (Interp.Runtime.tune_gc). *)
   Interp.Runtime.tune_gc ();
@@ -398,9 +484,11 @@ let interp_bench () =
   let env = load_program (find_program "percepts.jade") in
   let steady_n = if quick then 200_000 else 3_000_000 and flood_sizes = if quick then [ 1_000_000; 2_000_000 ] else [ 1_000_000; 3_000_000; 10_000_000 ] in
   Printf.printf "interpreter: percepts end to end (notify, transfer, dispatch to 4 handlers of 3 behaviours, map update)\n";
+  Printf.printf "  machine: %s\n" (machine ());
   let (rate_s, dt_s) = interp_steady env steady_n in
   Printf.printf "  %-46s %12.0f percepts/s  (%d in %.2f s)\n" "jadescript-ref, 1,024 in flight" rate_s steady_n dt_s;
   flush stdout;
+  interp_end_to_end env ~n:(if quick then 100_000 else 1_000_000) ~machine_rate:rate_s;
   interp_where env (if quick then 100_000 else 1_000_000);
   if Sys.getenv_opt "JSREF_BENCH_STEADY_ONLY" = Some "1" then exit 0;
   let floods = List.map (fun n -> interp_flood env n) flood_sizes in

@@ -90,7 +90,11 @@ module Make (A : Agent.AGENT) = struct
     let agenda : ev Event_queue.t = Event_queue.create () in
     let rng_uwb = Random.State.make [| seed; 1 |] and rng_flood = Random.State.make [| seed; 2 |] in
     let buf = Buffer.create (if trace then 65536 else 16) in
-    let tr fmt = Printf.ksprintf (fun l -> if trace then (Buffer.add_string buf l; Buffer.add_char buf '\n')) fmt in
+    (* without a trace, nothing is formatted (issue 17: formatting the
+       numbers of every event was a fifth of the run) *)
+    let tr fmt =
+      if trace then Printf.ksprintf (fun l -> Buffer.add_string buf l; Buffer.add_char buf '\n') fmt
+      else Printf.ifprintf () fmt in
     let now = ref 0. in
     (* records *)
     let trajectory = ref [ (0., sc.start) ] and last_traj = ref 0. in
@@ -156,11 +160,11 @@ module Make (A : Agent.AGENT) = struct
         counts.(k) <- counts.(k) + 1;
         let prio = match priority with Some k -> k | None -> Agent.default_priority pc in
         Hashtbl.replace outstanding seq (pc, prio, src, !now);
-        tr "%.6f notify seq=%d %s prio=%d src=%s" !now seq (Agent.percept_to_string pc) prio src;
+        if trace then tr "%.6f notify seq=%d %s prio=%d src=%s" !now seq (Agent.percept_to_string pc) prio src;
         wake ()
       | Error e ->
         incr refused;
-        tr "%.6f refused %s src=%s: %s" !now (Agent.percept_to_string pc) src e in
+        if trace then tr "%.6f refused %s src=%s: %s" !now (Agent.percept_to_string pc) src e in
     (* sensor state *)
     let alert_on = ref false and last_alert = ref neg_infinity in
     let last_qr : (string, float) Hashtbl.t = Hashtbl.create 16 in
@@ -231,8 +235,9 @@ module Make (A : Agent.AGENT) = struct
            ignore pc;
            handled := { seq = d.seq; percept = d.percept; priority = prio; source = src; notified = t0;
                         dispatched = !now; handlers = d.handlers_run } :: !handled;
-           tr "%.6f dispatch seq=%d %s prio=%d latency=%.6f handlers=%d" !now d.seq
-             (Agent.percept_to_string d.percept) prio (!now -. t0) d.handlers_run
+           if trace then
+             tr "%.6f dispatch seq=%d %s prio=%d latency=%.6f handlers=%d" !now d.seq
+               (Agent.percept_to_string d.percept) prio (!now -. t0) d.handlers_run
          | Transfer { moved; _ } -> if moved > 0 then tr "%.6f transfer moved=%d" !now moved
          | Behaviour_step -> tr "%.6f behaviour-step" !now
          | Loop _ -> ());

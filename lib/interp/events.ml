@@ -88,6 +88,245 @@ let parse_line env ~agents ~file line : (t option, (int * string) list) result =
   | [] -> Ok r
   | es -> Error (List.rev es)
 
+(* ------------------------------------------------- the quick path (issue 17) *)
+
+(* Most lines of a long events file are one notify of a percept literal,
+   such as {"agent":"a","notify":"position(1, 2)"}. [quick_notify] reads
+   such a line by hand, without a JSON tree and without the program grammar,
+   into the very expression [Syntax.Parse.expr] would build, and evaluates it
+   with [Eval.percept_value] as [parse_line] does. It only takes a strict
+   subset of what the full path takes: the two fields "agent" and "notify"
+   once each, no other field, printable ASCII, no JSON escape but those of
+   a quote and a backslash, and a percept made of schema names, calls, integer, decimal, text (no
+   escapes) and boolean literals. Any other line, and any line that would be
+   an error, is [None]: it goes the full way, which reports it. The test
+   "events: quick path = full path" holds the two equal. *)
+
+exception Not_quick
+
+(* The readers below take the text and a position and answer the position
+   after what they read; they allocate only what they return. *)
+
+let is_digit c = c >= '0' && c <= '9'
+let is_alpha c = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c = '_'
+let at s i = if i < String.length s then String.unsafe_get s i else '\000'
+
+let rec spaces s i = if at s i = ' ' then spaces s (i + 1) else i
+let rec digits_from s i = if is_digit (at s i) then digits_from s (i + 1) else i
+let digits s i = let j = digits_from s i in if j = i then raise Not_quick else j
+let rec ident_end s i = let c = at s i in if is_alpha c || is_digit c then ident_end s (i + 1) else i
+(* The end of a text literal's characters: printable ASCII up to a
+   backslash (in the JSON line, the text's closing quote is one). *)
+let rec text_end s i = match at s i with
+  | '"' | '\\' -> i
+  | c when c >= ' ' && c <= '~' -> text_end s (i + 1)
+  | _ -> raise Not_quick
+
+let mk it = { Syntax.Source.it; at = Syntax.Source.no_region }
+
+(* The lexer's INT and REAL: digit+ ('.' digit+)? (e [+-]? digit+)?. *)
+let number s i : Syntax.Ast.expr' * int =
+  let j = digits s i in
+  let (j, real) = if at s j = '.' then (digits s (j + 1), true) else (j, false) in
+  let (j, real) =
+    match at s j with
+    | 'e' | 'E' ->
+      let k = match at s (j + 1) with '+' | '-' -> j + 2 | _ -> j + 1 in
+      (digits s k, true)
+    | _ -> (j, real) in
+  if is_alpha (at s j) || at s j = '.' then raise Not_quick;
+  if real then (Lit (Real (String.sub s i (j - i))), j)
+  else if j - i <= 18 then begin
+    (* at most 18 digits: the value fits, as int_of_string reads it *)
+    let n = ref 0 in
+    for k = i to j - 1 do n := !n * 10 + (Char.code (String.unsafe_get s k) - 48) done;
+    (Lit (Int !n), j)
+  end else match int_of_string_opt (String.sub s i (j - i)) with
+    | Some n -> (Lit (Int n), j)
+    | None -> raise Not_quick
+
+(* Does [s] hold [w] from [i] on? *)
+let rec holds_from s i w k =
+  if k + 8 <= String.length w then
+    (* eight bytes at a time *)
+    (String.get_int64_ne s (i + k) : int64) = String.get_int64_ne w k && holds_from s i w (k + 8)
+  else k >= String.length w || (String.unsafe_get s (i + k) = String.unsafe_get w k && holds_from s i w (k + 1))
+let holds s i w = i + String.length w <= String.length s && holds_from s i w 0
+
+(* The program's schema names (never keywords: the program declared them as
+   identifiers; checked all the same), for the last type environment seen. *)
+let schema_names : (Typing.Tenv.t * string array) option ref = ref None
+
+(* The schema name spelled by [s] from [i] to [j], found without copying it
+   (the name itself is answered: the lexer's copy). *)
+let schema_name env s i j =
+  let names = match !schema_names with
+    | Some (e, a) when e == env -> a
+    | _ ->
+      let a = Array.of_list (List.filter_map (fun (sc : Typing.Tenv.schema) ->
+          if Syntax.Lexer.keyword_of_string sc.s_name = None then Some sc.s_name else None)
+          (Typing.Tenv.schemas env)) in
+      schema_names := Some (env, a); a in
+  let len = j - i in
+  let rec find k =
+    if k >= Array.length names then raise Not_quick
+    else let n = names.(k) in
+      if String.length n = len && holds s i n then n else find (k + 1) in
+  find 0
+
+let rec quick_expr_at env s i : Syntax.Ast.expr * int =
+  let open Syntax.Ast in
+  match at s i with
+  | '-' -> if not (is_digit (at s (i + 1))) then raise Not_quick;
+    let (e, j) = number s (i + 1) in (mk (Unop (Neg, mk e)), j)
+  | c when is_digit c -> let (e, j) = number s i in (mk e, j)
+  | '\\' ->
+    (* a text literal: its quotes are escaped in the JSON string *)
+    if at s (i + 1) <> '"' then raise Not_quick;
+    let j = text_end s (i + 2) in
+    if at s j <> '\\' || at s (j + 1) <> '"' then raise Not_quick;
+    (mk (Lit (Text (String.sub s (i + 2) (j - i - 2)))), j + 2)
+  | c when is_alpha c ->
+    let j = ident_end s i in
+    if j - i = 4 && holds s i "true" then (mk (Lit (Bool true)), j)
+    else if j - i = 5 && holds s i "false" then (mk (Lit (Bool false)), j)
+    else
+    let id = schema_name env s i j in
+    (match id with
+     | _ when at s j = '(' ->
+       let (args, j) = quick_args env s (j + 1) [] in
+       (mk (Call (mk id, args)), j)
+     | _ -> (mk (Name id), j))
+  | _ -> raise Not_quick
+
+and quick_args env s i acc =
+  let (a, j) = quick_expr_at env s (spaces s i) in
+  let j = spaces s j in
+  match at s j with
+  | ',' -> quick_args env s (j + 1) (a :: acc)
+  | ')' -> (List.rev (a :: acc), j + 1)
+  | _ -> raise Not_quick
+
+(* The percept of the JSON string that starts at [i] (its opening quote),
+   read where it stands in the line, as Syntax.Parse.expr reads the
+   string's text, for the few forms above (the only names taken are the
+   program's schemas; the only JSON escapes met are the quotes of text
+   literals); and the position after the string. *)
+let quick_expr env s i =
+  if at s i <> '"' then raise Not_quick;
+  let (e, j) = quick_expr_at env s (i + 1) in
+  if at s j <> '"' then raise Not_quick;
+  (e, j + 1)
+
+(* The end of a JSON string of printable ASCII whose only escapes are those
+   of a quote and a backslash, and whether it has one. *)
+let rec string_end s i escaped =
+  match at s i with
+  | '"' -> (i, escaped)
+  | '\\' -> (match at s (i + 1) with
+      | '"' | '\\' -> string_end s (i + 2) true
+      | _ -> raise Not_quick)
+  | c when c >= ' ' && c <= '~' -> string_end s (i + 1) escaped
+  | _ -> raise Not_quick
+
+(* A key at [i] (spaces allowed before it and around the colon): [`Agent]
+   or [`Notify], and the position of its value. *)
+let quick_key s i =
+  let i = spaces s i in
+  let (key, j) =
+    if holds s i "\"agent\"" then (`Agent, i + 7)
+    else if holds s i "\"notify\"" then (`Notify, i + 8)
+    else raise Not_quick in
+  let j = spaces s j in
+  if at s j <> ':' then raise Not_quick;
+  (key, spaces s (j + 1))
+
+(* The agent named by the JSON string at [i] (no escapes), found without
+   copying the name, and the position after it (and its spaces). *)
+let quick_agent s i agents =
+  if at s i <> '"' then raise Not_quick;
+  let (j, escaped) = string_end s (i + 1) false in
+  if escaped then raise Not_quick;
+  let len = j - i - 1 in
+  match List.find_opt (fun (n, _) -> String.length n = len && holds s (i + 1) n) agents with
+  | Some a -> (a, spaces s (j + 1))
+  | None -> raise Not_quick
+
+(* [Eval.percept_value]: the value of the literal, checked to be a percept
+   of a type the agent type sees, and that type's default priority. The
+   check's answer is remembered for the agent types and percept types met
+   (by address: the type names are the program's own strings), for the last
+   type environment seen; a literal of a type not met yet goes through
+   [Eval.percept_value] itself. *)
+let percept_checks : (Typing.Tenv.t * (string * string * int) list ref) option ref = ref None
+
+let quick_percept_value env agent_type e =
+  let known = match !percept_checks with
+    | Some (en, l) when en == env -> l
+    | _ -> let l = ref [] in percept_checks := Some (env, l); l in
+  let v = Eval.literal_value env e in
+  let rec find = function
+    | [] -> None
+    | (ty, name, prio) :: rest ->
+      if ty == agent_type && (match v with Value.Schema s -> s.sname == name | _ -> false)
+      then Some prio else find rest in
+  match find !known with
+  | Some prio -> (v, prio)
+  | None ->
+    let (v, prio) = Eval.percept_value env ~agent_type e in
+    (match v with
+     | Value.Schema s when List.length !known < 64 -> known := (agent_type, s.sname, prio) :: !known
+     | _ -> ());
+    (v, prio)
+
+let quick_notify env ~agents line =
+  match
+    if at line 0 <> '{' then raise Not_quick;
+    let (k1, i) = quick_key line 1 in
+    let (agent, percept, i) = match k1 with
+      | `Agent ->
+        let (a, i) = quick_agent line i agents in
+        if at line i <> ',' then raise Not_quick;
+        let (k2, i) = quick_key line (i + 1) in
+        if k2 <> `Notify then raise Not_quick;
+        let (p, i) = quick_expr env line i in
+        (a, p, spaces line i)
+      | `Notify ->
+        let (p, i) = quick_expr env line i in
+        let i = spaces line i in
+        if at line i <> ',' then raise Not_quick;
+        let (k2, i) = quick_key line (i + 1) in
+        if k2 <> `Agent then raise Not_quick;
+        let (a, i) = quick_agent line i agents in
+        (a, p, i) in
+    if at line i <> '}' || i + 1 <> String.length line then raise Not_quick;
+    let (name, ty) = agent in
+    let (v, default) = quick_percept_value env ty percept in
+    Notify { agent = name; percept = v; default; priority = None }
+  with
+  | e -> Some e
+  | exception (Not_quick | Eval.Trap _ | Eval.Link _) -> None
+
+let parse_line_full = parse_line
+
+let parse_line env ~agents ~file line =
+  match quick_notify env ~agents line with
+  | Some e -> Ok (Some e)
+  | None -> parse_line_full env ~agents ~file line
+
+(* The line of an event, as [parse_line] reads it back (a generated events
+   file: the bench, tests). *)
+let to_line = function
+  | Notify { agent; percept; default = _; priority } ->
+    Yojson.Safe.to_string (`Assoc ([ "agent", `String agent; "notify", `String (Value.to_literal percept) ]
+                                    @ (match priority with Some k -> [ "priority", `Int k ] | None -> [])))
+  | Put { agent; obj } -> Yojson.Safe.to_string (`Assoc [ "agent", `String agent; "put", `String (Value.to_literal obj) ])
+  | Message { agent; perf; content } ->
+    Yojson.Safe.to_string (`Assoc [ "agent", `String agent; "message", `String (Value.to_literal content);
+                                    "performative", `String perf ])
+  | Run k -> Yojson.Safe.to_string (`Assoc [ "run", `Int k ])
+  | Run_idle -> Yojson.Safe.to_string (`Assoc [ "run", `String "idle" ])
+
 (* Every line of the file, one at a time, with its number. *)
 let fold_lines path f init =
   let ic = open_in_bin path in
@@ -116,3 +355,4 @@ let iter env ~agents path ~report f =
       | Error es ->
         List.iter (fun (col, m) -> report ~line:n ~col m) es;
         `Stop false) true
+

@@ -28,3 +28,36 @@ val iter :
 (** Hands each event of the file over in order, as it is read. A line that
     is bad now (the file changed since {!check}) is reported and ends the
     reading: [false]. *)
+
+(** {1 Reading one line}
+
+    Most lines of a long events file are a notify of a percept literal
+    ([{"agent":"a","notify":"position(1, 2)"}]); they are read by a quick
+    path beside the full one (issue 17). *)
+
+val parse_line :
+  Typing.Tenv.t -> agents:(string * string) list -> file:string -> string ->
+  (t option, (int * string) list) result
+(** One line: [Ok None] for a blank or [#] line, [Ok (Some e)] for an
+    event, [Error] with each problem's column and message. The quick path
+    first, then, for any line it does not take, {!parse_line_full}: the
+    answer is the same. *)
+
+val parse_line_full :
+  Typing.Tenv.t -> agents:(string * string) list -> file:string -> string ->
+  (t option, (int * string) list) result
+(** The full path: the line through Yojson, the percept through the
+    program's grammar ([Syntax.Parse.expr]) and [Eval.percept_value]. *)
+
+val quick_notify : Typing.Tenv.t -> agents:(string * string) list -> string -> t option
+(** The quick path alone: [Some] event only for a line of the two fields
+    ["agent"] and ["notify"] (printable ASCII, no JSON escapes but a quote's
+    and a backslash's) whose percept is built of the program's schema names,
+    calls, and integer, decimal, text (no escapes) and boolean literals, and
+    is a good percept for that agent; then {!parse_line_full} answers the
+    same event. [None] for any other line. *)
+
+val to_line : t -> string
+(** The line of an event (without its newline), which {!parse_line} reads
+    back as the same event (a notify's [default] is the percept type's, so
+    it is not written): for generated events files (the bench). *)

@@ -84,6 +84,9 @@ let create ?(hooks = reference_hooks) env opts specs =
       let (a, behs) = Eval.create_agent env ~name ~atype:ty ~args ~fuel:opts.fuel in
       Tracer.created t.tr ~agent:name ~agent_type:ty args behs a;
       Eval.set_live a (List.length behs);   (* D19 *)
+      (* the bodies' Ran records (the effects of each handler) are for the
+         trace's lines only *)
+      if not (Trace.writes w) then a.record_ran <- false;
       (name, M.init opts.params ~world:a behs)) specs in
   t.platform <- P.create created;
   (* Messages sent by on create, once every agent exists. *)
@@ -136,12 +139,41 @@ let message t ~agent ~perf content =
 
 (* ------------------------------------------------------------- run *)
 
+(* The most rules the derived rule Dispatch can take from [c]: Dequeue, a
+   Handle or Skip for each percept handler of each active instance, and
+   EndDispatch; in a dispatch under way, one for each handler still to do
+   and EndDispatch. *)
+let dispatch_bound (c : M.t) =
+  match c.phase, c.cur with
+  | Mc.Handle_phase, Some d -> List.length d.todo + 1
+  | _ -> List.fold_left (fun n (a : Eval.beh Mc.instance) -> n + Eval.Bodies.percept_handlers a.beh) 2 c.active
+
+(* Without a trace, nothing sees the configurations inside a percept's
+   dispatch: the derived rule Dispatch of the fast engine takes it in one
+   call, its rules counted as steps, and the platform sees one step (its
+   bodies' logs and errors in order, their messages delivered after it,
+   before any other agent runs). It is taken only when the steps left
+   cover every rule it may take, so --max-steps stops at the same rule.
+   With a trace, every rule is a step of its own. Either way the steps are
+   counted here, and the platform keeps no list of them (issue 17; test
+   "run: the same without a trace"). *)
 let iterate t i =
   let left = t.opts.max_steps - t.steps in
   if left > 0 then begin
-    let (pl, evs) = P.iteration ~max_steps:left ~on_event:(on_event t) ~step:t.hooks.step t.opts.params t.platform i in
+    (* D34: without a trace, a percept's dispatch is the engine's one-call
+       Dispatch; a defective implementation (hooks) takes its own rules *)
+    let derived = not (Trace.writes (Tracer.writer t.tr)) && t.hooks == reference_hooks in
+    let taken = ref 0 in
+    let count _ = incr taken in
+    let step p c =
+      let room = left - !taken in
+      if room <= 0 then []
+      else match if derived && room >= dispatch_bound c then E.dispatch ~observe:count p c else None with
+        | Some c' -> [ (c'.Mc.last, c') ]
+        | None -> (match t.hooks.step p c with [] -> [] | r -> incr taken; r) in
+    let (pl, _) = P.iteration ~max_steps:left ~on_event:(on_event t) ~step ~keep:false t.opts.params t.platform i in
     t.platform <- pl;
-    t.steps <- t.steps + List.length (List.filter (function P.Step _ -> true | _ -> false) evs)
+    t.steps <- t.steps + !taken
   end
 
 (* D20: rounds end as soon as every agent is idle (nothing can change until

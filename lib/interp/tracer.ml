@@ -60,9 +60,14 @@ let body (e : Eval.event) : Trace.body option =
   | Eval.Ran _ -> None
 
 let bodies t agent action evs =
-  List.iter (fun e -> match body e with
-      | Some b -> t.on_body agent e; Trace.write t.w ~agent (Trace.Body { action; body = b })
-      | None -> ()) evs
+  List.iter (fun e -> match e with
+      | Eval.Ran _ -> ()
+      | _ ->
+        t.on_body agent e;
+        Trace.write_with t.w ~agent (fun () ->
+            match body e with
+            | Some b -> Trace.Body { action; body = b }
+            | None -> Semantics.Fault.crash "Tracer: an event with no body")) evs
 
 (* Each rule notes the active instances before and after it: one pass over
    the list, no hashing (with many instances, D19, this was most of a
@@ -129,7 +134,7 @@ let label_event t agent (c : config) (l : label) evs : Trace.event =
   | Mc.Next_iteration -> Trace.Next_iteration
   | Mc.Idle -> Trace.Idle
 
-let host t ~agent (c : config) = Trace.write t.w ~agent (label_event t agent c c.last [])
+let host t ~agent (c : config) = Trace.write_with t.w ~agent (fun () -> label_event t agent c c.last [])
 
 let refused t ~agent v =
   Trace.write t.w ~agent (Trace.Refused { percept = V.to_literal v; reason = "the O2A queue is full (R2d)" })
@@ -141,12 +146,18 @@ let undeliverable t ~sender ~receiver (m : Eval.message) =
   Trace.write t.w ~agent:sender
     (Trace.Undeliverable { receiver; performative = m.perf; content = V.to_literal m.content })
 
+(* Without a trace (a writer from [Trace.nowhere]) nothing but the bodies'
+   logs and errors is wanted, and the lines are only counted: no event is
+   built and no behaviour name kept (issue 17). *)
 let step t ~agent ~before ~after l =
-  note_active t agent before;
+  let writes = Trace.writes t.w in
+  if writes then note_active t agent before;
   let evs = Eval.take_events after.Mc.world in
-  Trace.write t.w ~agent (label_event t agent after l evs);
-  note_active t agent after;
-  bodies t agent (Mc.action_name l) evs
+  Trace.write_with t.w ~agent (fun () -> label_event t agent after l evs);
+  if writes then note_active t agent after;
+  match evs with
+  | [] -> ()
+  | _ -> bodies t agent (Mc.action_name l) evs
 
 let destroyed t ~agent a =
   Trace.write t.w ~agent Trace.Destroy;

@@ -12,9 +12,11 @@ module Make (B : Machine.BODIES) = struct
   let create l = { agents = Array.of_list (List.map (fun (name, config) -> { name; config }) l) }
 
   let find t name =
-    let r = ref None in
-    Array.iteri (fun i a -> if !r = None && a.name = name then r := Some i) t.agents;
-    !r
+    let rec go i =
+      if i >= Array.length t.agents then None
+      else if String.equal t.agents.(i).name name then Some i
+      else go (i + 1) in
+    go 0
 
   let set t i config =
     let agents = Array.copy t.agents in
@@ -31,6 +33,9 @@ module Make (B : Machine.BODIES) = struct
   let flush ?(on_event = fun _ _ -> ()) p t i =
     let c = t.agents.(i).config in
     let (world, out) = B.take_outbox c.world in
+    match out with
+    | [] when world == c.world -> (t, [])    (* nothing sent: the platform as it is *)
+    | _ ->
     let t = set t i { c with world } in
     List.fold_left (fun (t, evs) (receiver, m) ->
         let (t, ev) = deliver p t ~sender:t.agents.(i).name ~receiver m in
@@ -43,7 +48,7 @@ module Make (B : Machine.BODIES) = struct
     | Machine.Behaviour_step _ | Machine.Next_iteration | Machine.Idle -> true
     | _ -> false
 
-  let iteration ?(max_steps = 1_000_000) ?(on_event = fun _ _ -> ()) ?(step = M.step) p t i =
+  let iteration ?(max_steps = 1_000_000) ?(on_event = fun _ _ -> ()) ?(step = M.step) ?(keep = true) p t i =
     let name = t.agents.(i).name in
     let rec go t n acc =
       if n >= max_steps then (t, List.rev acc)
@@ -53,7 +58,7 @@ module Make (B : Machine.BODIES) = struct
           let t = set t i c in
           on_event t (Step (name, l));
           let (t, evs) = flush ~on_event p t i in
-          let acc = List.rev_append evs (Step (name, l) :: acc) in
+          let acc = if keep then List.rev_append evs (Step (name, l) :: acc) else acc in
           if ends_iteration l then (t, List.rev acc) else go t (n + 1) acc in
     go t 0 []
 

@@ -36,7 +36,7 @@ module Make (B : Machine.BODIES) : sig
 
   val iteration :
     ?max_steps:int -> ?on_event:(t -> event -> unit) ->
-    ?step:(Machine.params -> M.t -> (M.lbl * M.t) list) ->
+    ?step:(Machine.params -> M.t -> (M.lbl * M.t) list) -> ?keep:bool ->
     Machine.params -> t -> int -> t * event list
   (** One loop iteration of agent [i] ([max_steps] bounds it; default 10^6).
       Empty when the agent is idle. Under the [Unstable] tie policy the first
@@ -44,7 +44,8 @@ module Make (B : Machine.BODIES) : sig
       platform right after it (a step's event before the deliveries of the
       messages that step sent). [step] takes the agent's rules: [M.step]
       by default; the runtime passes the fast engine's, which answers the
-      same. *)
+      same. [~keep:false]: the events are only handed to [on_event], and
+      the list answered is empty (a long iteration then holds none). *)
 
   val round : Random.State.t option -> t -> int list
   (** The order of one round (R6): the agents' indices in creation order

@@ -369,18 +369,155 @@ let header_of_json j =
      with Bad m -> Error m)
   | _ -> Error "not a jadescript-ref trace (no header line)"
 
+(* ---------------------------------------------- direct encoding (issue 17) *)
+
+(* A line written straight into a buffer, byte for byte what
+   [Yojson.Safe.to_string (line_to_json l)] writes: the same fields in the
+   same order, strings and integers by Yojson's own writers, and no JSON
+   tree in between. Create (once per agent) and any event without a case
+   here go through the tree. The test "trace: direct encoding = JSON tree"
+   holds the two equal over every event. *)
+
+(* Does the string need no JSON escape (none of the characters Yojson
+   escapes: a quote, a backslash, a control character, DEL)? *)
+let rec plain s i =
+  i >= String.length s
+  || (let c = String.unsafe_get s i in
+      c >= ' ' && c <> '"' && c <> '\\' && c <> '\x7F' && plain s (i + 1))
+
+let write_string b s =
+  if plain s 0 then (Buffer.add_char b '"'; Buffer.add_string b s; Buffer.add_char b '"')
+  else Yojson.Safe.write_string b s
+
+(* A natural number's decimal digits, as Yojson writes them, at once;
+   other integers by Yojson. *)
+let digits = Bytes.create 20
+
+let write_int b i =
+  if i > 0 then begin
+    let k = ref 20 and n = ref i in
+    while !n > 0 do
+      decr k; Bytes.unsafe_set digits !k (Char.unsafe_chr (48 + !n mod 10)); n := !n / 10
+    done;
+    Buffer.add_subbytes b digits !k (20 - !k)
+  end else Yojson.Safe.write_int b i
+
+let put_str b key s = Buffer.add_string b key; write_string b s
+let put_int b key i = Buffer.add_string b key; write_int b i
+
+let put_list b key f l =
+  Buffer.add_string b key;
+  Buffer.add_char b '[';
+  List.iteri (fun i x -> if i > 0 then Buffer.add_char b ','; f x) l;
+  Buffer.add_char b ']'
+
+let put_effects b key l = put_list b key (fun e -> write_string b (effect_to_string e)) l
+
+(* [sep] comes before the first field: "," inside a line, "" in an object
+   of its own *)
+let put_entry b sep e =
+  put_str b (sep ^ "\"percept\":") e.percept;
+  put_int b ",\"priority\":" e.priority;
+  put_int b ",\"seq\":" e.seq
+
+let put_message b sep m =
+  put_str b (sep ^ "\"performative\":") m.performative;
+  put_str b ",\"content\":" m.content;
+  put_str b ",\"from\":" m.from
+
+(* The agent's name as JSON, for the last name seen (physically): a run
+   writes the same few names on every line. *)
+let agent_json = ref ("", "\"\"")
+
+let line_to_buffer b l =
+  let head () =
+    put_int b "{\"step\":" l.step;
+    Buffer.add_string b ",\"agent\":";
+    (match !agent_json with
+     | (a, j) when a == l.agent -> Buffer.add_string b j
+     | _ ->
+       let j = Buffer.create 16 in
+       write_string j l.agent;
+       agent_json := (l.agent, Buffer.contents j);
+       Buffer.add_string b (Buffer.contents j));
+    (* event names and the actions of this module need no escape *)
+    Buffer.add_string b ",\"event\":\"";
+    Buffer.add_string b (event_name l.event);
+    (match l.event, action l.event with
+     | Body _, Some a -> put_str b "\",\"action\":" a
+     | _, Some a -> Buffer.add_string b "\",\"action\":\""; Buffer.add_string b a; Buffer.add_char b '"'
+     | _, None -> Buffer.add_string b "\",\"action\":null") in
+  match l.event with
+  | Notify { entry; _ } | Transfer_one entry | Dequeue entry ->
+    head (); put_entry b "," entry; Buffer.add_char b '}'
+  | Refused { percept; reason } ->
+    head (); put_str b ",\"percept\":" percept; put_str b ",\"reason\":" reason; Buffer.add_char b '}'
+  | Put { obj; index } ->
+    head (); put_str b ",\"object\":" obj; put_int b ",\"index\":" index; Buffer.add_char b '}'
+  | Deliver { message; seq } ->
+    head (); put_message b "," message; put_int b ",\"seq\":" seq; Buffer.add_char b '}'
+  | Undeliverable { receiver; performative; content } ->
+    head (); put_str b ",\"to\":" receiver; put_str b ",\"performative\":" performative;
+    put_str b ",\"content\":" content; Buffer.add_char b '}'
+  | Transfer n -> head (); put_int b ",\"moved\":" n; Buffer.add_char b '}'
+  | Transfer_spin o -> head (); put_str b ",\"object\":" o; Buffer.add_char b '}'
+  | Transfer_end | Next_iteration | Idle | Destroy -> head (); Buffer.add_char b '}'
+  | Handle { instance; behaviour; handler; percept; seq; effects = e } ->
+    head ();
+    put_int b ",\"instance\":" instance; put_str b ",\"behaviour\":" behaviour;
+    put_int b ",\"handler\":" handler; put_str b ",\"percept\":" percept;
+    put_int b ",\"seq\":" seq; put_effects b ",\"effects\":" e;
+    Buffer.add_char b '}'
+  | Skip { instance; behaviour; handler } ->
+    head ();
+    put_int b ",\"instance\":" instance; put_str b ",\"behaviour\":" behaviour;
+    put_int b ",\"handler\":" handler;
+    Buffer.add_char b '}'
+  | End_dispatch { seq; _ } -> head (); put_int b ",\"seq\":" seq; Buffer.add_char b '}'
+  | Behaviour_step { instance; behaviour; taken; action_effects; handler } ->
+    head ();
+    put_int b ",\"instance\":" instance; put_str b ",\"behaviour\":" behaviour;
+    (match taken with
+     | None -> Buffer.add_string b ",\"message\":null"
+     | Some (Took_message (m, seq)) ->
+       Buffer.add_string b ",\"message\":{"; put_message b "" m; put_int b ",\"seq\":" seq;
+       Buffer.add_char b '}'
+     | Some (Took_percept e) ->
+       Buffer.add_string b ",\"message\":{"; put_entry b "" e; Buffer.add_char b '}');
+    (match action_effects with Some e -> put_effects b ",\"action_effects\":" e | None -> ());
+    (match handler with
+     | Some (h, e) -> put_int b ",\"handler\":" h; put_effects b ",\"effects\":" e
+     | None -> ());
+    Buffer.add_char b '}'
+  | Body { body; _ } ->
+    head ();
+    (match body with
+     | Log s -> put_str b ",\"text\":" s
+     | Invoke { meth; obj; args; result } ->
+       put_str b ",\"method\":" meth; put_str b ",\"object\":" obj;
+       put_list b ",\"args\":" (write_string b) args; put_str b ",\"result\":" result
+     | Send { performative; content; receivers } ->
+       put_str b ",\"performative\":" performative; put_str b ",\"content\":" content;
+       put_list b ",\"to\":" (write_string b) receivers
+     | Activate beh -> put_str b ",\"behaviour\":" beh
+     | Deactivate id -> put_int b ",\"instance\":" id
+     | Error { at; message } -> put_str b ",\"at\":" at; put_str b ",\"message\":" message);
+    Buffer.add_char b '}'
+  | _ -> Yojson.Safe.to_buffer b (line_to_json l)
+
 (* ------------------------------------------------------------- writing *)
 
-type writer = { emit : (string -> unit) option; mutable lines : int }
+type writer = { emit : (string -> unit) option; mutable lines : int; buf : Buffer.t;
+                oc : out_channel option (* to_channel's: lines go from [buf] to it *) }
 
-let writer emit = { emit = Some emit; lines = 0 }
+let writer emit = { emit = Some emit; lines = 0; buf = Buffer.create 256; oc = None }
 let to_channel oc =
   (* buffered; flushed by the channel when its buffer fills, and when the
      program ends: normally, by [exit] (a signal handler may call it), or by
      an uncaught exception *)
   at_exit (fun () -> try flush oc with Sys_error _ -> ());
-  writer (output_string oc)
-let nowhere () = { emit = None; lines = 0 }
+  { (writer (output_string oc)) with oc = Some oc }
+let nowhere () = { emit = None; lines = 0; buf = Buffer.create 1; oc = None }
 
 let write_header w h =
   match w.emit with
@@ -390,10 +527,23 @@ let write_header w h =
 let write w ~agent event =
   w.lines <- w.lines + 1;
   match w.emit with
-  | Some emit -> emit (Yojson.Safe.to_string (line_to_json { step = w.lines; agent; event }) ^ "\n")
+  | Some emit ->
+    Buffer.clear w.buf;
+    line_to_buffer w.buf { step = w.lines; agent; event };
+    Buffer.add_char w.buf '\n';
+    (match w.oc with
+     | Some oc -> Buffer.output_buffer oc w.buf
+     | None -> emit (Buffer.contents w.buf))
   | None -> ()
 
 let lines_written w = w.lines
+
+let writes w = w.emit <> None
+
+let write_with w ~agent event =
+  match w.emit with
+  | Some _ -> write w ~agent (event ())
+  | None -> w.lines <- w.lines + 1
 
 (* ------------------------------------------------------------- reading *)
 

@@ -93,6 +93,11 @@ type header = {
 (** {1 JSON} *)
 
 val line_to_json : line -> Yojson.Safe.t
+val line_to_buffer : Buffer.t -> line -> unit
+(** Appends the line's JSON, byte for byte what
+    [Yojson.Safe.to_string (line_to_json l)] is, without building the JSON
+    tree ({!write} uses it). *)
+
 val line_of_json : Yojson.Safe.t -> (line, string) result
 val header_to_json : header -> Yojson.Safe.t
 val header_of_json : Yojson.Safe.t -> (header, string) result
@@ -131,6 +136,14 @@ val nowhere : unit -> writer
 val write_header : writer -> header -> unit
 val write : writer -> agent:string -> event -> unit
 val lines_written : writer -> int
+
+val writes : writer -> bool
+(** Does the writer write anywhere? One from {!nowhere} does not: a caller
+    may then skip what only the trace needs (issue 17). *)
+
+val write_with : writer -> agent:string -> (unit -> event) -> unit
+(** [write] of the event the function builds, built only when the writer
+    writes somewhere; the line is numbered either way. *)
 
 (** {1 Reading} *)
 

@@ -1,0 +1,367 @@
+(* Tests of the fast paths of issue 17, each held equal to the path it
+   stands beside: the events file's quick reader (Interp.Events.quick_notify)
+   to the full one, the trace's direct encoder (Trace.line_to_buffer) to the
+   JSON tree, and a run without a trace (the derived rule Dispatch) to a run
+   with one (every rule a step). *)
+
+open Syntax
+open Test_support
+open Support
+module V = Interp.Value
+module Ev = Interp.Events
+module Mc = Semantics.Machine
+
+(* ------------------------------------------------ the events file *)
+
+let program_text = String.concat "\n" [
+    "ontology O";
+    "\tconcept point(x as integer, y as integer)";
+    "\tpredicate position(k as integer) extends percept with priority = 2";
+    "\tpredicate reading(v as double, f as float) extends percept";
+    "\tpredicate seen(t as text, b as boolean) extends percept";
+    "\tpredicate at(p as point) extends percept";
+    "\tpredicate who(a as aid) extends percept";
+    "\tproposition falling extends percept with priority = 10";
+    "\tpredicate tags(l as list of integer) extends percept";
+    "";
+    "ontology Other";
+    "\tproposition hidden extends percept";
+    "";
+    "agent A uses ontology O";
+    "\ton create do";
+    "\t\tlog \"a\"";
+    "";
+    "agent B uses ontology Other";
+    "\ton create do";
+    "\t\tlog \"b\"";
+    "" ]
+
+let env = lazy (
+  let env, diags = Typing.check [ Parse.string ~file:"p.jade" program_text ] in
+  (match List.filter (fun d -> d.Diag.severity = Diag.Error) diags with
+   | [] -> ()
+   | d :: _ -> failwith (Diag.to_string d));
+  env)
+
+let agents = [ ("a", "A"); ("b", "B") ]
+
+let show_result = function
+  | Ok None -> "nothing"
+  | Ok (Some (Ev.Notify { agent; percept; default; priority })) ->
+    Printf.sprintf "notify %s %s (%s) %d %s" agent (V.to_literal percept) (V.type_name percept) default
+      (match priority with Some k -> string_of_int k | None -> "-")
+  | Ok (Some _) -> "another event"
+  | Error es -> String.concat "; " (List.map (fun (c, m) -> Printf.sprintf "%d: %s" c m) es)
+
+(* The quick path takes the line only when the full path reads the same
+   event from it (compared as values: Int 1 and Double 1.0 differ). *)
+let quick_agrees line =
+  let env = Lazy.force env in
+  let full = Ev.parse_line_full env ~agents ~file:"e.jsonl" line in
+  match Ev.quick_notify env ~agents line with
+  | None -> true
+  | Some e ->
+    (match full with
+     | Ok (Some e') when compare e e' = 0 -> true
+     | _ -> QCheck.Test.fail_reportf "line %S\nquick: %s\nfull:  %s" line
+              (show_result (Ok (Some e))) (show_result full))
+
+(* Lines the quick path must take, and what they mean. *)
+let quick_taken () =
+  let env = Lazy.force env in
+  List.iter (fun (line, expected) ->
+      (match Ev.quick_notify env ~agents line with
+       | Some e -> Alcotest.(check string) line expected (show_result (Ok (Some e)))
+       | None -> Alcotest.failf "the quick path does not take %s" line);
+      ignore (quick_agrees line))
+    [ ({|{"agent":"a","notify":"position(1)"}|}, "notify a position(1) (position) 2 -");
+      ({|{ "notify" : "position(-7)" , "agent" : "a" }|}, "notify a position(-7) (position) 2 -");
+      ({|{"agent":"a","notify":"falling"}|}, "notify a falling (falling) 10 -");
+      ({|{"agent":"a","notify":"reading(1, 2.5)"}|}, "notify a reading(1.0, 2.5) (reading) 0 -");
+      ({|{"agent":"a","notify":"reading(-1.5e3, 0.1)"}|}, "notify a reading(-1500.0, 0.1) (reading) 0 -");
+      ({|{"agent":"a","notify":"seen(\"x y#\", true)"}|}, "notify a seen(\"x y#\", true) (seen) 0 -");
+      ({|{"agent":"a","notify":"at(point(1,  2))"}|}, "notify a at(point(1, 2)) (at) 0 -");
+      ({|{"agent":"b","notify":"hidden"}|}, "notify b hidden (hidden) 0 -") ]
+
+(* Lines it must leave to the full path: other fields, escapes, forms it
+   does not know, and every line that is an error. *)
+let quick_refused () =
+  let env = Lazy.force env in
+  List.iter (fun line ->
+      match Ev.quick_notify env ~agents line with
+      | None -> ()
+      | Some e -> Alcotest.failf "the quick path takes %s: %s" line (show_result (Ok (Some e))))
+    [ {|{"agent":"a","notify":"position(1)","priority":3}|};
+      {|{"agent":"a","notify":"seen(\"\u0041\", true)"}|};
+      {|{"agent":"a","notify":"seen(\"a\\nb\", true)"}|};
+      {|{"agent":"a","notify":"who(aid(\"x\"))"}|};
+      {|{"agent":"a","notify":"tags([1, 2])"}|};
+      {|{"agent":"a","notify":"hidden"}|};
+      {|{"agent":"a","notify":"point(1, 2)"}|};
+      {|{"agent":"a","notify":"position(\"x\")"}|};
+      {|{"agent":"a","notify":"position(99999999999999999999)"}|};
+      {|{"agent":"a","notify":"position(1.)"}|};
+      {|{"agent":"a","notify":"position (1)"}|};
+      {|{"agent":"a","notify":"position(1) "}|};
+      {|{"agent":"a","notify":"position(1) # c"}|};
+      {|{"agent":"z","notify":"position(1)"}|};
+      {|{"agent":"a","agent":"a","notify":"position(1)"}|};
+      {|{"agent":"a","notify":"position(1)"} |};
+      {|{"agent":"a","put":"position(1)"}|};
+      {|{"agent":"a","notify":"agent"}|};
+      "# a comment"; "" ]
+
+(* Events.to_line writes what parse_line reads back as the same event
+   (the bench writes its events file with it). *)
+let to_line_round_trip () =
+  let env = Lazy.force env in
+  let read line = match Ev.parse_line env ~agents ~file:"e.jsonl" line with
+    | Ok (Some e) -> e
+    | r -> Alcotest.failf "%s: %s" line (show_result r) in
+  List.iter (fun line ->
+      let e = read line in
+      let line' = Ev.to_line e in
+      Alcotest.(check string) line (show_result (Ok (Some e))) (show_result (Ok (Some (read line'))));
+      if compare e (read line') <> 0 then Alcotest.failf "%s: %s reads back differently" line line')
+    [ {|{"agent":"a","notify":"position(-3)"}|};
+      {|{"agent":"a","notify":"reading(1, 2.5)","priority":4}|};
+      {|{"agent":"a","notify":"seen(\"a\\\"b\\nc\", false)"}|};
+      {|{"agent":"a","notify":"who(aid(\"x\"))"}|};
+      {|{"agent":"a","notify":"at(point(1, 2))"}|};
+      {|{"agent":"a","put":"[1, 2]"}|};
+      {|{"agent":"a","message":"position(1)","performative":"request"}|};
+      {|{"run":3}|}; {|{"run":"idle"}|} ]
+
+(* Random lines: well-formed ones of every shape the quick path knows and
+   some it does not, then, one time in two, a few characters changed. *)
+let gen_line =
+  let open QCheck.Gen in
+  let int_text = oneof [ map string_of_int (int_range 0 100);
+                         map string_of_int (int_range 0 max_int);
+                         return "2147483648"; return "007"; return "99999999999999999999" ] in
+  let real_text = oneof [ map (fun (a, b) -> Printf.sprintf "%d.%d" a b) (pair (int_range 0 99) (int_range 0 999));
+                          map (fun (a, e) -> Printf.sprintf "%de%d" a e) (pair (int_range 0 9) (int_range (-5) 40));
+                          return "1.5E-3"; return "3.4e39"; return "1e400" ] in
+  let num = oneof [ int_text; real_text ] in
+  let signed = map2 (fun neg n -> if neg then "-" ^ n else n) bool num in
+  let text_char = oneofl [ 'a'; 'Z'; ' '; '#'; '0'; '\\'; '"'; '\''; '{'; '\t'; '\xc3' ] in
+  let text = map (fun l -> "\"" ^ String.of_seq (List.to_seq l) ^ "\"") (list_size (int_range 0 4) text_char) in
+  let value = oneof [ signed; text; oneofl [ "true"; "false"; "falling"; "nothing"; "agent" ];
+                      map2 (fun a b -> Printf.sprintf "point(%s, %s)" a b) signed signed ] in
+  let sep = oneofl [ ","; ", "; " , "; ",  " ] in
+  let call name n = map2 (fun args s -> name ^ "(" ^ String.concat s args ^ ")") (list_repeat n value) sep in
+  let any_percept = oneof [
+      call "position" 1; call "reading" 2; call "seen" 2; call "at" 1; call "who" 1; call "tags" 1;
+      call "point" 2; call "position" 2;
+      oneofl [ "falling"; "hidden"; "falling()"; "position"; "aid(\"a\")"; "tags([1, 2])" ] ] in
+  (* percepts of the right types, so that most lines are good ones *)
+  let small_int = map2 (fun neg n -> (if neg then "-" else "") ^ string_of_int n) bool (int_range 0 1000) in
+  let good_text = map (fun l -> "\"" ^ String.of_seq (List.to_seq l) ^ "\"")
+      (list_size (int_range 0 5) (oneofl [ 'a'; 'Z'; ' '; '#'; '0'; '\''; '{'; '~'; '!'; ',' ])) in
+  let well_typed = oneof [
+      map (fun n -> "position(" ^ n ^ ")") small_int;
+      map3 (fun a s b -> "reading(" ^ a ^ s ^ b ^ ")") signed sep signed;
+      map3 (fun t s b -> "seen(" ^ t ^ s ^ b ^ ")") good_text sep (oneofl [ "true"; "false" ]);
+      map2 (fun a b -> Printf.sprintf "at(point(%s, %s))" a b) small_int small_int;
+      return "falling" ] in
+  let percept = frequency [ 3, well_typed; 2, any_percept ] in
+  let json_string s = Yojson.Safe.to_string (`String s) in
+  let line = map3 (fun (agent, p) order extra ->
+      let a = Printf.sprintf "\"agent\":%s" (json_string agent)
+      and n = Printf.sprintf "\"notify\":%s" (json_string p) in
+      let fields = (if order then [ a; n ] else [ n; a ]) @ extra in
+      "{" ^ String.concat "," fields ^ "}")
+      (pair (oneofl [ "a"; "a"; "a"; "b"; "c" ]) percept) bool
+      (frequency [ 8, return []; 1, return [ "\"priority\":3" ]; 1, return [ "\"put\":\"1\"" ] ]) in
+  let edit s =
+    map2 (fun i c ->
+        let i = i mod (String.length s + 1) in
+        match c with
+        | None -> if i < String.length s then String.sub s 0 i ^ String.sub s (i + 1) (String.length s - i - 1) else s
+        | Some c -> String.sub s 0 i ^ String.make 1 c ^ String.sub s i (String.length s - i))
+      nat (opt (oneofl [ ' '; '"'; '\\'; ','; ':'; '('; ')'; '-'; '.'; 'e'; '1'; 'x'; '{'; '}'; '\n'; '\r'; '\xff'; '#' ])) in
+  line >>= fun l ->
+  bool >>= fun mutate ->
+  if mutate then edit l >>= edit else return l
+
+let arb_line = QCheck.make ~print:(fun s -> s) gen_line
+
+(* ------------------------------------------------------ the trace *)
+
+let gen_trace_line =
+  let open QCheck.Gen in
+  let str = oneof [ oneofl [ ""; "a"; "position(1)"; "seen(\"x\", true)"; "é"; "\u{1F600}" ];
+                    string_size ~gen:char (int_range 0 6);
+                    string_size ~gen:(oneofl [ '"'; '\\'; '\n'; '\t'; '\x00'; '\x1f'; '\x7f'; '/'; 'a' ]) (int_range 0 6) ] in
+  let int = oneof [ int_range 0 20; int_range min_int max_int; oneofl [ 0; -1; max_int; min_int ] ] in
+  let strs = list_size (int_range 0 3) str in
+  let entry = map3 (fun percept priority seq -> { Trace.percept; priority; seq }) str int int in
+  let message = map3 (fun performative content from -> { Trace.performative; content; from }) str str str in
+  let effect = oneof [ map (fun b -> Trace.Activated b) (oneofl [ "B"; "Watch" ]); return Trace.Deactivated ] in
+  let effects = list_size (int_range 0 3) effect in
+  let body = oneof [
+      map (fun s -> Trace.Log s) str;
+      map2 (fun (meth, obj) (args, result) -> Trace.Invoke { meth; obj; args; result }) (pair str str) (pair strs str);
+      map3 (fun performative content receivers -> Trace.Send { performative; content; receivers }) str str strs;
+      map (fun b -> Trace.Activate b) str;
+      map (fun i -> Trace.Deactivate i) int;
+      map2 (fun at message -> Trace.Error { at; message }) str str ] in
+  let event = oneof [
+      map3 (fun agent_type args behaviours -> Trace.Create { agent_type; args; behaviours }) str strs strs;
+      map2 (fun entry overridden -> Trace.Notify { entry; overridden }) entry bool;
+      map2 (fun percept reason -> Trace.Refused { percept; reason }) str str;
+      map2 (fun obj index -> Trace.Put { obj; index }) str int;
+      map2 (fun message seq -> Trace.Deliver { message; seq }) message int;
+      map3 (fun receiver performative content -> Trace.Undeliverable { receiver; performative; content }) str str str;
+      map (fun n -> Trace.Transfer n) int;
+      map (fun e -> Trace.Transfer_one e) entry;
+      map (fun o -> Trace.Transfer_spin o) str;
+      return Trace.Transfer_end;
+      map (fun e -> Trace.Dequeue e) entry;
+      map3 (fun (instance, behaviour) (handler, percept) (seq, effects) ->
+          Trace.Handle { instance; behaviour; handler; percept; seq; effects })
+        (pair int str) (pair int str) (pair int effects);
+      map3 (fun instance behaviour handler -> Trace.Skip { instance; behaviour; handler }) int str int;
+      map2 (fun seq discarded -> Trace.End_dispatch { seq; discarded }) int bool;
+      map3 (fun (instance, behaviour) taken (action_effects, handler) ->
+          Trace.Behaviour_step { instance; behaviour; taken; action_effects; handler })
+        (pair int str)
+        (opt (oneof [ map2 (fun m s -> Trace.Took_message (m, s)) message int;
+                      map (fun e -> Trace.Took_percept e) entry ]))
+        (pair (opt effects) (opt (pair int effects)));
+      return Trace.Next_iteration; return Trace.Idle; return Trace.Destroy;
+      map2 (fun action body -> Trace.Body { action; body }) (oneofl [ "Init"; "Handle"; "destroy" ]) body ] in
+  map3 (fun step agent event -> { Trace.step; agent; event }) int str event
+
+let direct_equals_tree (l : Trace.line) =
+  let b = Buffer.create 64 in
+  Trace.line_to_buffer b l;
+  let direct = Buffer.contents b and tree = Yojson.Safe.to_string (Trace.line_to_json l) in
+  if direct <> tree then QCheck.Test.fail_reportf "direct: %s\ntree:   %s" direct tree;
+  true
+
+(* Every constructor at least once, whatever QCheck draws. *)
+let every_event () =
+  let e = { Trace.percept = "p(\"\\\"\")"; priority = 2; seq = 7 } in
+  let m = { Trace.performative = "inform"; content = "x"; from = "host" } in
+  let events = [
+    Trace.Create { agent_type = "A"; args = [ "1"; "\"t\"" ]; behaviours = [ "B" ] };
+    Notify { entry = e; overridden = false }; Notify { entry = e; overridden = true };
+    Refused { percept = "p"; reason = "full" }; Put { obj = "o"; index = 3 };
+    Deliver { message = m; seq = 4 };
+    Undeliverable { receiver = "z"; performative = "inform"; content = "c" };
+    Transfer 5; Transfer_one e; Transfer_spin "o"; Transfer_end; Dequeue e;
+    Handle { instance = 1; behaviour = "B"; handler = 2; percept = "p"; seq = 3; effects = [ Activated "C"; Deactivated ] };
+    Skip { instance = 1; behaviour = "B"; handler = 2 };
+    End_dispatch { seq = 3; discarded = false }; End_dispatch { seq = 3; discarded = true };
+    Behaviour_step { instance = 1; behaviour = "B"; taken = None; action_effects = None; handler = None };
+    Behaviour_step { instance = 1; behaviour = "B"; taken = Some (Took_message (m, 9));
+                     action_effects = Some []; handler = Some (1, [ Deactivated ]) };
+    Behaviour_step { instance = 1; behaviour = "B"; taken = Some (Took_percept e);
+                     action_effects = Some [ Activated "D" ]; handler = None };
+    Next_iteration; Idle; Destroy;
+    Body { action = "Handle"; body = Log "l\n" };
+    Body { action = "Init"; body = Invoke { meth = "m"; obj = "O"; args = [ "1" ]; result = "nothing" } };
+    Body { action = "Handle"; body = Send { performative = "inform"; content = "c"; receivers = [ "a"; "b" ] } };
+    Body { action = "Init"; body = Activate "B" }; Body { action = "Handle"; body = Deactivate 2 };
+    Body { action = "Handle"; body = Error { at = "f:1:2"; message = "m\"" } } ] in
+  List.iteri (fun i event -> ignore (direct_equals_tree { Trace.step = i + 1; agent = "a"; event })) events
+
+(* --------------------------------------- a run without a trace *)
+
+let rec literal_of rand (ty : Typing.Types.t) =
+  match Typing.Types.repr ty with
+  | Typing.Types.Integer -> string_of_int (Random.State.int rand 5)
+  | Typing.Types.Double | Typing.Types.Float -> Printf.sprintf "%d.5" (Random.State.int rand 5)
+  | Typing.Types.Text -> Printf.sprintf "\"t%d\"" (Random.State.int rand 3)
+  | Typing.Types.Boolean -> if Random.State.bool rand then "true" else "false"
+  | Typing.Types.List t -> "[" ^ literal_of rand t ^ "]"
+  | _ -> "0"
+
+(* The same program, agents and host events, run once with a trace (every
+   rule a step) and once without (the derived rule Dispatch where it may):
+   the same logs and errors in the same order, the same number of steps
+   (--max-steps stops at the same rule), the same properties and the same
+   configuration at the end. *)
+let same_without_trace (prog, seed) =
+  let text = Print.program prog in
+  let env, diags = Typing.check [ Parse.string ~file:"gen.jade" text ] in
+  if List.exists (fun d -> d.Diag.severity = Diag.Error) diags then
+    QCheck.Test.fail_reportf "the generated program does not check";
+  let rand = Random.State.make [| seed |] in
+  let percept_types = List.filter (fun (s : Typing.Tenv.schema) -> s.s_percept) (Typing.Tenv.schemas env) in
+  let params = match Typing.Tenv.agent_create env "Ag" with Some r -> r.r_params | None -> [] in
+  let args = List.map (fun (_, ty) -> Interp.Eval.literal_value env (Parse.expr ~file:"a" (literal_of rand ty))) params in
+  let host = List.init (1 + Random.State.int rand 30) (fun _ ->
+      match Random.State.int rand 6 with
+      | 0 -> `Run (1 + Random.State.int rand 3)
+      | 1 -> `Idle
+      | _ ->
+        let s = List.nth percept_types (Random.State.int rand (List.length percept_types)) in
+        let a = List.map (fun (_, ty) -> literal_of rand ty) s.s_slots in
+        let t = if a = [] then s.s_name else s.s_name ^ "(" ^ String.concat ", " a ^ ")" in
+        let (v, default) = Interp.Eval.percept_value env ~agent_type:"Ag" (Parse.expr ~file:"e" t) in
+        let agent = if Random.State.bool rand then "provider" else "Bob" in
+        `Notify (agent, v, default, if Random.State.int rand 4 = 0 then Some (Random.State.int rand 9) else None)) in
+  let max_steps = if seed mod 3 = 0 then 3_000 else 1 + Random.State.int rand 150 in
+  let variant = List.nth [ Mc.Reference; Mc.Budgeted; Mc.Reference ] (seed mod 3) in
+  let run traced =
+    let out = ref [] in
+    let file = Filename.temp_file "jsref_fast" ".jsonl" in
+    let oc = if traced then Some (open_out_bin file) else None in
+    let opts = { Interp.Runtime.params = { Mc.default_params with variant; budget = 2 }; seed = None;
+                 fuel = 500; max_steps; trace = oc;
+                 on_log = (fun a s -> out := Printf.sprintf "log %s: %s" a s :: !out);
+                 on_error = (fun _ at m -> out := Printf.sprintf "error %s %s" (Source.string_of_region at) m :: !out) } in
+    (* the generated bodies send to aid("Bob") and aid("provider"): two
+       agents of those names receive them, one its own messages *)
+    let rt = Interp.Runtime.create env opts [ ("provider", "Ag", args); ("Bob", "Ag", args) ] in
+    List.iter (function
+        | `Run k -> Interp.Runtime.run_rounds rt k
+        | `Idle -> Interp.Runtime.run_until_idle rt
+        | `Notify (agent, v, default, priority) ->
+          (match Interp.Runtime.notify rt ~agent v ~default ~priority with
+           | Ok () -> ()
+           | Error m -> out := ("refused " ^ m) :: !out)) host;
+    Interp.Runtime.run_until_idle rt;
+    let show_agent (ag : Interp.Runtime.P.agent) =
+    let c = ag.config in
+    let props = List.map (fun (pr : Typing.Tenv.property) ->
+        pr.p_name ^ "=" ^ (match Interp.Eval.property c.world pr.p_name with Some v -> V.to_literal v | None -> "?"))
+        (Typing.Tenv.agent_properties env "Ag") in
+    Printf.sprintf "%s: phase=%s o2a=%d pq=%d next_seq=%d dispatched=%d active=[%s] last=%s props=[%s]"
+        ag.name
+        (match c.phase with Mc.Transfer_phase -> "transfer" | Dispatch_phase -> "dispatch"
+                          | Handle_phase -> "handle" | Idle_phase -> "idle")
+        (Semantics.Fqueue.length c.o2a) (List.length (Semantics.Pqueue.to_sorted_list c.pq))
+        c.next_seq c.dispatched
+        (String.concat ";" (List.map (fun (a : Interp.Eval.beh Mc.instance) -> string_of_int a.id) c.active))
+        (Mc.action_name c.last) (String.concat ";" props) in
+    let state = Printf.sprintf "steps=%d %s" (Interp.Runtime.steps rt)
+        (String.concat " / " (Array.to_list (Array.map show_agent (Interp.Runtime.platform rt).agents))) in
+    Interp.Runtime.finish rt;
+    Option.iter close_out oc;
+    Sys.remove file;
+    (List.rev !out, state) in
+  let (o1, s1) = run true and (o2, s2) = run false in
+  if o1 <> o2 then
+    QCheck.Test.fail_reportf "logs and errors differ (max-steps %d):\ntraced: %s\nquiet:  %s\n%s"
+      max_steps (String.concat " | " o1) (String.concat " | " o2) text;
+  if s1 <> s2 then
+    QCheck.Test.fail_reportf "the end differs (max-steps %d):\ntraced: %s\nquiet:  %s\n%s" max_steps s1 s2 text;
+  true
+
+let () =
+  Alcotest.run "fastpath" [
+    ("events", [
+        Alcotest.test_case "quick path takes percept literals" `Quick quick_taken;
+        Alcotest.test_case "quick path leaves the rest to the full path" `Quick quick_refused;
+        Alcotest.test_case "to_line reads back as the same event" `Quick to_line_round_trip;
+        qcheck ~count:3000 "events: quick path = full path" arb_line quick_agrees ]);
+    ("trace", [
+        Alcotest.test_case "direct encoding = JSON tree, every event" `Quick every_event;
+        qcheck ~count:3000 "trace: direct encoding = JSON tree" (QCheck.make gen_trace_line) direct_equals_tree ]);
+    ("run", [
+        qcheck ~count:60 "run: the same without a trace"
+          (QCheck.pair Typed_gen.arb_program QCheck.small_nat) same_without_trace ]);
+  ]
