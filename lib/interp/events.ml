@@ -326,6 +326,7 @@ let to_line = function
                                     "performative", `String perf ])
   | Run k -> Yojson.Safe.to_string (`Assoc [ "run", `Int k ])
   | Run_idle -> Yojson.Safe.to_string (`Assoc [ "run", `String "idle" ])
+  | Run_rules k -> Yojson.Safe.to_string (`Assoc [ "run", `Assoc [ "rules", `Int k ] ])
 
 (* Every line of the file, one at a time, with its number. *)
 let fold_lines path f init =
