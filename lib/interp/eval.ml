@@ -722,6 +722,9 @@ let destroy_agent a =
 
 let rec literal_value env (e : Ast.expr) : V.t =
   match e.it with
+  | Lit (Ast.Int n) when n > 2147483647 || n < -2147483648 ->
+    (* D8: integers are 32-bit; the type checker says the same of a program *)
+    err e.at "integer literal %d is out of range: integer is 32-bit (-2147483648..2147483647)" n
   | Lit l -> literal l
   | Unop (Neg, x) -> (match literal_value env x with
       | V.Int i -> V.int32 (- i) | V.Double d -> V.Double (-. d) | V.Float d -> V.Float (-. d)

@@ -207,7 +207,9 @@ let events_values () =
              {\"agent\": \"s\", \"notify\": \"spin(1)\", \"priority\": 2147483648}\n\
              {\"agent\": \"s\", \"notify\": \"spin(1)\", \"priority\": 2147483647}\n\
              {\"agent\": \"s\", \"message\": \"spin(1)\", \"performative\": \"inform_if\"}\n\
-             {\"agent\": \"s\", \"notify\": \"spin(1)\", \"priority\": 2.5}\n" in
+             {\"agent\": \"s\", \"notify\": \"spin(1)\", \"priority\": 2.5}\n\
+             {\"agent\": \"s\", \"notify\": \"spin(4611686018427387903)\"}\n\
+             {\"agent\":\"s\",\"notify\":\"spin(-2147483649)\"}\n" in
   with_file "jsref_badev.jsonl" bad (fun ev ->
       let (status, out, err) = run (Printf.sprintf "%s --agent s:Spinner --events %s" spinner ev) in
       Alcotest.(check int) "exit 1" 1 status;
@@ -218,7 +220,11 @@ let events_values () =
           ev ^ ":2:38: error: \"performative\" is one of the FIPA performatives the language knows: "
           ^ String.concat ", " Typing.performatives;
           ev ^ ":3:37: " ^ range; ev ^ ":4:37: " ^ range;
-          ev ^ ":7:37: error: \"priority\" is a natural number (R2a)" ]
+          ev ^ ":7:37: error: \"priority\" is a natural number (R2a)";
+          (* D8: an integer literal of an events file is 32-bit, as in a
+             program; the second line takes the quick reader's path *)
+          ev ^ ":8:6: error: integer literal 4611686018427387903 is out of range: integer is 32-bit (-2147483648..2147483647)";
+          ev ^ ":9:7: error: integer literal 2147483649 is out of range: integer is 32-bit (-2147483648..2147483647)" ]
         (lines err))
 
 (* Texts are UTF-8: a byte that is not is a located syntax error in a
