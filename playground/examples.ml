@@ -7,6 +7,8 @@ type t = {
   o2a_capacity : int option;
   fuel : int option;
   seed : int option;
+  variant : string option;
+  max_steps : int option;
   events : string list;
 }
 
@@ -27,6 +29,8 @@ let of_vector (name, fs) =
     | "--o2a-capacity" :: n :: rest -> go { acc with o2a_capacity = int_of_string_opt n } rest
     | "--fuel" :: n :: rest -> go { acc with fuel = int_of_string_opt n } rest
     | "--seed" :: n :: rest -> go { acc with seed = int_of_string_opt n } rest
+    | "--variant" :: v :: rest -> go { acc with variant = Some v } rest
+    | "--max-steps" :: n :: rest -> go { acc with max_steps = int_of_string_opt n } rest
     | _ :: rest -> go acc rest
     | [] -> acc in
   let rulings = match field "rulings" with
@@ -36,7 +40,7 @@ let of_vector (name, fs) =
        title = Printf.sprintf "%s (%s)" name (String.concat ", " rulings);
        about = (match field "about" with Some (`String s) -> s | _ -> "");
        files = List.filter (fun (f, _) -> Filename.check_suffix f ".jade") fs;
-       agents = []; o2a_capacity = None; fuel = None; seed = None;
+       agents = []; o2a_capacity = None; fuel = None; seed = None; variant = None; max_steps = None;
        events = event_lines (try List.assoc "events.jsonl" fs with Not_found -> "") } args
 
 let robome = {
@@ -45,7 +49,7 @@ let robome = {
            qrCodeRead 4, position 2) and one cyclic behaviour whose handlers drive the robot. \
            The events are a short drive: notify them one by one, or step through them.";
   files = [ "robome.jade", file "examples/robome/robome.jade" ];
-  agents = [ "r:RoboMe:@robome" ]; o2a_capacity = None; fuel = None; seed = None;
+  agents = [ "r:RoboMe:@robome" ]; o2a_capacity = None; fuel = None; seed = None; variant = None; max_steps = None;
   events = [ {|{"agent": "r", "notify": "position(0, 1)"}|};
              {|{"agent": "r", "notify": "qrCodeRead(\"A7\")"}|};
              {|{"agent": "r", "notify": "obstacle"}|};
@@ -65,7 +69,7 @@ let shapes =
         | Some v -> List.sort (fun (a, _) (b, _) -> compare (a = "provider.jade") (b = "provider.jade")) v.files
         | None -> [ "shapes_corrected.jade", file "examples/typing/shapes_corrected.jade" ]);
     agents = (match v with Some v -> v.agents | None -> []);
-    o2a_capacity = None; fuel = None; seed = None; events = [] }
+    o2a_capacity = None; fuel = None; seed = None; variant = None; max_steps = None; events = [] }
 
 let all = robome :: shapes :: vectors
 
@@ -77,4 +81,6 @@ let to_json x =
            "files", `List (List.map (fun (n, t) -> `Assoc [ "name", `String n; "text", `String t ]) x.files);
            "agents", `List (List.map (fun a -> `String a) x.agents);
            "o2a_capacity", opt x.o2a_capacity; "fuel", opt x.fuel; "seed", opt x.seed;
+           "variant", (match x.variant with Some v -> `String v | None -> `Null);
+           "max_steps", opt x.max_steps;
            "events", `List (List.map (fun e -> `String e) x.events) ]

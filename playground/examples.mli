@@ -11,6 +11,8 @@ type t = {
   o2a_capacity : int option;
   fuel : int option;
   seed : int option;
+  variant : string option;          (** the agent loop, when the vector fixes it (072, 074) *)
+  max_steps : int option;           (** the step limit, when the vector gives one *)
   events : string list;             (** the host's events, JSON lines as in an
                                         events file (comments dropped) *)
 }
@@ -22,4 +24,4 @@ val find : string -> t option
 
 val to_json : t -> Yojson.Safe.t
 (** [{"id", "title", "about", "files": [{"name", "text"}], "agents",
-    "o2a_capacity", "fuel", "seed", "events"}]. *)
+    "o2a_capacity", "fuel", "seed", "variant", "max_steps", "events"}]. *)

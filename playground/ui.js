@@ -132,6 +132,7 @@
       budget: Math.max(1, num($("budget").value) || 1),
       o2a_capacity: num($("capacity").value), seed: num($("seed").value),
       fuel: S.example && S.example.fuel ? S.example.fuel : null,
+      max_steps: S.example && S.example.max_steps ? S.example.max_steps : null,
     };
   }
 

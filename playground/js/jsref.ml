@@ -37,6 +37,7 @@ let setup_of j =
     o2a_capacity = int_member "o2a_capacity" j;
     seed = int_member "seed" j;
     fuel = Option.value (int_member "fuel" j) ~default:100_000;
+    max_steps = Option.value (int_member "max_steps" j) ~default:1_000_000;
   }
 
 let with_session f = match !session with
