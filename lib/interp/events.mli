@@ -25,3 +25,20 @@ val iter :
 (** Hands each event of the file over in order, as it is read. A line that
     is bad now (the file changed since {!check}) is reported and ends the
     reading: [false]. *)
+
+(** {1 Writing} *)
+
+(** A host action as it is written in an events file: percepts, objects and
+    contents as Jadescript text (what generators of test inputs produce; the
+    fuzz campaign, fuzz/, writes its events files with {!to_line}). *)
+type source =
+  | Notify_text of { agent : string; percept : string; priority : int option }
+      (** [{"agent": A, "notify": P}], with ["priority"] when overridden (R2a) *)
+  | Put_text of { agent : string; obj : string }              (** [{"agent": A, "put": O}] *)
+  | Message_text of { agent : string; perf : string option; content : string }
+      (** [{"agent": A, "message": C, "performative": F}]; [None]: [inform] *)
+  | Run_rounds of int                                          (** [{"run": K}] *)
+  | Run_until_idle                                             (** [{"run": "idle"}] *)
+
+val to_line : source -> string
+(** One line of an events file, without its newline. *)

@@ -41,3 +41,25 @@ val mutate : Syntax.Ast.program -> mutation QCheck.Gen.t
 val arb_mutated : (Syntax.Ast.program * mutation) QCheck.arbitrary
 
 val mutation_names : string list
+
+(** {1 Programs that hit the limits}
+
+    Small well-typed programs whose percept handler (for [tick(n)], a
+    percept of priority 3, handled by the cyclic behaviour [Work] of agent
+    [Ag]) drives the interpreter to one of its limits: a recursion without
+    end, a long mutual recursion, a long loop or loops nested three deep, a
+    text, map or list that doubles or grows each iteration, hundreds of
+    activations in one handler, an expression nested thousands deep, or
+    simply many percepts. A run must end each of them with a located
+    exhaustion error (R7, D18) or normally, never with a crash, a signal
+    or an exhausted machine. *)
+
+type limit = {
+  kind : string;   (** one of {!limit_kinds} *)
+  size : int;      (** iterations, depth or growth steps *)
+  text : string;   (** the program, Jadescript source *)
+}
+
+val limit_kinds : string list
+
+val limit : limit QCheck.Gen.t

@@ -1,0 +1,24 @@
+/* setrlimit(2) for the fuzz driver's children (fuzz/fuzz.ml): a child that
+   runs risky inputs gets a bound on its data size and CPU time, so that
+   a runaway input ends as a recorded crash instead of exhausting the
+   machine. OCaml's Unix library has no setrlimit. */
+#include <sys/resource.h>
+#include <caml/mlvalues.h>
+#include <caml/memory.h>
+
+/* fuzz_setrlimit(kind, value): kind 0 = RLIMIT_DATA (bytes: the heap and private mappings; unlike RLIMIT_AS it lets a JVM reserve its address space), 1 = RLIMIT_CPU
+   (seconds), 2 = RLIMIT_CORE (bytes). Returns true on success. */
+value fuzz_setrlimit(value kind, value v)
+{
+  CAMLparam2(kind, v);
+  int res;
+  struct rlimit rl;
+  switch (Int_val(kind)) {
+  case 0: res = RLIMIT_DATA; break;
+  case 1: res = RLIMIT_CPU; break;
+  default: res = RLIMIT_CORE; break;
+  }
+  rl.rlim_cur = (rlim_t) Long_val(v);
+  rl.rlim_max = (rlim_t) Long_val(v);
+  CAMLreturn(Val_bool(setrlimit(res, &rl) == 0));
+}
