@@ -221,8 +221,12 @@ let campaign ~seed ~jobs ~deadline ~sample (plan : (I.target * int * int) list) 
 (* -------------------------------------------------------- regressions *)
 
 (* A regression case is a folder: [command] (the arguments of jadescript-ref,
-   one per line, paths relative to the folder) and [expect] (["status N"],
-   then fragments standard error must contain, one per line). *)
+   one per line, paths relative to the folder) and [expect]: a line
+   ["status N"] or ["status N|M"] (the exit statuses allowed), lines
+   ["trace FILE"] (a trace the run writes: if it exists, it must be valid
+   UTF-8 and JSON, line by line, and read by lib/trace), and fragments that
+   standard error must contain, one per line. Lines starting with # are
+   comments. Files the run writes are removed afterwards. *)
 let regressions dir =
   let cases = try List.sort compare (Array.to_list (Sys.readdir dir)) with Sys_error _ -> [] in
   let cases = List.filter (fun c -> Sys.is_directory (Filename.concat dir c)) cases in
@@ -232,20 +236,32 @@ let regressions dir =
       let lines f = List.filter (fun l -> l <> "" && l.[0] <> '#')
           (String.split_on_char '\n' (try I.read_file (Filename.concat d f) with Sys_error _ -> "")) in
       let args = lines "command" in
-      let (status, fragments) = match lines "expect" with
-        | s :: rest -> (int_of_string (List.nth (String.split_on_char ' ' s) 1), rest)
-        | [] -> (0, []) in
+      let expect = lines "expect" in
+      let word w l = String.length l > String.length w && String.sub l 0 (String.length w + 1) = w ^ " " in
+      let rest w l = String.sub l (String.length w + 1) (String.length l - String.length w - 1) in
+      let statuses = List.concat_map (fun l -> if word "status" l then
+                                         List.filter_map int_of_string_opt (String.split_on_char '|' (rest "status" l))
+                                       else []) expect in
+      let statuses = if statuses = [] then [ 0 ] else statuses in
+      let traces = List.filter_map (fun l -> if word "trace" l then Some (Filename.concat d (rest "trace" l)) else None) expect in
+      let fragments = List.filter (fun l -> not (word "status" l || word "trace" l)) expect in
       let argv = [| "/bin/sh"; "-c"; "cd " ^ Filename.quote d ^ " && exec " ^ Filename.quote exe ^ " "
                                         ^ String.concat " " (List.map Filename.quote args) |] in
-      let (st, _, err) = I.run_command ~timeout:30.0 argv in
+      let (st, _, err) = I.run_command ~timeout:20.0 argv in
       let verdict =
         match I.judge_process ~status:st ~stderr:err () with
         | I.Finding { kind; message } -> Error (kind ^ ": " ^ message)
         | I.Pass ->
-          if st <> Unix.WEXITED status then Error (Printf.sprintf "expected status %d" status)
+          if not (List.exists (fun k -> st = Unix.WEXITED k) statuses) then
+            Error (Printf.sprintf "expected status %s; stderr: %s"
+                     (String.concat " or " (List.map string_of_int statuses)) (String.trim err))
           else match List.find_opt (fun f -> not (I.contains err f)) fragments with
-            | Some f -> Error (Printf.sprintf "standard error lacks %S" f)
-            | None -> Ok () in
+            | Some f -> Error (Printf.sprintf "standard error lacks %S: %s" f (String.trim err))
+            | None ->
+              match List.find_map (fun t -> if Sys.file_exists t then I.trace_problem t else None) traces with
+              | Some m -> Error m
+              | None -> Ok () in
+      List.iter (fun t -> try Sys.remove t with Sys_error _ -> ()) traces;
       (c, verdict)) cases
 
 (* --------------------------------------------------------------- main *)

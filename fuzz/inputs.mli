@@ -71,3 +71,7 @@ val contains : string -> string -> bool
 
 val read_file : string -> string
 (** @raise Sys_error *)
+
+val trace_problem : string -> string option
+(** What is wrong with a trace file: not valid UTF-8, a line that is not
+    JSON, no header, or a line the trace reader (lib/trace) rejects. *)

@@ -44,7 +44,7 @@ let rec literal rs env (t : T.t) =
   | T.List a -> "[" ^ String.concat ", " (List.init (int rs 3) (fun _ -> literal rs env a)) ^ "]"
   | T.Map (k, v) ->
     (* an empty map literal needs its type from elsewhere: give one entry *)
-    "[" ^ String.concat ", " (List.init (1 + int rs 2) (fun _ -> literal rs env k ^ ": " ^ literal rs env v)) ^ "]"
+    "{" ^ String.concat ", " (List.init (1 + int rs 2) (fun _ -> literal rs env k ^ ": " ^ literal rs env v)) ^ "}"
   | T.Schema s ->
     (match List.find_opt (fun (sc : Tenv.schema) -> sc.s_name = s) (Tenv.schemas env) with
      | Some sc -> constructor rs env sc

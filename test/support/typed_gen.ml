@@ -548,8 +548,8 @@ type limit = { kind : string; size : int; text : string }
    percept [tick(n)]: the handler of a cyclic behaviour does the costly
    thing [size] times (or [n] times, n from the events file). *)
 let limit_kinds = [
-  "recursion"; "mutual recursion"; "long loop"; "growing text"; "growing map"; "growing list";
-  "activations"; "deep expression"; "nested loops"; "many percepts"
+  "recursion"; "mutual recursion"; "long loop"; "growing text"; "deep parentheses"; "growing map"; "growing map of texts";
+  "activations"; "deep expression"; "nested loops"; "many percepts"; "raw bytes"
 ]
 
 let limit_body kind size =
@@ -568,20 +568,27 @@ let limit_body kind size =
     ("", i ^ "s = \"ab\"\n" ^ i ^ "k = 0\n" ^ i ^ "while k < " ^ string_of_int size ^ " do\n"
          ^ i ^ "\ts = s + s\n" ^ i ^ "\tk = k + 1\n" ^ i ^ "log \"len \" + length of s\n")
   | "growing map" ->
-    ("", i ^ "m = [0: \"zero\"]\n" ^ i ^ "k = 0\n" ^ i ^ "while k < " ^ string_of_int size ^ " do\n"
+    ("", i ^ "m = {0: \"zero\"}\n" ^ i ^ "k = 0\n" ^ i ^ "while k < " ^ string_of_int size ^ " do\n"
          ^ i ^ "\tm[k] = \"v\" + k\n" ^ i ^ "\tk = k + 1\n" ^ i ^ "log \"size \" + size of m\n")
-  | "growing list" ->
-    ("", i ^ "l = [[1, 2]]\n" ^ i ^ "k = 0\n" ^ i ^ "while k < " ^ string_of_int size ^ " do\n"
-         ^ i ^ "\tl = [l[0], l[0]]\n" ^ i ^ "\tk = k + 1\n" ^ i ^ "log \"size \" + size of l\n")
+  | "growing map of texts" ->
+    (* every entry a longer text: memory grows as the square of the size *)
+    ("", i ^ "m = {0: \"\"}\n" ^ i ^ "s = \"\"\n" ^ i ^ "k = 0\n" ^ i ^ "while k < " ^ string_of_int size ^ " do\n"
+         ^ i ^ "\ts = s + \"xy\"\n" ^ i ^ "\tm[k] = s\n" ^ i ^ "\tk = k + 1\n" ^ i ^ "log \"size \" + size of m\n")
   | "activations" ->
     ("", i ^ "k = 0\n" ^ i ^ "while k < " ^ string_of_int size ^ " do\n"
          ^ i ^ "\tactivate behaviour Idle\n" ^ i ^ "\tk = k + 1\n")
   | "deep expression" ->
+    ("", i ^ "log " ^ String.concat " + " (List.init size (fun _ -> "n")) ^ "\n")
+  | "deep parentheses" ->
+    (* within the parser's bound of 200 nested brackets *)
     ("", i ^ "log " ^ String.concat "" (List.init size (fun _ -> "(1 + ")) ^ "n" ^ String.make size ')' ^ "\n")
   | "nested loops" ->
     ("", i ^ "a = 0\n" ^ i ^ "for x in [1, 2, 3, 4, 5, 6, 7, 8, 9, 10] do\n" ^ i ^ "\tfor y in [1, 2, 3, 4, 5, 6, 7, 8, 9, 10] do\n"
          ^ i ^ "\t\tk = 0\n" ^ i ^ "\t\twhile k < " ^ string_of_int size ^ " do\n" ^ i ^ "\t\t\tk = k + 1\n"
          ^ i ^ "\t\t\ta = a + x * y\n" ^ i ^ "log \"a \" + a\n")
+  | "raw bytes" ->
+    (* invalid UTF-8 and control bytes inside a text literal *)
+    ("", i ^ "log \"caf\xff \x01\xc3 \xed\xa0\x80 end\" + n\n")
   | _ (* many percepts *) ->
     ("", i ^ "log \"tick \" + n\n")
 
@@ -593,9 +600,10 @@ let limit rs =
     | "long loop" -> pick rs [ 1_000; 100_000; 10_000_000 ]
     | "growing text" -> pick rs [ 5; 20; 26; 40; 64 ]
     | "growing map" -> pick rs [ 100; 10_000; 1_000_000 ]
-    | "growing list" -> pick rs [ 5; 20; 30; 64 ]
-    | "activations" -> pick rs [ 10; 100; 500 ]
-    | "deep expression" -> pick rs [ 10; 500; 5_000 ]
+    | "growing map of texts" -> pick rs [ 100; 10_000; 100_000 ]
+    | "activations" -> if chance rs 0.05 then 8_000 else pick rs [ 10; 100; 500 ]
+    | "deep expression" -> pick rs [ 10; 500; 5_000; 50_000 ]
+    | "deep parentheses" -> pick rs [ 10; 100; 190 ]
     | "nested loops" -> pick rs [ 10; 1_000; 100_000 ]
     | _ -> 0 in
   let (routines, body) = limit_body kind size in
