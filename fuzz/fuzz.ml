@@ -16,8 +16,6 @@
 
 module I = Inputs
 
-external setrlimit : int -> int -> bool = "fuzz_setrlimit"
-
 type stats = {
   mutable inputs : int;
   mutable crashes : int;
@@ -73,8 +71,7 @@ let write_line fd s =
   go 0
 
 let child (t : I.target) ~seed ~from ~upto fd =
-  ignore (setrlimit 0 t.memory);
-  ignore (setrlimit 2 0);
+  I.bound_memory t.memory;
   (* nothing the inputs print reaches the campaign's output *)
   let nul = Unix.openfile "/dev/null" [ Unix.O_WRONLY ] 0 in
   Unix.dup2 nul Unix.stdout; Unix.dup2 nul Unix.stderr;
@@ -313,8 +310,8 @@ let () =
     let plan =
       if !sample then begin
         if !I.tlc_every = 200 then I.tlc_every := 150;
-        share "validate" 6 3 @ share "conform" 12 6 @ share "cli" 40 20 @ share "limits" 30 10
-        @ share "run" 300 100 @ share "check" 800 400 @ share "parse" 2000 1000
+        share "validate" 6 3 @ share "conform" 12 6 @ share "cli" 60 20 @ share "limits" 40 10
+        @ share "run" 500 100 @ share "check" 1200 400 @ share "parse" 3000 1000
       end else begin
         let v = scaled 120 and c = max 12 (scaled 48) and cl = scaled 3_000 and l = scaled 2_000
         and r = scaled 40_000 and ch = scaled 250_000 in

@@ -75,3 +75,8 @@ val read_file : string -> string
 val trace_problem : string -> string option
 (** What is wrong with a trace file: not valid UTF-8, a line that is not
     JSON, no header, or a line the trace reader (lib/trace) rejects. *)
+
+val bound_memory : int -> unit
+(** Bounds this process's data (heap) to so many bytes (a soft limit,
+    lifted while TLC runs) and disables core dumps: for the children that
+    run the inputs. *)

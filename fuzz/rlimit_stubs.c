@@ -7,7 +7,8 @@
 #include <caml/memory.h>
 
 /* fuzz_setrlimit(kind, value): kind 0 = RLIMIT_DATA (bytes: the heap and private mappings; unlike RLIMIT_AS it lets a JVM reserve its address space), 1 = RLIMIT_CPU
-   (seconds), 2 = RLIMIT_CORE (bytes). Returns true on success. */
+   (seconds), 2 = RLIMIT_CORE (bytes); the value -1 lifts the soft limit to the
+   hard one. Returns true on success. */
 value fuzz_setrlimit(value kind, value v)
 {
   CAMLparam2(kind, v);
@@ -18,7 +19,10 @@ value fuzz_setrlimit(value kind, value v)
   case 1: res = RLIMIT_CPU; break;
   default: res = RLIMIT_CORE; break;
   }
-  rl.rlim_cur = (rlim_t) Long_val(v);
-  rl.rlim_max = (rlim_t) Long_val(v);
+  /* the soft limit only: the child may lift it again (-1: no limit) for a
+     subprocess that needs more, such as TLC's JVM */
+  if (getrlimit(res, &rl) != 0) CAMLreturn(Val_false);
+  rl.rlim_cur = Long_val(v) < 0 ? rl.rlim_max : (rlim_t) Long_val(v);
+  if (rl.rlim_max != RLIM_INFINITY && rl.rlim_cur > rl.rlim_max) rl.rlim_cur = rl.rlim_max;
   CAMLreturn(Val_bool(setrlimit(res, &rl) == 0));
 }
