@@ -244,7 +244,7 @@ let regressions dir =
       let fragments = List.filter (fun l -> not (word "status" l || word "trace" l)) expect in
       let argv = [| "/bin/sh"; "-c"; "cd " ^ Filename.quote d ^ " && exec " ^ Filename.quote exe ^ " "
                                         ^ String.concat " " (List.map Filename.quote args) |] in
-      let (st, _, err) = I.run_command ~timeout:20.0 argv in
+      let (st, _, err) = I.run_command ~timeout:10.0 argv in
       let verdict =
         match I.judge_process ~status:st ~stderr:err () with
         | I.Finding { kind; message } -> Error (kind ^ ": " ^ message)
@@ -311,10 +311,10 @@ let () =
       if !sample then begin
         if !I.tlc_every = 200 then I.tlc_every := 150;
         share "validate" 6 3 @ share "conform" 12 6 @ share "cli" 60 20 @ share "limits" 40 10
-        @ share "run" 500 100 @ share "check" 1200 400 @ share "parse" 3000 1000
+        @ share "run" 400 100 @ share "check" 1000 500 @ share "parse" 2500 1250
       end else begin
-        let v = scaled 120 and c = max 12 (scaled 48) and cl = scaled 3_000 and l = scaled 2_000
-        and r = scaled 40_000 and ch = scaled 250_000 in
+        let v = scaled 100 and c = max 12 (scaled 48) and cl = scaled 3_000 and l = scaled 1_000
+        and r = scaled 20_000 and ch = scaled 340_000 in
         let p = max 1 (n - v - c - cl - l - r - ch) in
         share "validate" v 4 @ share "conform" c 6 @ share "cli" cl 50 @ share "limits" l 10
         @ share "run" r 200 @ share "check" ch 1000 @ share "parse" p 4000

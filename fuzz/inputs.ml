@@ -548,6 +548,7 @@ let cli_target ~keep ~seed index =
       and tr = Filename.concat d "trace.jsonl" in
       let agents = List.concat_map (fun a -> [ "--agent"; a ]) (EG.agent_args sc) in
       let kind = index mod 4 in
+      let what = ref "" in
       let (argv, expect_error, trace) = match kind with
         | 0 ->
           (* a good program and events, through the command line *)
@@ -565,6 +566,7 @@ let cli_target ~keep ~seed index =
           write_file pj text;
           let lines = List.map Ev.to_line sc.events in
           let (bad, refuse) = pick rs bad_event_lines in
+          what := " (events line " ^ String.escaped bad ^ ")";
           let k = int rs (List.length lines + 1) in
           let lines = List.filteri (fun i _ -> i < k) lines @ [ bad ] @ List.filteri (fun i _ -> i >= k) lines in
           write_file ev (String.concat "\n" lines ^ "\n");
@@ -573,6 +575,7 @@ let cli_target ~keep ~seed index =
           (* a bad value on the command line *)
           write_file pj text; write_file ev (EG.events_file sc);
           let bad = pick rs bad_cli_args in
+          what := " (" ^ String.concat " " bad ^ ")";
           let events = if List.exists (starts_with "--events") bad then [] else [ "--events"; ev ] in
           let steps = if List.exists (starts_with "--max-steps") bad then [] else [ "--max-steps"; "2000" ] in
           ([ exe; "run"; pj; "--agent"; List.hd (EG.agent_args sc) ] @ bad @ steps @ events, true, false) in
@@ -580,7 +583,7 @@ let cli_target ~keep ~seed index =
       let (status, _, err) = run_command ~timeout:20.0 ~memory:2_000_000_000 (Array.of_list argv) in
       (match judge_process ~expect_error ~status ~stderr:err () with
        | Pass -> ()
-       | Finding f -> raise (Found (Finding { f with message = List.nth argv 1 ^ " " ^ f.message })));
+       | Finding f -> raise (Found (Finding { f with message = List.nth argv 1 ^ !what ^ ": " ^ f.message })));
       if trace && (kind = 0 || Sys.file_exists tr) then begin
         (match status with
          | Unix.WEXITED (0 | 1) -> judge_trace ~agents:(List.map (fun (n, _, _) -> n) sc.agents) tr
