@@ -345,7 +345,7 @@ let check_target ~keep ~seed index =
 
 (* --------------------------------------------------------------- run *)
 
-let tlc_every = ref 200
+let tlc_every = ref 2000
 
 let program_env ~file text =
   match Parse.string ~file text with
@@ -690,8 +690,8 @@ let guard f ~keep ~seed index =
 let gb = 1_000_000_000
 
 let targets = [
-  { name = "parse"; limit = 20.0; memory = 2 * gb; run = guard parse_target };
-  { name = "check"; limit = 20.0; memory = 2 * gb; run = guard check_target };
+  { name = "parse"; limit = 60.0; memory = 2 * gb; run = guard parse_target };
+  { name = "check"; limit = 60.0; memory = 2 * gb; run = guard check_target };
   { name = "run"; limit = 30.0; memory = 2 * gb; run = guard run_target };
   { name = "limits"; limit = 20.0; memory = 2 * gb; run = guard limits_target };
   { name = "cli"; limit = 60.0; memory = 3 * gb; run = guard cli_target };

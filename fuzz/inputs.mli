@@ -47,7 +47,8 @@ val jsref : unit -> string
     else [bin/main.exe] of the build folder fuzz.exe is in. *)
 
 val tlc_every : int ref
-(** The [run] target sends one trace in this many to TLC (default 200). *)
+(** The [run] target sends one trace in this many to TLC (default 2000; the
+    short sample: 150). *)
 
 val valid_utf8 : string -> bool
 
