@@ -101,7 +101,9 @@ type running = {
 }
 
 let spawn (t : I.target) ~seed ~from ~upto =
-  let (r, w) = Unix.pipe () in
+  (* close-on-exec: the processes an input starts (TLC, a subprocess) must
+     not hold the pipe open after the child ends *)
+  let (r, w) = Unix.pipe ~cloexec:true () in
   flush stdout; flush stderr;
   match Unix.fork () with
   | 0 -> Unix.close r; (try child t ~seed ~from ~upto w with _ -> Unix._exit 2)

@@ -7,8 +7,8 @@ module Ev = Interp.Events
 module Rt = Interp.Runtime
 module Mc = Semantics.Machine
 
-(* STAND-IN, DELETE AT MERGE (with fuzz/tamper_standin.ml): then the
-   campaign uses Test_support.Tamper. *)
+(* STAND-IN: AT MERGE, delete fuzz/tamper_standin.ml and make this line
+   [module Tamper = Test_support.Tamper]. *)
 module Tamper = Tamper_standin
 
 type outcome = Pass | Finding of { kind : string; message : string }

@@ -2,8 +2,8 @@
    test/support/tamper.ml (another branch of issue 15), with exactly this
    interface; this file is a minimal copy so that the fuzz campaign's
    validate target builds on its own branch. At merge: delete this file
-   and the line [module Tamper = Tamper_standin] in fuzz/fuzz.ml (then
-   Test_support.Tamper is used). The JSON here is edited through Yojson,
+   and change the line [module Tamper = Tamper_standin] of fuzz/inputs.ml
+   to [module Tamper = Test_support.Tamper]. The JSON here is edited through Yojson,
    not with string literals of the format. *)
 
 type t = { name : string;
