@@ -153,7 +153,7 @@ let campaign ~seed ~jobs ~deadline ~sample (plan : (I.target * int * int) list) 
       while !k < n do Queue.add (t, !k, min n (!k + chunk)) queue; k := !k + chunk done) plan;
   (* interleave: the slow targets first, so that they overlap the others *)
   let chunks = List.of_seq (Queue.to_seq queue) in
-  let weight (t : I.target) = match t.name with "validate" | "conform" -> 0 | "cli" | "limits" -> 1 | _ -> 2 in
+  let weight (t : I.target) = match t.name with "validate" | "conform" | "engine" -> 0 | "cli" | "limits" -> 1 | _ -> 2 in
   let chunks = List.stable_sort (fun (a, _, _) (b, _, _) -> compare (weight a) (weight b)) chunks in
   let pending = ref chunks and running = ref [] in
   let t0 = Unix.gettimeofday () in
@@ -312,13 +312,13 @@ let () =
     let plan =
       if !sample then begin
         if !I.tlc_every = 2000 then I.tlc_every := 150;
-        share "validate" 6 3 @ share "conform" 12 6 @ share "cli" 60 20 @ share "limits" 40 10
+        share "validate" 6 3 @ share "conform" 12 6 @ share "engine" 10 5 @ share "cli" 60 20 @ share "limits" 40 10
         @ share "run" 400 100 @ share "check" 1000 500 @ share "parse" 2500 1250
       end else begin
         let v = scaled 30 and c = max 12 (scaled 24) and cl = scaled 3_000 and l = scaled 1_000
         and r = scaled 20_000 and ch = scaled 340_000 in
-        let p = max 1 (n - v - c - cl - l - r - ch) in
-        share "validate" v 3 @ share "conform" c 6 @ share "cli" cl 50 @ share "limits" l 10
+        let p = max 1 (n - v - c - scaled 500 - cl - l - r - ch) in
+        share "validate" v 3 @ share "conform" c 6 @ share "engine" (scaled 500) 25 @ share "cli" cl 50 @ share "limits" l 10
         @ share "run" r 200 @ share "check" ch 1000 @ share "parse" p 4000
       end in
     Printf.printf "fuzz: seed %d, %d jobs, %s\n%!" !seed !jobs

@@ -677,6 +677,32 @@ let conform_target ~keep ~seed index =
       | _ -> ());
   Pass
 
+(* ------------------------------------------------------------ engine *)
+
+(* The fast engine (lib/engine) against the reference machine on generated
+   programs: the property "engine (step, Dispatch) = reference steps" of
+   test/interp (60 programs of Typed_gen, each with random notifies, run
+   both ways; labels, body events, configurations and properties must be
+   equal), run with a seed of this input's own. *)
+let engine_target ~keep ~seed index =
+  let exe = Filename.concat (Filename.dirname (Filename.dirname (jsref ()))) "test/interp/test_interp.exe" in
+  if not (Sys.file_exists exe) then fail "setup" "%s is not built" exe;
+  let qseed = (seed * 1_000_003 + index) land 0x3FFFFFFF in
+  if keep <> None then Printf.printf "QCHECK_SEED=%d %s test derived 0\n" qseed exe;
+  let (status, out, err) = in_dir None (fun d ->
+      run_command ~timeout:120.0
+        [| "/usr/bin/env"; Printf.sprintf "QCHECK_SEED=%d" qseed; exe; "test"; "derived"; "0"; "--color=never";
+           "-o"; d |]) in
+  (match status with
+   | Unix.WEXITED 0 -> ()
+   | Unix.WSIGNALED s when s = Sys.sigkill -> fail "hang" "the engine comparison ran past 120 s (QCHECK_SEED=%d)" qseed
+   | _ ->
+     let lines = lines_of (out ^ "\n" ^ err) in
+     let interesting = List.filter (fun l -> contains l "differ" || contains l "exception" || contains l "FAIL") lines in
+     fail "engine differs" "QCHECK_SEED=%d: %s" qseed
+       (String.concat " | " (List.filteri (fun i _ -> i < 3) (if interesting = [] then lines else interesting))));
+  Pass
+
 (* ----------------------------------------------------------- targets *)
 
 let guard f ~keep ~seed index =
@@ -695,6 +721,7 @@ let targets = [
   { name = "run"; limit = 30.0; memory = 2 * gb; run = guard run_target };
   { name = "limits"; limit = 20.0; memory = 2 * gb; run = guard limits_target };
   { name = "cli"; limit = 60.0; memory = 3 * gb; run = guard cli_target };
+  { name = "engine"; limit = 180.0; memory = 3 * gb; run = guard engine_target };
   { name = "validate"; limit = 180.0; memory = 3 * gb; run = guard validate_target };
   { name = "conform"; limit = 120.0; memory = 3 * gb; run = guard conform_target };
 ]
