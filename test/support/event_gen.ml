@@ -21,10 +21,20 @@ let int rs n = Random.State.int rs n
 let chance rs p = Random.State.float rs 1.0 < p
 let pick rs l = List.nth l (int rs (List.length l))
 
+(* The performatives of Jadescript (lib/syntax/parser.mly), each with the
+   kinds of content it carries (the rule Performative of lib/typing/check.ml). *)
+let actions = [ "cancel"; "cfp"; "request"; "request_when"; "request_whenever" ]
+let any_kind = [ "inform_ref"; "propagate"; "proxy"; "query_ref"; "subscribe" ]
 let performatives =
-  [ "inform"; "request"; "agree"; "refuse"; "failure"; "query-if"; "query-ref"; "propose";
-    "accept-proposal"; "reject-proposal"; "cfp"; "confirm"; "disconfirm"; "not-understood";
-    "subscribe"; "cancel"; "inform-if"; "inform-ref"; "call-for-proposal" ]
+  [ "accept_proposal"; "agree"; "cancel"; "cfp"; "confirm"; "disconfirm"; "failure"; "inform";
+    "inform_if"; "inform_ref"; "not_understood"; "propagate"; "propose"; "proxy"; "query_if";
+    "query_ref"; "refuse"; "reject_proposal"; "request"; "request_when"; "request_whenever";
+    "subscribe" ]
+
+let carries perf (sc : Tenv.schema) =
+  if List.mem perf actions then sc.s_kind = Syntax.Ast.Action
+  else if List.mem perf any_kind then true
+  else sc.s_kind = Syntax.Ast.Predicate || sc.s_kind = Syntax.Ast.Proposition
 
 (* Texts with quotes, escapes, non-ASCII (valid UTF-8) and the empty one. *)
 let texts = [ "A7"; ""; "left"; "with \\\"quotes\\\""; "tab\\there"; "caf\xc3\xa9"; "\xe2\x86\x92 east";
@@ -82,11 +92,13 @@ let scenario env ~agent_type rs =
         | 2 -> literal rs env (T.List T.Text)
         | _ -> literal rs env (pick rs [ T.Integer; T.Text; T.Double; T.Boolean ]) in
       Ev.Put_text { agent = agent (); obj }
-    | k when k < 15 ->
-      let content = if contents <> [] && chance rs 0.85 then constructor rs env (pick rs contents)
-        else literal rs env T.Text in
+    | k when k < 15 && contents <> [] ->
+      (* a content of a kind the performative carries *)
       let perf = if chance rs 0.2 then None else Some (pick rs performatives) in
-      Ev.Message_text { agent = agent (); perf; content }
+      let fits = List.filter (carries (Option.value perf ~default:"inform")) contents in
+      let (perf, fits) = if fits = [] then (None, List.filter (carries "inform") contents) else (perf, fits) in
+      if fits = [] then Ev.Run_rounds 1
+      else Ev.Message_text { agent = agent (); perf; content = constructor rs env (pick rs fits) }
     | k when k < 19 -> Ev.Run_rounds (pick rs [ 0; 1; 1; 2; 3; 10 ])
     | _ -> Ev.Run_until_idle in
   let events = List.init (int rs 25) (fun _ -> event ()) in

@@ -7,9 +7,10 @@
     the program's percept types (subtypes included) with literals of the
     slots' types (integers where a [double] is expected: widening, R1c),
     sometimes with a priority override (R2a: 0 included); a put carries a
-    literal of any kind (R2c); a message from the host has one of the FIPA
-    performatives, its content a predicate, proposition or action of the
-    program, or a text. Runs are rounds ([{"run": K}]) or until idle.
+    literal of any kind (R2c); a message from the host has one of the 22
+    performatives of Jadescript (or none: [inform]), its content a schema
+    value of a kind that performative carries (an action for [request],
+    [cfp], ...; a predicate or proposition for [inform], [agree], ...). Runs are rounds ([{"run": K}]) or until idle.
     Agents are one to three of ["g"], ["Bob"], ["provider"] (the names the
     programs of {!Typed_gen} send messages to), of the program's agent type;
     a parameter of type [any] gets the host object [@robome] or a literal.
@@ -32,7 +33,8 @@ type scenario = {
 }
 
 val performatives : string list
-(** The performatives the host's messages use (FIPA ACL's). *)
+(** The performatives of Jadescript (lib/syntax/parser.mly), which the
+    host's messages use. *)
 
 val literal : Random.State.t -> Typing.Tenv.t -> Typing.Types.t -> string
 (** A Jadescript literal of the type (schemas by their constructors, [aid]
