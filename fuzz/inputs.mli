@@ -79,5 +79,5 @@ val trace_problem : string -> string option
 
 val bound_memory : int -> unit
 (** Bounds this process's data (heap) to so many bytes (a soft limit,
-    lifted while TLC runs) and disables core dumps: for the children that
-    run the inputs. *)
+    lifted while TLC runs), disables core dumps, and has the process killed
+    when its parent dies: for the children that run the inputs. *)

@@ -26,3 +26,14 @@ value fuzz_setrlimit(value kind, value v)
   if (rl.rlim_max != RLIM_INFINITY && rl.rlim_cur > rl.rlim_max) rl.rlim_cur = rl.rlim_max;
   CAMLreturn(Val_bool(setrlimit(res, &rl) == 0));
 }
+
+#include <sys/prctl.h>
+#include <signal.h>
+
+/* fuzz_die_with_parent(): this process gets SIGKILL when its parent dies
+   (the driver stopped by ^C or a signal leaves no child running). */
+value fuzz_die_with_parent(value unit)
+{
+  CAMLparam1(unit);
+  CAMLreturn(Val_bool(prctl(PR_SET_PDEATHSIG, SIGKILL) == 0));
+}
