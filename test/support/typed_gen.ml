@@ -369,13 +369,18 @@ let program_rs rs =
                     body = block rs env ~loop:false 2 (1 + int rs 3)
                            @ [ph (Log (ph (Of (ph "priority", ph Content))))] }) in
   (* r1's handler changes the behaviours: it may activate another B (with
-     the hits so far) or C, and it may deactivate its own instance (R5g,
+     one hit more than its own) or C, and it may deactivate its own instance (R5g,
      R5h), so that runs create and remove instances as percepts arrive *)
   let r1_env = handler_env [] None false in
   let r1_effects =
+    (* bounded: each new B starts with more hits than its parent, and only
+       an instance with fewer than 3 hits activates one (else the
+       instances would double with every r1) *)
     (if chance rs 0.3 then
-       [ph (Activate (ph "B", List.map (fun (x, t) -> (ph x, if x = "b1" then name "hits" else expr rs r1_env t 0))
-                        b_params))]
+       [ph (If ([(bin Lt (name "hits") (ilit 3),
+                  [ph (Activate (ph "B", List.map (fun (x, t) ->
+                       (ph x, if x = "b1" then bin Add (name "hits") (ilit 1) else expr rs r1_env t 0))
+                       b_params))])], None))]
      else [])
     @ (if chance rs 0.3 then [ph (If ([(bin Gt (name "hits") (ilit (int rs 4)), [ph Deactivate])], None))]
        else []) in
