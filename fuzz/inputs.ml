@@ -576,7 +576,10 @@ let cli_target ~keep ~seed index =
         | _ ->
           (* a bad value on the command line *)
           write_file pj text; write_file ev (EG.events_file sc);
-          let bad = pick rs bad_cli_args in
+          (* a second agent named as the first, or "host", with the same arguments *)
+          let first = List.hd (EG.agent_args sc) in
+          let rest = String.sub first 1 (String.length first - 1) in   (* ":Ag..." after "g" *)
+          let bad = pick rs ([ [ "--agent=" ^ first ]; [ "--agent=host" ^ rest ] ] @ bad_cli_args) in
           what := " (" ^ String.concat " " bad ^ ")";
           let events = if List.exists (starts_with "--events") bad then [] else [ "--events"; ev ] in
           let steps = if List.exists (starts_with "--max-steps") bad then [] else [ "--max-steps"; "2000" ] in
