@@ -177,6 +177,7 @@ let campaign ~seed ~jobs ~deadline ~sample (plan : (I.target * int * int) list) 
               (* the child has ended *)
               Unix.close r.fd;
               let (_, st) = Unix.waitpid [] r.pid in
+              I.remove_leftovers r.pid;
               running := List.filter (fun r' -> r'.pid <> r.pid) !running;
               (match r.current with
                | Some i ->

@@ -95,13 +95,6 @@ let located_line l =
   || (starts_with "--agent " l && contains l ": error: ")
   || starts_with "host: " l
 
-let fresh_dir () =
-  let base = Filename.get_temp_dir_name () in
-  let rec go k =
-    let d = Filename.concat base (Printf.sprintf "jsref-fuzz-%d-%d" (Unix.getpid ()) k) in
-    if Sys.file_exists d then go (k + 1) else (Unix.mkdir d 0o700; d) in
-  go 0
-
 let rec remove_tree p =
   match (Unix.lstat p).st_kind with
   | Unix.S_DIR ->
@@ -109,6 +102,22 @@ let rec remove_tree p =
     (try Unix.rmdir p with Unix.Unix_error _ -> ())
   | _ -> (try Sys.remove p with Sys_error _ -> ())
   | exception Unix.Unix_error _ -> ()
+
+(* What a child killed in the middle of an input left in the temporary
+   folder: every name there starts with jsref-fuzz-PID-. *)
+let remove_leftovers pid =
+  let base = Filename.get_temp_dir_name () in
+  let prefix = Printf.sprintf "jsref-fuzz-%d-" pid in
+  let n = String.length prefix in
+  Array.iter (fun f -> if String.length f > n && String.sub f 0 n = prefix then remove_tree (Filename.concat base f))
+    (try Sys.readdir base with Sys_error _ -> [||])
+
+let fresh_dir () =
+  let base = Filename.get_temp_dir_name () in
+  let rec go k =
+    let d = Filename.concat base (Printf.sprintf "jsref-fuzz-%d-%d" (Unix.getpid ()) k) in
+    if Sys.file_exists d then go (k + 1) else (Unix.mkdir d 0o700; d) in
+  go 0
 
 (* Work in a fresh folder (or [keep]), removed afterwards unless kept. *)
 let in_dir keep f =
@@ -138,7 +147,8 @@ let read_all_fd fd max =
   go (); Buffer.contents b
 
 let run_command ?(timeout = 30.0) ?(memory = 2_000_000_000) argv =
-  let out = Filename.temp_file "jsref-fuzz" ".out" and err = Filename.temp_file "jsref-fuzz" ".err" in
+  let prefix = Printf.sprintf "jsref-fuzz-%d-" (Unix.getpid ()) in
+  let out = Filename.temp_file prefix ".out" and err = Filename.temp_file prefix ".err" in
   Fun.protect ~finally:(fun () -> List.iter (fun f -> try Sys.remove f with Sys_error _ -> ()) [ out; err ])
     (fun () ->
        let fo = Unix.openfile out [ Unix.O_WRONLY; Unix.O_TRUNC ] 0o600

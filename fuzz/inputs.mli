@@ -81,3 +81,7 @@ val bound_memory : int -> unit
 (** Bounds this process's data (heap) to so many bytes (a soft limit,
     lifted while TLC runs), disables core dumps, and has the process killed
     when its parent dies: for the children that run the inputs. *)
+
+val remove_leftovers : int -> unit
+(** Removes what the child of this process id left in the temporary folder
+    (killed in the middle of an input, it could not clean up). *)
