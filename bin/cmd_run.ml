@@ -120,7 +120,7 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
       (match trace_file, trace with
        | Some f, Some oc when (try flush oc; false with Sys_error _ -> true) ->
          report_at f 1 1 ("cannot write the trace: " ^ m)
-       | _ -> prerr_endline ("jadescript-ref: error: cannot write: " ^ m));
+       | _ -> prerr_endline ("jadescript-ref: error: cannot write the standard output: " ^ m));
       raise (Stop 1) in
     try_writes := write_failed;
     (* a run stopped by a signal (a timeout, ^C) ends through exit, which
