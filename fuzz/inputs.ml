@@ -425,6 +425,7 @@ let run_scenario env (sc : EG.scenario) ~events ~trace =
     | Put { agent; obj } -> ignore (Rt.put rt ~agent obj)
     | Message { agent; perf; content } -> ignore (Rt.message rt ~agent ~perf content)
     | Run k -> Rt.run_rounds rt k
+    | Run_rules k -> Rt.run_rules rt k
     | Run_idle -> Rt.run_until_idle rt in
   let ok = Ev.iter env ~agents events ~report apply in
   if not ok then fail "generator" "the events file went bad while it was read";

@@ -365,6 +365,7 @@ type source =
   | Message_text of { agent : string; perf : string option; content : string }
   | Run_rounds of int
   | Run_until_idle
+  | Run_single_rules of int
 
 let source_to_line = function
   | Notify_text { agent; percept; priority } ->
@@ -376,3 +377,4 @@ let source_to_line = function
                                    @ (match perf with Some p -> [("performative", `String p)] | None -> [])))
   | Run_rounds k -> Yojson.Safe.to_string (`Assoc [("run", `Int k)])
   | Run_until_idle -> Yojson.Safe.to_string (`Assoc [("run", `String "idle")])
+  | Run_single_rules k -> Yojson.Safe.to_string (`Assoc [("run", `Assoc [("rules", `Int k)])])

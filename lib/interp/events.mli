@@ -75,6 +75,7 @@ type source =
       (** [{"agent": A, "message": C, "performative": F}]; [None]: [inform] *)
   | Run_rounds of int                                          (** [{"run": K}] *)
   | Run_until_idle                                             (** [{"run": "idle"}] *)
+  | Run_single_rules of int                                    (** [{"run": {"rules": K}}] (D23) *)
 
 val source_to_line : source -> string
 (** One line of an events file, without its newline. *)

@@ -81,7 +81,7 @@ let scenario env ~agent_type rs =
   let contents = schemas_where env (fun sc -> sc.s_kind <> Syntax.Ast.Concept) in
   let concepts = schemas_where env (fun sc -> sc.s_kind = Syntax.Ast.Concept) in
   let event () =
-    match int rs 20 with
+    match int rs 21 with
     | k when k < 10 && percepts <> [] ->
       let priority = if chance rs 0.3 then Some (pick rs [ 0; int rs 12; int rs 1000 ]) else None in
       Ev.Notify_text { agent = agent (); percept = constructor rs env (pick rs percepts); priority }
@@ -100,6 +100,7 @@ let scenario env ~agent_type rs =
       if fits = [] then Ev.Run_rounds 1
       else Ev.Message_text { agent = agent (); perf; content = constructor rs env (pick rs fits) }
     | k when k < 19 -> Ev.Run_rounds (pick rs [ 0; 1; 1; 2; 3; 10 ])
+    | 19 -> Ev.Run_single_rules (pick rs [ 0; 1; 2; 3; 7 ])   (* D23: the host acts between rules *)
     | _ -> Ev.Run_until_idle in
   let events = List.init (int rs 25) (fun _ -> event ()) in
   let variant = pick rs [ Mc.Reference; Mc.Reference; Mc.Printed; Mc.Budgeted; Mc.Native ] in

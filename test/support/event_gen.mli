@@ -1,6 +1,6 @@
 (** Random host scenarios for a checked program: the agents the host creates,
     the events file it feeds them (docs/trace-format.md, written with
-    {!Interp.Events.to_line}) and the run's options. Used by the fuzz
+    {!Interp.Events.source_to_line}) and the run's options. Used by the fuzz
     campaign (fuzz/) on the programs of {!Typed_gen}.
 
     Every event is well formed for the program: a notify constructs one of
@@ -10,7 +10,8 @@
     literal of any kind (R2c); a message from the host has one of the 22
     performatives of Jadescript (or none: [inform]), its content a schema
     value of a kind that performative carries (an action for [request],
-    [cfp], ...; a predicate or proposition for [inform], [agree], ...). Runs are rounds ([{"run": K}]) or until idle.
+    [cfp], ...; a predicate or proposition for [inform], [agree], ...). Runs are rounds ([{"run": K}]), single rules
+    ([{"run": {"rules": K}}], D23) or until idle.
     Agents are one to three of ["g"], ["Bob"], ["provider"] (the names the
     programs of {!Typed_gen} send messages to), of the program's agent type;
     a parameter of type [any] gets the host object [@robome] or a literal.
