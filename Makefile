@@ -3,7 +3,7 @@
 #   make test    every test suite; last line "N passed, M failed"
 # Both run scripts/setup first, which installs what is missing (idempotent).
 
-.PHONY: all setup build demo test bench spec spec-full conformance clean playground
+.PHONY: all setup build demo test bench spec spec-full conformance clean playground fuzz
 
 all: build
 
@@ -31,6 +31,18 @@ conformance: build
 	@dune exec --no-print-directory -- jadescript-ref explore --all --full --mutants --simulate 200 --validate 200
 	@dune exec --no-print-directory -- jadescript-ref defects
 	@JSREF_LONG=1 bash scripts/test
+
+# The fuzz campaign (fuzz/README.md): 1,000,000 generated inputs over
+# parse, check, run, limits, cli, validate and conform, each in a child with
+# bounded memory and time; a table of counts per target, then
+# "fuzz: N inputs, K findings" (exit 1 on any finding). The budget is a
+# parameter: make fuzz FUZZ_INPUTS=200000, or FUZZ_SECONDS=600 (then it stops
+# starting new inputs after that long); FUZZ_SEED and FUZZ_JOBS too.
+FUZZ_INPUTS ?= 1000000
+FUZZ_SEED ?= 1
+FUZZ_JOBS ?= 2
+fuzz: build
+	@dune exec --no-print-directory ./fuzz/fuzz.exe -- --inputs $(FUZZ_INPUTS) --seed $(FUZZ_SEED) --jobs $(FUZZ_JOBS) $(if $(FUZZ_SECONDS),--seconds $(FUZZ_SECONDS))
 
 # The students' playground (playground/, docs/tutorial.md): out/playground/,
 # index.html and its scripts, compiled from the project's libraries with

@@ -90,7 +90,10 @@ let run_in_dir ?(prefix = "") (m : Model.t option) ~main ~cfg_lines ~options ~pr
          runs sharing /tmp can read each other's half-written files. *)
       let jtmp = Filename.concat dir "jtmp" in
       Unix.mkdir jtmp 0o700;
-      let cmd = Printf.sprintf "cd %s && %s java -XX:+UseParallelGC -Djava.io.tmpdir=%s -cp %s tlc2.TLC -nowarning -metadir %s %s -config Run.cfg %s > %s 2>&1"
+      (* -Xss: TLC evaluates a step's effects by recursion; a step with
+         thousands of them (D19 allows 10,000 activations) overflowed the
+         default stack of its worker threads. *)
+      let cmd = Printf.sprintf "cd %s && %s java -Xss512m -XX:+UseParallelGC -Djava.io.tmpdir=%s -cp %s tlc2.TLC -nowarning -metadir %s %s -config Run.cfg %s > %s 2>&1"
           (Filename.quote dir) prefix (Filename.quote jtmp) (Filename.quote jar) (Filename.quote (Filename.concat dir "meta"))
           (String.concat " " (List.map Filename.quote (options dir))) main (Filename.quote out) in
       let t0 = Unix.gettimeofday () in

@@ -357,3 +357,24 @@ let iter env ~agents path ~report f =
         List.iter (fun (col, m) -> report ~line:n ~col m) es;
         `Stop false) true
 
+(* Writing: the host's actions as written in a file (generators of test
+   inputs, the fuzz campaign: fuzz/). *)
+type source =
+  | Notify_text of { agent : string; percept : string; priority : int option }
+  | Put_text of { agent : string; obj : string }
+  | Message_text of { agent : string; perf : string option; content : string }
+  | Run_rounds of int
+  | Run_until_idle
+  | Run_single_rules of int
+
+let source_to_line = function
+  | Notify_text { agent; percept; priority } ->
+    Yojson.Safe.to_string (`Assoc ([("agent", `String agent); ("notify", `String percept)]
+                                   @ (match priority with Some k -> [("priority", `Int k)] | None -> [])))
+  | Put_text { agent; obj } -> Yojson.Safe.to_string (`Assoc [("agent", `String agent); ("put", `String obj)])
+  | Message_text { agent; perf; content } ->
+    Yojson.Safe.to_string (`Assoc ([("agent", `String agent); ("message", `String content)]
+                                   @ (match perf with Some p -> [("performative", `String p)] | None -> [])))
+  | Run_rounds k -> Yojson.Safe.to_string (`Assoc [("run", `Int k)])
+  | Run_until_idle -> Yojson.Safe.to_string (`Assoc [("run", `String "idle")])
+  | Run_single_rules k -> Yojson.Safe.to_string (`Assoc [("run", `Assoc [("rules", `Int k)])])

@@ -61,3 +61,21 @@ val to_line : t -> string
 (** The line of an event (without its newline), which {!parse_line} reads
     back as the same event (a notify's [default] is the percept type's, so
     it is not written): for generated events files (the bench). *)
+
+(** {1 Writing from text} *)
+
+(** A host action as it is written in an events file: percepts, objects and
+    contents as Jadescript text (what generators of test inputs produce; the
+    fuzz campaign, fuzz/, writes its events files with {!source_to_line}). *)
+type source =
+  | Notify_text of { agent : string; percept : string; priority : int option }
+      (** [{"agent": A, "notify": P}], with ["priority"] when overridden (R2a) *)
+  | Put_text of { agent : string; obj : string }              (** [{"agent": A, "put": O}] *)
+  | Message_text of { agent : string; perf : string option; content : string }
+      (** [{"agent": A, "message": C, "performative": F}]; [None]: [inform] *)
+  | Run_rounds of int                                          (** [{"run": K}] *)
+  | Run_until_idle                                             (** [{"run": "idle"}] *)
+  | Run_single_rules of int                                    (** [{"run": {"rules": K}}] (D23) *)
+
+val source_to_line : source -> string
+(** One line of an events file, without its newline. *)

@@ -368,9 +368,25 @@ let program_rs rs =
     ph (OnPercept { guard = Some guard;
                     body = block rs env ~loop:false 2 (1 + int rs 3)
                            @ [ph (Log (ph (Of (ph "priority", ph Content))))] }) in
+  (* r1's handler changes the behaviours: it may activate another B (with
+     one hit more than its own) or C, and it may deactivate its own instance (R5g,
+     R5h), so that runs create and remove instances as percepts arrive *)
+  let r1_env = handler_env [] None false in
+  let r1_effects =
+    (* bounded: each new B starts with more hits than its parent, and only
+       an instance with fewer than 3 hits activates one (else the
+       instances would double with every r1) *)
+    (if chance rs 0.3 then
+       [ph (If ([(bin Lt (name "hits") (ilit 3),
+                  [ph (Activate (ph "B", List.map (fun (x, t) ->
+                       (ph x, if x = "b1" then bin Add (name "hits") (ilit 1) else expr rs r1_env t 0))
+                       b_params))])], None))]
+     else [])
+    @ (if chance rs 0.3 then [ph (If ([(bin Gt (name "hits") (ilit (int rs 4)), [ph Deactivate])], None))]
+       else []) in
   let on_r1 = ph (OnPercept { guard = Some (ph (Matches (ph Content, ph (PName "r1"))));
                               body = [ph (Assign (ph (LName "hits"), bin Add (name "hits") (ilit 1)))]
-                                     @ block rs (handler_env [] None false) ~loop:false 1 1 }) in
+                                     @ block rs r1_env ~loop:false 1 1 @ r1_effects }) in
   let on_any = ph (OnPercept { guard = None;
                                body = [ph (Log (bin Add (lit (Text "percept ")) (ph (Of (ph "priority", ph Content)))))] }) in
   let on_inform =
@@ -528,3 +544,79 @@ let arb_mutated =
     ~print:(fun (_, m) -> Printf.sprintf "mutation %s (expecting %S):\n%s" m.name m.fragment
                (Print.program m.program))
     (fun rs -> let p = program rs in (p, mutate p rs))
+
+(* ------------------------------------------------------------ the limits *)
+
+type limit = { kind : string; size : int; text : string }
+
+(* A program that hits a limit of the interpreter when it handles the
+   percept [tick(n)]: the handler of a cyclic behaviour does the costly
+   thing [size] times (or [n] times, n from the events file). *)
+let limit_kinds = [
+  "recursion"; "mutual recursion"; "long loop"; "growing text"; "deep parentheses"; "growing map"; "growing map of texts";
+  "activations"; "deep expression"; "nested loops"; "many percepts"; "raw bytes"
+]
+
+let limit_body kind size =
+  let i = "\t\t" in
+  match kind with
+  | "recursion" ->
+    ("\tfunction f(n as integer) as integer do\n\t\treturn f(n + 1) + 1\n",
+     i ^ "log \"r \" + f(0)\n")
+  | "mutual recursion" ->
+    ("\tprocedure p with n as integer do\n\t\tif n > " ^ string_of_int size ^ " do\n\t\t\treturn\n\t\tdo q with n = n + 1\n"
+     ^ "\tprocedure q with n as integer do\n\t\tdo p with n = n + 1\n",
+     i ^ "do p with n = 0\n")
+  | "long loop" ->
+    ("", i ^ "k = 0\n" ^ i ^ "while k < " ^ string_of_int size ^ " do\n" ^ i ^ "\tk = k + 1\n" ^ i ^ "log \"k \" + k\n")
+  | "growing text" ->
+    ("", i ^ "s = \"ab\"\n" ^ i ^ "k = 0\n" ^ i ^ "while k < " ^ string_of_int size ^ " do\n"
+         ^ i ^ "\ts = s + s\n" ^ i ^ "\tk = k + 1\n" ^ i ^ "log \"len \" + length of s\n")
+  | "growing map" ->
+    ("", i ^ "m = {0: \"zero\"}\n" ^ i ^ "k = 0\n" ^ i ^ "while k < " ^ string_of_int size ^ " do\n"
+         ^ i ^ "\tm[k] = \"v\" + k\n" ^ i ^ "\tk = k + 1\n" ^ i ^ "log \"size \" + size of m\n")
+  | "growing map of texts" ->
+    (* every entry a longer text: memory grows as the square of the size *)
+    ("", i ^ "m = {0: \"\"}\n" ^ i ^ "s = \"\"\n" ^ i ^ "k = 0\n" ^ i ^ "while k < " ^ string_of_int size ^ " do\n"
+         ^ i ^ "\ts = s + \"xy\"\n" ^ i ^ "\tm[k] = s\n" ^ i ^ "\tk = k + 1\n" ^ i ^ "log \"size \" + size of m\n")
+  | "activations" ->
+    ("", i ^ "k = 0\n" ^ i ^ "while k < " ^ string_of_int size ^ " do\n"
+         ^ i ^ "\tactivate behaviour Idle\n" ^ i ^ "\tk = k + 1\n")
+  | "deep expression" ->
+    ("", i ^ "log " ^ String.concat " + " (List.init size (fun _ -> "n")) ^ "\n")
+  | "deep parentheses" ->
+    (* within the parser's bound of 200 nested brackets *)
+    ("", i ^ "log " ^ String.concat "" (List.init size (fun _ -> "(1 + ")) ^ "n" ^ String.make size ')' ^ "\n")
+  | "nested loops" ->
+    ("", i ^ "a = 0\n" ^ i ^ "for x in [1, 2, 3, 4, 5, 6, 7, 8, 9, 10] do\n" ^ i ^ "\tfor y in [1, 2, 3, 4, 5, 6, 7, 8, 9, 10] do\n"
+         ^ i ^ "\t\tk = 0\n" ^ i ^ "\t\twhile k < " ^ string_of_int size ^ " do\n" ^ i ^ "\t\t\tk = k + 1\n"
+         ^ i ^ "\t\t\ta = a + x * y\n" ^ i ^ "log \"a \" + a\n")
+  | "raw bytes" ->
+    (* invalid UTF-8 and control bytes inside a text literal *)
+    ("", i ^ "log \"caf\xff \x01\xc3 \xed\xa0\x80 end\" + n\n")
+  | _ (* many percepts *) ->
+    ("", i ^ "log \"tick \" + n\n")
+
+let limit rs =
+  let kind = pick rs limit_kinds in
+  let size = match kind with
+    | "recursion" -> 0
+    | "mutual recursion" -> pick rs [ 50; 150; 250; 100_000 ]
+    | "long loop" -> pick rs [ 1_000; 100_000; 10_000_000 ]
+    | "growing text" -> pick rs [ 5; 20; 26; 40; 64 ]
+    | "growing map" -> pick rs [ 100; 10_000; 1_000_000 ]
+    | "growing map of texts" -> pick rs [ 100; 10_000; 100_000 ]
+    | "activations" -> if chance rs 0.05 then 8_000 else pick rs [ 10; 100; 500 ]
+    | "deep expression" -> pick rs [ 10; 500; 5_000; 50_000 ]
+    | "deep parentheses" -> pick rs [ 10; 100; 190 ]
+    | "nested loops" -> pick rs [ 10; 1_000; 100_000 ]
+    | _ -> 0 in
+  let (routines, body) = limit_body kind size in
+  let text =
+    "ontology Lim\n\tpredicate tick(n as integer) extends percept with priority = 3\n\n"
+    ^ "agent Ag uses ontology Lim\n" ^ routines
+    ^ "\ton create do\n\t\tactivate behaviour Work\n\n"
+    ^ "cyclic behaviour Work for agent Ag\n"
+    ^ "\ton percept when content matches tick(n) do\n" ^ body ^ "\n"
+    ^ "cyclic behaviour Idle uses ontology Lim\n\ton percept when content matches tick(n) do\n\t\tlog \"idle\"\n" in
+  { kind; size; text }

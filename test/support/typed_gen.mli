@@ -41,3 +41,27 @@ val mutate : Syntax.Ast.program -> mutation QCheck.Gen.t
 val arb_mutated : (Syntax.Ast.program * mutation) QCheck.arbitrary
 
 val mutation_names : string list
+
+(** {1 Programs that hit the limits}
+
+    Small well-typed programs whose percept handler (for [tick(n)], a
+    percept of priority 3, handled by the cyclic behaviour [Work] of agent
+    [Ag]) drives the interpreter to one of its limits: a recursion without
+    end, a long mutual recursion, a long loop or loops nested three deep, a
+    text that doubles, a map that grows, or a map of ever longer texts, hundreds of
+    activations in one handler, an expression thousands of operators long or
+    nested in parentheses up to the parser's bound, or
+    simply many percepts, or a text literal holding invalid UTF-8 and control
+    bytes (refused at the source, or escaped in the trace). A run must end each of them with a located
+    exhaustion error (R7, D18) or normally, never with a crash, a signal
+    or an exhausted machine. *)
+
+type limit = {
+  kind : string;   (** one of {!limit_kinds} *)
+  size : int;      (** iterations, depth or growth steps *)
+  text : string;   (** the program, Jadescript source *)
+}
+
+val limit_kinds : string list
+
+val limit : limit QCheck.Gen.t

@@ -126,6 +126,23 @@ let no_behaviours () =
     (try ignore (Explore.Str_find.find (List.hd lines) {|"behaviours":[]|}); true with Not_found -> false);
   with_lines lines (accepted name)
 
+(* A step with thousands of effects (D19 allows 10,000 activations in one
+   handler): TLC evaluates them by recursion, and overflowed its threads'
+   default stack ("TLC threw an unexpected exception", exit 75) before the
+   runner gave it a larger one (-Xss, lib/explore/tlc.ml). *)
+let many_effects () =
+  let program = String.concat "\n" [
+      "ontology O"; "    proposition go extends percept with priority = 1";
+      "agent A uses ontology O"; "    on create do"; "        activate behaviour Main";
+      "cyclic behaviour Main for agent A uses ontology O";
+      "    on percept when content matches go do"; "        i = 0";
+      "        while i < 3000 do"; "            activate behaviour H"; "            i = i + 1";
+      "one shot behaviour H for agent A"; "    do"; "        log \"h\""; "" ] in
+  let (name, lines) = run_trace ~name:"many-effects" ~program:(`Text program) ~agents:[ "a:A" ]
+      ~events:[ {|{"agent":"a","notify":"go"}|}; {|{"run":1}|} ] ~options:"--max-steps 5" in
+  Alcotest.(check bool) "3,000 activate effects in the trace" true (List.length lines > 3000);
+  with_lines lines (accepted name)
+
 (* ------------------------------------------------ tampered: rejected *)
 
 let one_located_line file err =
@@ -358,6 +375,7 @@ let () =
       Alcotest.test_case "TLC accepts every vector and run, in one run" `Slow untampered_tlc;
       Alcotest.test_case "one TLC run for several traces tells which is rejected" `Slow shared_run_rejects;
       Alcotest.test_case "an agent without behaviours validates" `Quick no_behaviours;
+      Alcotest.test_case "TLC takes a step with 3,000 effects" `Slow many_effects;
       qcheck ~count:100 "random programs' runs pass the OCaml checks"
         (QCheck.pair Typed_gen.arb_program QCheck.small_nat) random_runs_checked;
     ];
