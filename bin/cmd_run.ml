@@ -102,7 +102,7 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
     let seed = number ~opt:"seed" ~lo:0 ~hi:int_max ~what:"the scheduler's seed" seed in
     let max_steps = Option.get (number ~opt:"max-steps" ~lo:0 ~hi:max_int ~what:"agent steps in the whole run" (Some max_steps)) in
     let fuel = Option.get (number ~opt:"fuel" ~lo:1 ~hi:int_max ~what:"statements per handler or step" (Some fuel)) in
-    let capacity = number ~opt:"o2a-capacity" ~lo:0 ~hi:int_max ~what:"places in each O2A queue" capacity in
+    let capacity = number ~opt:"o2a-capacity" ~lo:1 ~hi:int_max ~what:"places in each O2A queue" capacity in
     let max_memory = number ~opt:"max-memory" ~lo:16 ~hi:1_048_576 ~what:"megabytes of heap the run may take" (Some max_memory) in
     Interp.Eval.set_max_memory max_memory;   (* D22 *)
     let agents = List.map (fun (n, ty, _) -> (n, ty)) specs in
@@ -206,7 +206,7 @@ let cmd =
   let fuel = Arg.(value & opt string "100000" & info ["fuel"] ~docv:"N"
                     ~doc:"Statements one handler or behaviour step may execute (R7), 1 to 2147483647.") in
   let capacity = Arg.(value & opt (some string) None & info ["o2a-capacity"] ~docv:"N"
-                        ~doc:"Capacity of each agent's O2A queue (R2d), 0 to 2147483647; default unbounded.") in
+                        ~doc:"Capacity of each agent's O2A queue (R2d), 1 to 2147483647; default unbounded.") in
   let max_memory = Arg.(value & opt string "2048" & info ["max-memory"] ~docv:"MB"
                           ~doc:"Megabytes of heap the run may take, 16 to 1048576 (D22): over it, the statement \
                                 running is an exhaustion error (R7) and the run carries on.") in

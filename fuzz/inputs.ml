@@ -23,7 +23,10 @@ external setrlimit : int -> int -> bool = "fuzz_setrlimit"
 let memory_bound = ref 0
 external die_with_parent : unit -> bool = "fuzz_die_with_parent"
 let bound_memory bytes =
-  memory_bound := bytes; ignore (setrlimit 0 bytes); ignore (setrlimit 2 0); ignore (die_with_parent ())
+  memory_bound := bytes; ignore (setrlimit 0 bytes); ignore (setrlimit 2 0); ignore (die_with_parent ());
+  (* D22, as run's --max-memory: the runs in this child stop at half its
+     address space, an exhaustion error, before the system refuses memory *)
+  Interp.Eval.set_max_memory (Some (max 16 (bytes / 2 / 1_048_576)))
 
 let finding kind message =
   Finding { kind; message = String.map (function '\n' | '\r' -> ' ' | c -> c) message }
@@ -478,8 +481,9 @@ let run_target ~keep ~seed index =
 let limits_target ~keep ~seed index =
   let rs = rng ~seed "limits" index in
   let l = TG.limit rs in
-  (* raw bytes in a text literal may be refused at the source, located *)
-  if l.kind = "raw bytes" && (match parse_and_check ~file:"limit.jade" l.text with
+  (* raw bytes in a text literal may be refused at the source, and an
+     expression nested more than 1,000 deep is (D30), located *)
+  if (l.kind = "raw bytes" || l.kind = "deep expression") && (match parse_and_check ~file:"limit.jade" l.text with
       | None -> true
       | Some (_, diags) -> Typing.has_errors diags) then raise (Found Pass);
   let env = program_env ~file:"limit.jade" l.text in

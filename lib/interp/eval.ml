@@ -722,6 +722,7 @@ let destroy_agent a =
 
 let rec literal_value env (e : Ast.expr) : V.t =
   match e.it with
+  | Unop (Neg, { it = Lit (Ast.Int 2147483648); _ }) -> V.Int (-2147483648)   (* as the checker: the least int *)
   | Lit (Ast.Int n) when n > 2147483647 || n < -2147483648 ->
     (* D8: integers are 32-bit; the type checker says the same of a program *)
     err e.at "integer literal %d is out of range: integer is 32-bit (-2147483648..2147483647)" n

@@ -190,7 +190,7 @@ let cli_values () =
     [ ("fuel", "-1", "1 to 2147483647"); ("fuel", "0", "1 to 2147483647"); ("fuel", "abc", "1 to 2147483647");
       ("fuel", "2147483648", "1 to 2147483647");
       ("max-steps", "-5", "0 to 4611686018427387903"); ("max-steps", "99999999999999999999", "0 to 4611686018427387903");
-      ("o2a-capacity", "-1", "0 to 2147483647"); ("o2a-capacity", "4611686018427387903", "0 to 2147483647");
+      ("o2a-capacity", "-1", "1 to 2147483647"); ("o2a-capacity", "0", "1 to 2147483647"); ("o2a-capacity", "4611686018427387903", "1 to 2147483647");
       ("seed", "-3", "0 to 2147483647"); ("seed", "2147483648", "0 to 2147483647") ];
   one_error_line "trace in no directory" (r "--trace /nonexistent/t.jsonl")
     "/nonexistent/t.jsonl:1:1: error: cannot write the trace: /nonexistent/t.jsonl: No such file or directory";
@@ -209,7 +209,8 @@ let events_values () =
              {\"agent\": \"s\", \"message\": \"spin(1)\", \"performative\": \"inform_if\"}\n\
              {\"agent\": \"s\", \"notify\": \"spin(1)\", \"priority\": 2.5}\n\
              {\"agent\": \"s\", \"notify\": \"spin(4611686018427387903)\"}\n\
-             {\"agent\":\"s\",\"notify\":\"spin(-2147483649)\"}\n" in
+             {\"agent\":\"s\",\"notify\":\"spin(-2147483649)\"}\n\
+             {\"agent\":\"s\",\"notify\":\"spin(-2147483648)\"}\n" in
   with_file "jsref_badev.jsonl" bad (fun ev ->
       let (status, out, err) = run (Printf.sprintf "%s --agent s:Spinner --events %s" spinner ev) in
       Alcotest.(check int) "exit 1" 1 status;
