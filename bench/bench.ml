@@ -539,6 +539,36 @@ let interp_bench () =
       Printf.printf "  target: at least 3,000,000 percepts/s and 3x JADE, flat under the flood\n"
   end
 
+(* For instruction counts (issue 17: decide by what does not drift): the
+   steady loop or a flood of [n] percepts, untimed, to run under
+   [valgrind --tool=callgrind]; a run with [n] = 0 gives the start-up to
+   take off. Prints the words allocated per percept. *)
+let count_bench () =
+  let usage () = prerr_endline "bench: usage: bench.exe count steady|flood N"; exit 2 in
+  let n = match Sys.argv with
+    | [| _; _; _; n |] -> (match int_of_string_opt n with Some n when n >= 0 -> n | _ -> usage ())
+    | _ -> usage () in
+  Interp.Runtime.tune_gc ();
+  let env = load_program (find_program "percepts.jade") in
+  let percept = percept_maker env in
+  let w0 = Gc.minor_words () in
+  let n = match Sys.argv.(2) with
+    | "steady" ->   (* in batches of 1,024: n rounded up *)
+      let c = ref (new_agent env) and k = ref 0 in
+      while !k < n do
+        c := notify_batch percept !c !k; k := !k + 1024;
+        c := fst (drain !c)
+      done;
+      !k
+    | "flood" ->
+      let c = ref (new_agent env) in
+      for k = 0 to n - 1 do let (p, d) = percept k in c := M.notify machine_params !c p d done;
+      ignore (Sys.opaque_identity (drain !c));
+      n
+    | _ -> usage () in
+  Printf.printf "%s of %d percepts: %.1f words allocated per percept\n" Sys.argv.(2) n
+    ((Gc.minor_words () -. w0) /. float_of_int (max 1 n))
+
 (* ---------------------------------------------------- the JADE back end *)
 
 (* Run a command; keep the lines "TAG kind key=value ..." as (kind, bindings). *)
@@ -637,6 +667,7 @@ let () =
   | "interp" -> interp_bench ()
   | "sim" -> sim_bench ()
   | "jade" -> jade_backend_bench ()
+  | "count" -> count_bench ()
   | "all" -> parser_bench (); print_newline (); explorer_bench (); print_newline (); interp_bench ();
     print_newline (); jade_backend_bench (); print_newline (); sim_bench ()
   | other -> Printf.eprintf "bench: unknown benchmark %s (known: parser, explorer, interp, jade, sim, all)\n" other; exit 2

@@ -38,18 +38,20 @@ module Make (B : BODIES) = struct
   (* HandlersOf, remembered for the last [active] list seen (physically):
      the list is immutable and most dequeues share it. Beside each entry,
      the behaviour of its instance, which [dispatch] uses while [active] is
-     unchanged. *)
-  let handlers_cache : (B.beh instance list * (int * int) list * B.beh list) option ref = ref None
+     unchanged. One record, handed out as it is (no pair per dispatch). *)
+  type snapshot = { of_active : B.beh instance list; todo : (int * int) list; behs : B.beh list }
+
+  let handlers_cache : snapshot option ref = ref None
 
   let handlers_and_behs (c : M.t) =
     match !handlers_cache with
-    | Some (a, h, bs) when a == c.active -> (h, bs)
+    | Some k when k.of_active == c.active -> k
     | _ ->
       let pairs = List.concat_map (fun (a : B.beh instance) ->
           List.init (B.percept_handlers a.beh) (fun j -> ((a.id, j + 1), a.beh))) c.active in
-      let h = List.map fst pairs and bs = List.map snd pairs in
-      handlers_cache := Some (c.active, h, bs);
-      (h, bs)
+      let k = { of_active = c.active; todo = List.map fst pairs; behs = List.map snd pairs } in
+      handlers_cache := Some k;
+      k
 
   (* The ghosts, asked of the reference only when they are kept. *)
   let bump_waits p (c : M.t) e = if p.ghosts && not p.flood then M.bump_waits p c e else c.waits
@@ -59,7 +61,7 @@ module Make (B : BODIES) = struct
      one candidate (seqs are unique); one pop. *)
   let dequeue_top p (c : M.t) e pq : M.lbl * M.t =
     let l = Dequeue e in
-    (l, { c with pq; cur = Some { e; todo = fst (handlers_and_behs c); applied = false };
+    (l, { c with pq; cur = Some { e; todo = (handlers_and_behs c).todo; applied = false };
                  waits = bump_waits p c e; phase = Handle_phase;
                  dispatched = c.dispatched + 1; last = l })
 
@@ -69,17 +71,16 @@ module Make (B : BODIES) = struct
     match c.phase with
     | Transfer_phase when p.variant = Reference || p.variant = Budgeted -> [ transfer p c ]
     | Dispatch_phase when single_candidate p && not (M.dispatch_over p c) ->
-      (match Pqueue.pop c.pq with
-       | Some (e, pq) -> [ dequeue_top p c e pq ]
-       | None -> M.step p c)
+      if Pqueue.is_empty c.pq then M.step p c
+      else [ dequeue_top p c (Pqueue.first c.pq) (Pqueue.drop_first c.pq) ]
     | _ -> M.step p c
 
   (* Dispatch: the Handle arm of the rules over the snapshot [todo] of the
      dispatch of [e], from configuration [c] (whose behaviour part is [bs]
      once a handler had effects), on local variables; what the rules would
      have written in each configuration (world, todo, applied, the behaviour
-     part) is written once, at the end. No closure is allocated: this runs
-     once per percept. *)
+     part) is written once, at the end. No closure or option is allocated
+     for a handler: this runs once per handler per percept. *)
   let rec dispatch_handlers observe p (c : M.t) e world applied bs todo behs =
     match todo with
     | [] -> (world, applied, bs)
@@ -87,21 +88,30 @@ module Make (B : BODIES) = struct
       (* [behs]: beside [todo], the behaviour of each entry's instance in
          [c.active], when the snapshot was just taken from it ([] otherwise);
          while no body had effects, the instance is found there *)
-      let found = match bs, behs with
-        | None, b :: _ -> Some b
-        | Some (s : M.bs), _ -> M.find_instance id s.active
-        | None, [] -> M.find_instance id c.active in
-      let behs = match behs with _ :: brest -> brest | [] -> [] in
+      match bs, behs with
+      | None, b :: brest -> try_handler observe p c e world applied bs todo b brest
+      | _ ->
+        let brest = match behs with _ :: r -> r | [] -> [] in
+        let found = match bs with
+          | Some (s : M.bs) -> M.find_instance id s.active
+          | None -> M.find_instance id c.active in
+        match found with
+        | Some b -> try_handler observe p c e world applied bs todo b brest
+        | None ->                                                            (* skip *)
+          (match observe with Some f -> f (Skip { id; h }) | None -> ());
+          dispatch_handlers observe p c e world applied bs rest brest
+
+  (* The head of [todo], a handler of an instance whose behaviour is [b]. *)
+  and try_handler observe p c e world applied bs todo b behs =
+    match todo with
+    | [] -> (world, applied, bs)
+    | (id, h) :: rest ->
       (* the pre-test: where it says no, percept_applicable would answer
          false, changing nothing *)
-      let found = match found with
-        | Some b when B.percept_may_apply world b h e.p -> found
-        | _ -> None in
-      match found with
-      | None ->                                                              (* skip *)
+      if not (B.percept_may_apply world b h e.p) then begin                 (* skip *)
         (match observe with Some f -> f (Skip { id; h }) | None -> ());
         dispatch_handlers observe p c e world applied bs rest behs
-      | Some b ->
+      end else
         let (world, ok) = B.percept_applicable world ~id b h e.p in
         if not ok then begin                                                 (* skip *)
           (match observe with Some f -> f (Skip { id; h }) | None -> ());
@@ -132,12 +142,14 @@ module Make (B : BODIES) = struct
       Some (dispatch_end observe p c d.e ~pq:c.pq ~waits:c.waits ~dispatched:c.dispatched
               (dispatch_handlers observe p c d.e c.world d.applied None d.todo []))
     | Dispatch_phase, _ when single_candidate p && not (M.dispatch_over p c) ->
-      (match Pqueue.pop c.pq with                                            (* dequeue *)
-       | Some (e, pq) ->
-         (match observe with Some f -> f (Dequeue e) | None -> ());
-         let (todo, behs) = handlers_and_behs c in
-         Some (dispatch_end observe p c e ~pq ~waits:(bump_waits p c e) ~dispatched:(c.dispatched + 1)
-                 (dispatch_handlers observe p c e c.world false None todo behs))
-       | None -> None)
+      if Pqueue.is_empty c.pq then None
+      else begin                                                             (* dequeue *)
+        (* Pqueue.pop without its option and pair *)
+        let e = Pqueue.first c.pq and pq = Pqueue.drop_first c.pq in
+        (match observe with Some f -> f (Dequeue e) | None -> ());
+        let k = handlers_and_behs c in
+        Some (dispatch_end observe p c e ~pq ~waits:(bump_waits p c e) ~dispatched:(c.dispatched + 1)
+                (dispatch_handlers observe p c e c.world false None k.todo k.behs))
+      end
     | _ -> None
 end

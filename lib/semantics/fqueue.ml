@@ -23,6 +23,12 @@ let pop q = match q.front with
   | x :: rest -> Some (x, check rest q.back (q.len - 1))
   | [] -> None
 
+let first q = match q.front with x :: _ -> x | [] -> invalid_arg "Fqueue.first: empty queue"
+
+let drop q = match q.front with
+  | _ :: rest -> check rest q.back (q.len - 1)
+  | [] -> q
+
 (* Tail-recursive: queues hold millions of entries under a flood. *)
 let to_list q = match q.back with
   | [] -> q.front

@@ -17,6 +17,15 @@ val peek : 'a t -> 'a option
 
 val pop : 'a t -> ('a * 'a t) option
 
+val first : 'a t -> 'a
+(** The front element, as {!peek} gives it, without an option.
+    @raise Invalid_argument on an empty queue. *)
+
+val drop : 'a t -> 'a t
+(** The queue without its front element (the empty queue stays empty): the
+    queue of {!pop} without the pair, for the engine's dequeue, which
+    allocates nothing else per percept. *)
+
 val to_list : 'a t -> 'a list
 (** Front first. O(n). *)
 

@@ -78,9 +78,12 @@ end
 
 type 'p bucket = { q : 'p entry Fqueue.t; last : int (* the largest seq in q *) }
 
+(* The highest bucket is kept in the queue's own record (its entries and
+   their largest seq), so that a pop builds one record, not two. *)
 type 'p t = {
   hi : int;                      (* the highest priority present *)
-  top : 'p bucket;               (* its entries; empty only if size = 0 *)
+  top : 'p entry Fqueue.t;       (* its entries; empty only if size = 0 *)
+  top_last : int;                (* the largest seq in top *)
   rest : 'p bucket Prio_map.t;   (* the other priorities (all below hi), non-empty *)
   size : int;
 }
@@ -97,8 +100,8 @@ let bucket_add e b =
       | l -> e :: l in
     { b with q = Fqueue.of_list (place (Fqueue.to_list b.q)) }
 
-let no_bucket = { q = Fqueue.empty; last = min_int }
-let empty = { hi = min_int; top = no_bucket; rest = Prio_map.empty; size = 0 }
+let empty = { hi = min_int; top = Fqueue.empty; top_last = min_int; rest = Prio_map.empty; size = 0 }
+let top_bucket q = { q = q.top; last = q.top_last }
 let is_empty q = q.size = 0
 let size q = q.size
 
@@ -106,9 +109,11 @@ let size q = q.size
    [f] of the one there now ([None]: there is none). *)
 let place prio f n q =
   let size = q.size + n in
-  if q.size = 0 then { hi = prio; top = f None; rest = Prio_map.empty; size }
-  else if prio = q.hi then { q with top = f (Some q.top); size }
-  else if prio > q.hi then { hi = prio; top = f None; rest = Prio_map.add q.hi q.top q.rest; size }
+  if q.size = 0 then let b = f None in { hi = prio; top = b.q; top_last = b.last; rest = Prio_map.empty; size }
+  else if prio = q.hi then let b = f (Some (top_bucket q)) in { q with top = b.q; top_last = b.last; size }
+  else if prio > q.hi then
+    let b = f None in
+    { hi = prio; top = b.q; top_last = b.last; rest = Prio_map.add q.hi (top_bucket q) q.rest; size }
   else { q with rest = Prio_map.update prio f q.rest; size }
 
 let insert e q = place e.prio (function None -> single e | Some b -> bucket_add e b) 1 q
@@ -144,22 +149,27 @@ let insert_newest_first feed q =
   Prio_map.iter (fun _ r -> q := append !r !q) !runs;
   !q
 
-(* The queue whose top bucket became [b]: the next bucket moves up if empty. *)
-let with_top q b size =
-  if not (Fqueue.is_empty b.q) then { q with top = b; size }
+(* The queue whose top bucket's entries became [top] (its largest seq is
+   unchanged): the next bucket moves up if [top] is empty. *)
+let with_top q top size =
+  if not (Fqueue.is_empty top) then { q with top; size }
   else match Prio_map.max_binding_opt q.rest with
     | None -> empty
-    | Some (hi, top) -> { hi; top; rest = Prio_map.remove_max q.rest; size }
+    | Some (hi, b) -> { hi; top = b.q; top_last = b.last; rest = Prio_map.remove_max q.rest; size }
 
-let top q = Fqueue.peek q.top.q
+let top q = Fqueue.peek q.top
 
-let pop q = match Fqueue.pop q.top.q with
+let pop q = match Fqueue.pop q.top with
   | None -> None
-  | Some (e, rest) -> Some (e, with_top q { q.top with q = rest } (q.size - 1))
+  | Some (e, rest) -> Some (e, with_top q rest (q.size - 1))
+
+let first q = Fqueue.first q.top
+
+let drop_first q = if q.size = 0 then q else with_top q (Fqueue.drop q.top) (q.size - 1)
 
 let iter f q =
   if q.size > 0 then begin
-    Fqueue.fold (fun () e -> f e) () q.top.q;
+    Fqueue.fold (fun () e -> f e) () q.top;
     Prio_map.iter (fun _ b -> Fqueue.fold (fun () e -> f e) () b.q) q.rest
   end
 
@@ -173,7 +183,7 @@ let to_sorted_list q =
 
 let bucket_of e q =
   if q.size = 0 then None
-  else if e.prio = q.hi then Some q.top
+  else if e.prio = q.hi then Some (top_bucket q)
   else Prio_map.find_opt e.prio q.rest
 
 let mem e q = match bucket_of e q with
@@ -183,7 +193,7 @@ let mem e q = match bucket_of e q with
 let candidates ~stable q =
   if q.size = 0 then []
   else
-    let all = Fqueue.to_list q.top.q in
+    let all = Fqueue.to_list q.top in
     if not stable then all
     else
       let s = (List.hd all).seq in
@@ -197,6 +207,6 @@ let remove e q = match bucket_of e q with
     | None -> q
     | Some (_, rest) ->
       let b = { b with q = rest } in
-      if e.prio = q.hi then with_top q b (q.size - 1)
+      if e.prio = q.hi then with_top q rest (q.size - 1)
       else if Fqueue.is_empty rest then { q with rest = Prio_map.remove e.prio q.rest; size = q.size - 1 }
       else { q with rest = Prio_map.add e.prio b q.rest; size = q.size - 1 }

@@ -37,6 +37,14 @@ val top : 'p t -> 'p entry option
 
 val pop : 'p t -> ('p entry * 'p t) option
 
+val first : 'p t -> 'p entry
+(** The entry {!top} gives, without an option.
+    @raise Invalid_argument on an empty queue. *)
+
+val drop_first : 'p t -> 'p t
+(** The queue {!pop} gives, without the pair: the engine's dequeue (one
+    record per pop). The empty queue stays empty. *)
+
 val candidates : stable:bool -> 'p t -> 'p entry list
 (** The entries a dequeue may take ([Candidates] of PerceptPriority.tla): with
     [stable], those with the highest priority and, among them, the smallest seq

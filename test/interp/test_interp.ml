@@ -615,6 +615,54 @@ let wrong_pretest_caught () =
   done;
   Alcotest.(check bool) (Printf.sprintf "a wrong pre-test is caught (%d programs tried)" !tried) true (!caught > 0)
 
+(* The random programs above seldom have several behaviours with percept
+   handlers active at once, where Dispatch walks the snapshot's instances
+   beside its handlers (lib/engine/fast.ml). A fixed program that does: 3
+   behaviours, 4 handlers, the bench's workload (bench/programs/percepts.jade)
+   with logs, compared over 20 seeds of random percepts. *)
+let several_behaviours_program = {|ontology Load
+	proposition falling extends percept with priority = 10
+	predicate obstacle(d as integer) extends percept with priority = 8
+	predicate qrCodeRead(qrCode as text) extends percept with priority = 4
+	predicate position(k as integer) extends percept with priority = 2
+
+agent Ag uses ontology Load
+	property counts as map of integer:integer = {}
+	property falls as integer = 0
+
+	on create do
+		activate behaviour Positions
+		activate behaviour Others
+		activate behaviour Watch
+
+cyclic behaviour Positions for agent Ag
+	on percept when content matches position(k) do
+		counts[k] = k
+		log "position " + k
+
+cyclic behaviour Others for agent Ag
+	on percept when content matches obstacle(d) do
+		counts[d] = d
+		log "obstacle " + d
+
+	on percept when content matches qrCodeRead(q) do
+		falls = falls + 1
+		log "qr " + q
+
+cyclic behaviour Watch for agent Ag
+	on percept when content matches falling do
+		falls = falls + 1
+		log "falling"
+|}
+
+let derived_dispatch_several_behaviours () =
+  let prog = (Parse.string ~file:"several.jade" several_behaviours_program).program in
+  for seed = 0 to 19 do
+    match derived_dispatch_on_programs (prog, seed) with
+    | _ -> ()
+    | exception QCheck.Test.Test_fail (_, msgs) -> Alcotest.failf "seed %d: %s" seed (String.concat "\n" msgs)
+  done
+
 let () =
   Alcotest.run "interp" [
     ("values", [
@@ -628,7 +676,9 @@ let () =
     ("derived", [
         qcheck ~count:60 ~long_factor:10 "engine (step, Dispatch) = reference steps, random programs"
           (QCheck.pair Typed_gen.arb_program QCheck.small_nat) derived_dispatch_on_programs;
-        Alcotest.test_case "a wrong pre-test is caught" `Quick wrong_pretest_caught ]);
+        Alcotest.test_case "a wrong pre-test is caught" `Quick wrong_pretest_caught;
+        Alcotest.test_case "Dispatch = steps, several behaviours with handlers" `Quick
+          derived_dispatch_several_behaviours ]);
     ("errors", [
         Alcotest.test_case "R7 errors located, agent carries on" `Quick runtime_errors_located;
         Alcotest.test_case "R7 step budget" `Quick fuel_exhausted;

@@ -79,10 +79,20 @@ let pqueue_any_order ops =
       match op with
       | Ins (prio, seq) -> incr n; let e = { Pqueue.p = !n; prio; seq } in (Pqueue.insert e q, e :: m)
       | Pop -> (match Pqueue.pop q with
-          | None -> if m <> [] then failwith "pop of a non-empty queue gave nothing"; (q, m)
+          | None ->
+            if m <> [] then failwith "pop of a non-empty queue gave nothing";
+            (* the engine's pop in two parts: nothing to take, nothing dropped *)
+            (match Pqueue.first q with _ -> failwith "first of an empty queue" | exception Invalid_argument _ -> ());
+            if not (Pqueue.is_empty (Pqueue.drop_first q)) then failwith "drop_first of an empty queue";
+            (q, m)
           | Some (e, q') ->
             if not (List.mem e m) || key e <> key (List.hd (sorted m)) then failwith "popped a wrong entry";
-            (q', drop e m))
+            (* the engine's pop in two parts (Pqueue.first, Pqueue.drop_first)
+               is pop; every other pop goes on from its queue *)
+            let q'' = Pqueue.drop_first q in
+            if Pqueue.first q != e || Pqueue.size q'' <> Pqueue.size q'
+               || Pqueue.to_sorted_list q'' <> Pqueue.to_sorted_list q' then failwith "first/drop_first is not pop";
+            ((if List.length m mod 2 = 0 then q'' else q'), drop e m))
       | Rm i -> (match List.nth_opt (sorted m) i with
           | Some e -> if not (Pqueue.mem e q) then failwith "mem"; (Pqueue.remove e q, drop e m)
           | None -> (q, m))) (Pqueue.empty, []) ops in
