@@ -186,3 +186,174 @@ let shortest_path g target =
     | (-1, _) -> ("Init", i) :: acc
     | (p, l) -> back p ((l, i) :: acc) in
   if target < n && seen.(target) then back target [] else []
+
+(* ------------------------------------------------- fingerprints (D38) *)
+
+(* A 63-bit fingerprint of a configuration, computed from the same values,
+   in the same order, as its canonical key [key] (without building the
+   string): every int is folded into an accumulator by xor and a multiply by a
+   dense odd constant (arithmetic modulo 2^63), a separator as a value no int
+   of the key takes, and a final mix makes every bit depend on every value.
+   The priority queue, a set, is folded order-free: the sum of its entries'
+   own mixes (the key sorts it instead). The test "fingerprints" holds the
+   two equal in the number of states on every model of spec/models. *)
+let fp_mul = 0x5bd1e9955bd1e995
+
+let fp = ref 0
+let[@inline] fp_int n = fp := (!fp lxor (n * 2)) * fp_mul    (* even: an int *)
+let[@inline] fp_sep () = fp := (!fp lxor 1) * fp_mul          (* odd: a separator *)
+let[@inline] fp_entry (e : int entry) = fp_int e.p; fp_int e.prio; fp_int e.seq
+
+let fp_final h =
+  let h = (h lxor (h lsr 31)) * 0x7fb5d329728ea185 in
+  let h = h lxor (h lsr 27) in
+  if h = 0 then 1 else h   (* 0 marks an empty slot *)
+
+let fp_msg = function
+  | M_message { m; mseq } -> fp_int 0; fp_int m; fp_int mseq
+  | M_percept e -> fp_int 1; fp_entry e
+
+let fp_label (l : Model.M.lbl) =
+  match l with
+  | Init -> fp_int 0
+  | Notify e -> fp_int 1; fp_entry e
+  | Notify_with e -> fp_int 2; fp_entry e
+  | Put o -> fp_int 3; fp_int o
+  | Send (m, s) -> fp_int 4; fp_int m; fp_int s
+  | Transfer n -> fp_int 5; fp_int n
+  | Transfer_one e -> fp_int 6; fp_entry e
+  | Transfer_spin o -> fp_int 7; fp_int o
+  | Transfer_end -> fp_int 8
+  | Dequeue e -> fp_int 9; fp_entry e
+  | Handle { id; h; p; seq } -> fp_int 10; fp_int id; fp_int h; fp_int p; fp_int seq
+  | Skip { id; h } -> fp_int 11; fp_int id; fp_int h
+  | End_dispatch { seq; discarded } -> fp_int 12; fp_int seq; fp_int (Bool.to_int discarded)
+  | Behaviour_step { id; msg } ->
+    fp_int 13; fp_int id;
+    (match msg with None -> fp_int 0 | Some x -> fp_int 1; fp_msg x)
+  | Next_iteration -> fp_int 14
+  | Idle -> fp_int 15
+
+let pq_sum = ref 0
+let pq_entry (e : int entry) =
+  fp := 0x2545F4914F6CDD1D; fp_entry e; pq_sum := !pq_sum + fp_final !fp
+
+let state_fingerprint (c : Model.M.t) =
+  pq_sum := 0;
+  Semantics.Pqueue.iter pq_entry c.pq;
+  fp := 0x2545F4914F6CDD1D;
+  Semantics.Fqueue.fold (fun () -> function
+      | O_percept e -> fp_int 0; fp_entry e
+      | O_object o -> fp_int 1; fp_int o) () c.o2a;
+  fp_sep ();
+  fp_int (Semantics.Pqueue.size c.pq); fp_int !pq_sum;
+  fp_sep ();
+  Semantics.Fqueue.fold (fun () x -> fp_msg x) () c.msgq;
+  fp_sep ();
+  fp_int c.next_seq; fp_int c.msg_seq; fp_int c.puts;
+  List.iter (fun (a : Model.beh instance) -> fp_int a.id; fp_int a.beh.bidx) c.active;
+  fp_sep ();
+  List.iter fp_int c.ready; fp_sep ();
+  List.iter fp_int c.blocked; fp_sep ();
+  fp_int c.pos;
+  fp_int (match c.phase with
+      | Transfer_phase -> 0 | Dispatch_phase -> 1 | Handle_phase -> 2 | Idle_phase -> 3);
+  (match c.cur with
+   | None -> fp_int 0
+   | Some d ->
+     fp_int 1; fp_entry d.e; fp_int (Bool.to_int d.applied);
+     List.iter (fun (id, h) -> fp_int id; fp_int h) d.todo; fp_sep ());
+  fp_int c.dispatched;
+  Int_set.iter fp_int c.done_; fp_sep ();
+  List.iter (fun (s, _, n) -> fp_int s; fp_int n) c.waits; fp_sep ();
+  fp_label c.last;
+  fp_final !fp
+
+(* The visited set: an open-addressing table of fingerprints in a Bigarray
+   (outside the OCaml heap: the collector never scans it), at most half full. *)
+module Fp_set = struct
+  open Bigarray
+  type t = { mutable slots : (int, int_elt, c_layout) Array1.t; mutable count : int }
+
+  let make n = let a = Array1.create int c_layout n in Array1.fill a 0; a
+  let create () = { slots = make 65536; count = 0 }
+  let bytes t = Array1.dim t.slots * 8
+
+  (* true when [h] was absent (it is now present) *)
+  let rec add_raw a h =
+    let mask = Array1.dim a - 1 in
+    let rec probe i =
+      let x = Array1.unsafe_get a i in
+      if x = 0 then (Array1.unsafe_set a i h; true)
+      else if x = h then false
+      else probe ((i + 1) land mask) in
+    probe (h land mask)
+
+  and grow t =
+    let old = t.slots in
+    let a = make (2 * Array1.dim old) in
+    for i = 0 to Array1.dim old - 1 do
+      let x = Array1.unsafe_get old i in
+      if x <> 0 then ignore (add_raw a x)
+    done;
+    t.slots <- a
+
+  let add t h =
+    if 2 * (t.count + 1) > Array1.dim t.slots then grow t;
+    let fresh = add_raw t.slots h in
+    if fresh then t.count <- t.count + 1;
+    fresh
+end
+
+type count = {
+  c_model : Model.t;
+  distinct : int;
+  generated : int;
+  final : int;
+  depth : int;
+  table_bytes : int;
+  c_seconds : float;
+}
+
+let collision_probability c =
+  (* each of the [generated] look-ups compares with at most [distinct]
+     fingerprints of 63 bits *)
+  float_of_int c.distinct *. float_of_int c.generated /. (2. ** 63.)
+
+(* Most configurations generated are already seen and die young; the
+   frontier lives long. A larger minor heap lets the first die there, and a
+   lazier major collector marks the frontier less often (the heap grows to
+   a few times the frontier's size, still well under the fingerprint table
+   on large models). Restored afterwards. *)
+let with_explorer_gc f =
+  let old = Gc.get () in
+  Gc.set { old with minor_heap_size = max old.minor_heap_size (1 lsl 20); space_overhead = 400 };
+  Fun.protect ~finally:(fun () -> Gc.set old) f
+
+let count ?(max_states = default_max_states) ?rules (m : Model.t) =
+  with_explorer_gc @@ fun () ->
+  let t0 = Unix.gettimeofday () in
+  let seen = Fp_set.create () in
+  let generated = ref 0 and final = ref 0 and depth = ref 0 in
+  let next = ref [] in
+  let visit c =
+    incr generated;
+    if Fp_set.add seen (state_fingerprint c) then begin
+      if seen.count > max_states then
+        failwith (Printf.sprintf "exhaustion: the model has more than %d states, exploration \
+                                  stopped (a larger bound: --max-states)" max_states);
+      next := c :: !next
+    end in
+  visit (Model.M.init m.params ~world:() (List.map (fun i -> m.behaviours.(i)) m.initial));
+  (* breadth first, one level at a time: only the frontier is kept *)
+  while !next <> [] do
+    let level = List.rev !next in
+    next := [];
+    incr depth;
+    List.iter (fun c ->
+        match successors ?rules m c with
+        | [] -> incr final
+        | succs -> List.iter (fun (_, c') -> visit c') succs) level
+  done;
+  { c_model = m; distinct = seen.count; generated = !generated; final = !final;
+    depth = !depth; table_bytes = Fp_set.bytes seen; c_seconds = Unix.gettimeofday () -. t0 }
