@@ -320,11 +320,9 @@ let collision_probability c =
      fingerprints of 63 bits *)
   float_of_int c.distinct *. float_of_int c.generated /. (2. ** 63.)
 
-(* Most configurations generated are already seen and die young; the
-   frontier lives long. A larger minor heap lets the first die there, and a
-   lazier major collector marks the frontier less often (the heap grows to
-   a few times the frontier's size, still well under the fingerprint table
-   on large models). Restored afterwards. *)
+(* Most configurations generated are already seen and die young; a larger
+   minor heap (8 MB) lets them die there, and a lazier major collector marks
+   the few that live on (the current path) less often. Restored afterwards. *)
 let with_explorer_gc f =
   let old = Gc.get () in
   Gc.set { old with minor_heap_size = max old.minor_heap_size (1 lsl 20); space_overhead = 400 };
@@ -334,26 +332,29 @@ let count ?(max_states = default_max_states) ?rules (m : Model.t) =
   with_explorer_gc @@ fun () ->
   let t0 = Unix.gettimeofday () in
   let seen = Fp_set.create () in
-  let generated = ref 0 and final = ref 0 and depth = ref 0 in
-  let next = ref [] in
+  let generated = ref 0 and final = ref 0 and depth = ref 0 and height = ref 0 in
+  (* depth first: the stack holds, for each state on the current path, its
+     successors not yet visited; a configuration dies young unless it is on
+     the path, so the collector has little to keep *)
+  let stack = ref [] in
   let visit c =
     incr generated;
     if Fp_set.add seen (state_fingerprint c) then begin
       if seen.count > max_states then
         failwith (Printf.sprintf "exhaustion: the model has more than %d states, exploration \
                                   stopped (a larger bound: --max-states)" max_states);
-      next := c :: !next
+      match successors ?rules m c with
+      | [] -> incr final
+      | succs ->
+        stack := succs :: !stack; incr height;
+        if !height > !depth then depth := !height
     end in
   visit (Model.M.init m.params ~world:() (List.map (fun i -> m.behaviours.(i)) m.initial));
-  (* breadth first, one level at a time: only the frontier is kept *)
-  while !next <> [] do
-    let level = List.rev !next in
-    next := [];
-    incr depth;
-    List.iter (fun c ->
-        match successors ?rules m c with
-        | [] -> incr final
-        | succs -> List.iter (fun (_, c') -> visit c') succs) level
+  while !stack <> [] do
+    match !stack with
+    | ((_, c) :: rest) :: below -> stack := rest :: below; visit c
+    | [] :: below -> stack := below; decr height
+    | [] -> ()
   done;
   { c_model = m; distinct = seen.count; generated = !generated; final = !final;
     depth = !depth; table_bytes = Fp_set.bytes seen; c_seconds = Unix.gettimeofday () -. t0 }

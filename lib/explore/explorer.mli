@@ -42,16 +42,18 @@ val shortest_path : graph -> int -> (string * int) list
 
 (** {2 Counting with fingerprints (D38)}
 
-    The counting path: the same breadth-first search as {!explore}, but the
-    visited set holds only a 63-bit fingerprint of each state's canonical
-    key's values (8 bytes, in a table at most half full, outside the OCaml heap), and
-    only the current frontier of configurations is kept; no graph. As in TLC,
-    two different states with the same fingerprint would be taken for one
-    and the second (with its successors) missed: the probability of that is
-    at most [distinct * generated / 2^63] ({!collision_probability}), about
-    6e-7 for 1.4M states and 3.6M generated. Comparisons with TLC's state
-    graph ([explore --against-tlc], the conformance checks) use {!explore},
-    which is exact. *)
+    The counting path ([explore --fingerprints]): the same reachable states as
+    {!explore}, found depth first. The visited set holds only a 63-bit
+    fingerprint of each state (8 bytes, in a table at most half full, outside
+    the OCaml heap), and only the configurations on the current path and their
+    unvisited successors are kept; no graph. As in TLC, two different states
+    with the same fingerprint would be taken for one and the second (with what
+    only it leads to) missed: the probability of that is at most
+    [distinct * generated / 2^63] ({!collision_probability}), about 6e-7 for
+    1.4M states and 3.6M generated, if fingerprints behave as random numbers
+    (TLC makes the same assumption of its 64-bit fingerprints). Comparisons
+    with TLC's state graph ([explore --against-tlc], the conformance checks)
+    use {!explore}, which is exact. *)
 
 val state_fingerprint : Model.M.t -> int
 (** The 63-bit fingerprint of a configuration (never 0): computed from the
@@ -62,7 +64,7 @@ type count = {
   distinct : int;        (** distinct states found (by fingerprint) *)
   generated : int;       (** states generated: the initial one and every transition's target *)
   final : int;           (** states with no successor *)
-  depth : int;           (** breadth-first levels, the initial state's included *)
+  depth : int;           (** the longest path the depth-first search held, in states (not TLC's breadth-first depth) *)
   table_bytes : int;     (** size of the fingerprint table *)
   c_seconds : float;
 }
