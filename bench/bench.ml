@@ -106,8 +106,58 @@ let peak_rss_kb () =
     | exception End_of_file -> 0 in
   Fun.protect ~finally:(fun () -> close_in ic) go
 
+(* Issue 17, goal 4: a model of more than 1,000,000 states (bench/models,
+   not spec/models: no test explores it), counted by the fingerprint path
+   (D38) in a child process, so that its peak RSS is its own; against TLC with
+   one worker, in the same run. *)
+let explorer_large () =
+  let open Explore in
+  let dir = Filename.concat (Filename.dirname (Tlc.spec_dir ())) "bench/models" in
+  let m = Model.load (Filename.concat dir "MCBenchLarge.tla") in
+  let (rd, wr) = Unix.pipe () in
+  (match Unix.fork () with
+   | 0 ->
+     Unix.close rd;
+     let c = Explorer.count ~max_states:10_000_000 m in
+     let line = Printf.sprintf "%d %d %d %d %.6f %d\n" c.distinct c.generated c.final c.table_bytes
+         c.c_seconds (peak_rss_kb ()) in
+     ignore (Unix.write_substring wr line 0 (String.length line));
+     Unix._exit 0
+   | pid ->
+     Unix.close wr;
+     let ic = Unix.in_channel_of_descr rd in
+     let line = try input_line ic with End_of_file -> "" in
+     close_in ic;
+     ignore (Unix.waitpid [] pid);
+     match Scanf.sscanf line "%d %d %d %d %f %d" (fun a b c d e f -> (a, b, c, d, e, f)) with
+     | exception _ -> Printf.printf "  %s: the counting child failed\n" m.name
+     | (n, gen, _final, table, secs, rss_kb) ->
+       let ours = float_of_int n /. secs in
+       let bytes = float_of_int (rss_kb * 1024) /. float_of_int n in
+       Printf.printf "explorer vs TLC on %s (bench/models, issue 17 goal 4), safety only, counting:\n" m.name;
+       Printf.printf "  %-34s %9d states %9d generated %8.3f s %12.0f states/s  %7.0f bytes/state (peak RSS of the process; fingerprint table %d MB)\n"
+         "OCaml explorer, --fingerprints" n gen secs ours bytes (table / 1048576);
+       Printf.printf "  %-34s probability that a fingerprint collision hid a state: at most %.1e\n" ""
+         (float_of_int n *. float_of_int gen /. (2. ** 63.));
+       let rss = ref 0 in
+       let r = Tlc.run_model ~prefix:"/usr/bin/time -f JSREF_MAXRSS=%M"
+           ~options:[ "-deadlock"; "-workers"; "1" ] m (fun _ -> ()) in
+       List.iter (fun l ->
+           match Scanf.sscanf l "JSREF_MAXRSS=%d" (fun k -> k) with
+           | k -> rss := k | exception _ -> ()) (String.split_on_char '\n' r.output);
+       let states = Option.value r.distinct_states ~default:0 in
+       let rate = float_of_int states /. r.seconds in
+       Printf.printf "  %-34s %9d states %19s %8.3f s %12.0f states/s  %7.0f bytes/state (peak RSS of the JVM)\n"
+         "TLC, 1 worker (wall clock)" states "" r.seconds rate
+         (float_of_int (!rss * 1024) /. float_of_int (max 1 states));
+       if states <> n then Printf.printf "  WARNING: TLC found %d states, the explorer %d\n" states n;
+       Printf.printf "  ratio explorer / TLC 1 worker: %.1fx (goal: at least 30x); %.0f bytes per state (goal: fewer than 200)\n"
+         (ours /. rate) bytes)
+
 let explorer_bench () =
   let open Explore in
+  (* first, while this process is small: the child's peak RSS starts from it *)
+  if Sys.getenv_opt "JSREF_BENCH_QUICK" <> Some "1" then (Gc.compact (); explorer_large (); print_newline ());
   (* The largest model of spec/models, default or full, by state count. *)
   let paths = Conformance.models ~full:true () in
   let sized = List.map (fun p -> let m = Model.load p in
@@ -147,7 +197,9 @@ let explorer_bench () =
     (ours /. t1) (ours /. t2);
   Printf.printf "  where the explorer's time goes: successor generation and canonical keys (one\n\
                 \  Buffer per state, priority queue sorted into the key), hashing; TLC's wall clock\n\
-                \  includes starting the JVM and parsing the spec (about 1 s of it).\n"
+                \  includes starting the JVM and parsing the spec (about 1 s of it).\n";
+  if Sys.getenv_opt "JSREF_BENCH_QUICK" = Some "1" then
+    print_endline "  (JSREF_BENCH_QUICK: the model of 1.45M states is left out)"
 
 (* ------------------------------------------------- interpreter *)
 
