@@ -16,7 +16,8 @@ type rect = { x_min : float; y_min : float; x_max : float; y_max : float }
    [wall_box.(4i) .. (4i+3)] (x_min, y_min, x_max, y_max); for cube j, the
    radius of the circle about its centre that holds its footprint (half its
    diagonal). *)
-type broad = { walls_a : segment array; wall_box : float array; cube_reach : float array }
+type broad = { walls_a : segment array; wall_box : float array; cube_reach : float array;
+               cube_sides : segment list array (* cube_segments of each cube, for ray *) }
 
 type t = {
   length : float;
@@ -37,13 +38,7 @@ let broad_of walls cubes =
       wall_box.(4 * i + 1) <- Float.min s.a.py s.b.py;
       wall_box.(4 * i + 2) <- Float.max s.a.px s.b.px;
       wall_box.(4 * i + 3) <- Float.max s.a.py s.b.py) walls_a;
-  { walls_a; wall_box; cube_reach = Array.map (fun c -> c.size *. sqrt 2. /. 2.) cubes }
-
-let make ~length ~width ?(extra_walls = []) ~cubes ~dropoffs () =
-  let c00 = pt 0. 0. and c10 = pt length 0. and c11 = pt length width and c01 = pt 0. width in
-  let outer = [ { a = c00; b = c10 }; { a = c10; b = c11 }; { a = c11; b = c01 }; { a = c01; b = c00 } ] in
-  let walls = outer @ extra_walls and cubes = Array.of_list cubes in
-  { length; width; walls; cubes; dropoffs; broad = broad_of walls cubes }
+  { walls_a; wall_box; cube_reach = Array.map (fun c -> c.size *. sqrt 2. /. 2.) cubes; cube_sides = [||] }
 
 (* The cube's local axes: face i has its normal at yaw + i * 90 degrees. *)
 let face_normal c i =
@@ -65,6 +60,13 @@ let cube_segments c =
   match corners c with
   | [ p1; p2; p3; p4 ] -> [ { a = p1; b = p2 }; { a = p2; b = p3 }; { a = p3; b = p4 }; { a = p4; b = p1 } ]
   | _ -> assert false
+
+let make ~length ~width ?(extra_walls = []) ~cubes ~dropoffs () =
+  let c00 = pt 0. 0. and c10 = pt length 0. and c11 = pt length width and c01 = pt 0. width in
+  let outer = [ { a = c00; b = c10 }; { a = c10; b = c11 }; { a = c11; b = c01 }; { a = c01; b = c00 } ] in
+  let walls = outer @ extra_walls and cubes = Array.of_list cubes in
+  { length; width; walls; cubes; dropoffs;
+    broad = { (broad_of walls cubes) with cube_sides = Array.map cube_segments cubes } }
 
 let in_rect r x y = x >= r.x_min && x <= r.x_max && y >= r.y_min && y <= r.y_max
 
@@ -146,11 +148,11 @@ let ray w x y angle ~max =
     | Some t when t <= max -> (match !best with Some b when b <= t -> () | _ -> best := Some t)
     | _ -> () in
   List.iter consider w.walls;
-  Array.iter (fun c ->
+  Array.iteri (fun j c ->
       (* cheap reject: the cube is farther than max plus its half diagonal *)
       let ddx = c.cx -. x and ddy = c.cy -. y in
       let reach = max +. c.size in
-      if ddx *. ddx +. ddy *. ddy <= reach *. reach then List.iter consider (cube_segments c))
+      if ddx *. ddx +. ddy *. ddy <= reach *. reach then List.iter consider w.broad.cube_sides.(j))
     w.cubes;
   !best
 

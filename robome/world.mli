@@ -23,8 +23,9 @@ type cube = {
 type rect = { x_min : float; y_min : float; x_max : float; y_max : float }
 
 type broad
-(** What {!disc_collides} looks at first: the bounding boxes of the walls and
-    the circles round the cubes, derived from them by {!make}. *)
+(** What {!disc_collides} looks at first (the bounding boxes of the walls and
+    the circles round the cubes) and the sides of each cube for {!ray}, all
+    derived from the walls and cubes by {!make}. *)
 
 type t = {
   length : float;
