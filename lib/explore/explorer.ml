@@ -9,7 +9,7 @@ type graph = {
   seconds : float;
 }
 
-let successors ?(rules = Model.M.rules) (m : Model.t) (c : Model.M.t) =
+let successors_by agent_steps (m : Model.t) (c : Model.M.t) =
   let p = m.params in
   let host = ref [] in
   let add l c = host := (l, c) :: !host in
@@ -27,7 +27,20 @@ let successors ?(rules = Model.M.rules) (m : Model.t) (c : Model.M.t) =
     Array.iteri (fun o _ -> let c' = Model.M.put p c o in add c'.last c') m.objects;
   if c.msg_seq < m.max_send then
     Array.iteri (fun x _ -> let c' = Model.M.send p c x in add c'.last c') m.messages;
-  List.rev_append !host (Model.M.step_by rules p c)
+  List.rev_append !host (agent_steps p c)
+
+let successors ?(rules = Model.M.rules) m c = successors_by (Model.M.step_by rules) m c
+
+(* The fast engine on the models' bodies (with the pre-test the acceptance
+   tables give), for the counting path: its [step] is the reference's, rule
+   for rule, on every reachable configuration of every model (test "engine
+   step = reference step, every model state", test/semantics). *)
+module Fast_bodies = struct
+  include Model.Bodies
+  let percept_may_apply () (b : Model.beh) h p = List.mem p b.percept_handlers.(h - 1).accepts
+end
+
+module FE = Engine.Fast.Make (Fast_bodies)
 
 (* ------------------------------------------------------------- keys *)
 
@@ -198,76 +211,82 @@ let shortest_path g target =
    own mixes (the key sorts it instead). The test "fingerprints" holds the
    two equal in the number of states on every model of spec/models. *)
 let fp_mul = 0x5bd1e9955bd1e995
+let fp_seed = 0x2545F4914F6CDD1D
 
-let fp = ref 0
-let[@inline] fp_int n = fp := (!fp lxor (n * 2)) * fp_mul    (* even: an int *)
-let[@inline] fp_sep () = fp := (!fp lxor 1) * fp_mul          (* odd: a separator *)
-let[@inline] fp_entry (e : int entry) = fp_int e.p; fp_int e.prio; fp_int e.seq
+(* [h] threaded through, so that it stays in a register *)
+let[@inline] mix h n = (h lxor (n * 2)) * fp_mul    (* even: an int *)
+let[@inline] sep h = (h lxor 1) * fp_mul             (* odd: a separator *)
+let[@inline] mix_entry h (e : int entry) = mix (mix (mix h e.p) e.prio) e.seq
 
 let fp_final h =
   let h = (h lxor (h lsr 31)) * 0x7fb5d329728ea185 in
   let h = h lxor (h lsr 27) in
   if h = 0 then 1 else h   (* 0 marks an empty slot *)
 
-let fp_msg = function
-  | M_message { m; mseq } -> fp_int 0; fp_int m; fp_int mseq
-  | M_percept e -> fp_int 1; fp_entry e
+let mix_msg h = function
+  | M_message { m; mseq } -> mix (mix (mix h 0) m) mseq
+  | M_percept e -> mix_entry (mix h 1) e
 
-let fp_label (l : Model.M.lbl) =
+let mix_label h (l : Model.M.lbl) =
   match l with
-  | Init -> fp_int 0
-  | Notify e -> fp_int 1; fp_entry e
-  | Notify_with e -> fp_int 2; fp_entry e
-  | Put o -> fp_int 3; fp_int o
-  | Send (m, s) -> fp_int 4; fp_int m; fp_int s
-  | Transfer n -> fp_int 5; fp_int n
-  | Transfer_one e -> fp_int 6; fp_entry e
-  | Transfer_spin o -> fp_int 7; fp_int o
-  | Transfer_end -> fp_int 8
-  | Dequeue e -> fp_int 9; fp_entry e
-  | Handle { id; h; p; seq } -> fp_int 10; fp_int id; fp_int h; fp_int p; fp_int seq
-  | Skip { id; h } -> fp_int 11; fp_int id; fp_int h
-  | End_dispatch { seq; discarded } -> fp_int 12; fp_int seq; fp_int (Bool.to_int discarded)
+  | Init -> mix h 0
+  | Notify e -> mix_entry (mix h 1) e
+  | Notify_with e -> mix_entry (mix h 2) e
+  | Put o -> mix (mix h 3) o
+  | Send (m, s) -> mix (mix (mix h 4) m) s
+  | Transfer n -> mix (mix h 5) n
+  | Transfer_one e -> mix_entry (mix h 6) e
+  | Transfer_spin o -> mix (mix h 7) o
+  | Transfer_end -> mix h 8
+  | Dequeue e -> mix_entry (mix h 9) e
+  | Handle { id; h = hd; p; seq } -> mix (mix (mix (mix (mix h 10) id) hd) p) seq
+  | Skip { id; h = hd } -> mix (mix (mix h 11) id) hd
+  | End_dispatch { seq; discarded } -> mix (mix (mix h 12) seq) (Bool.to_int discarded)
   | Behaviour_step { id; msg } ->
-    fp_int 13; fp_int id;
-    (match msg with None -> fp_int 0 | Some x -> fp_int 1; fp_msg x)
-  | Next_iteration -> fp_int 14
-  | Idle -> fp_int 15
+    let h = mix (mix h 13) id in
+    (match msg with None -> mix h 0 | Some x -> mix_msg (mix h 1) x)
+  | Next_iteration -> mix h 14
+  | Idle -> mix h 15
 
+(* in queue order; [Fqueue.to_list] allocates only when the queue's back list
+   is not empty *)
+let rec mix_o2a h = function
+  | [] -> h
+  | O_percept e :: r -> mix_o2a (mix_entry (mix h 0) e) r
+  | O_object o :: r -> mix_o2a (mix (mix h 1) o) r
+
+let rec mix_msgs h = function [] -> h | x :: r -> mix_msgs (mix_msg h x) r
+let rec mix_ints h = function [] -> h | x :: r -> mix_ints (mix h x) r
+let rec mix_active h = function
+  | [] -> h
+  | (a : Model.beh instance) :: r -> mix_active (mix (mix h a.id) a.beh.bidx) r
+let rec mix_todo h = function [] -> h | (id, hd) :: r -> mix_todo (mix (mix h id) hd) r
+let rec mix_waits h = function [] -> h | (s, _, n) :: r -> mix_waits (mix (mix h s) n) r
+
+(* the priority queue, a set: the sum of its entries' own mixes *)
 let pq_sum = ref 0
-let pq_entry (e : int entry) =
-  fp := 0x2545F4914F6CDD1D; fp_entry e; pq_sum := !pq_sum + fp_final !fp
+let pq_entry (e : int entry) = pq_sum := !pq_sum + fp_final (mix_entry fp_seed e)
 
 let state_fingerprint (c : Model.M.t) =
   pq_sum := 0;
   Semantics.Pqueue.iter pq_entry c.pq;
-  fp := 0x2545F4914F6CDD1D;
-  Semantics.Fqueue.fold (fun () -> function
-      | O_percept e -> fp_int 0; fp_entry e
-      | O_object o -> fp_int 1; fp_int o) () c.o2a;
-  fp_sep ();
-  fp_int (Semantics.Pqueue.size c.pq); fp_int !pq_sum;
-  fp_sep ();
-  Semantics.Fqueue.fold (fun () x -> fp_msg x) () c.msgq;
-  fp_sep ();
-  fp_int c.next_seq; fp_int c.msg_seq; fp_int c.puts;
-  List.iter (fun (a : Model.beh instance) -> fp_int a.id; fp_int a.beh.bidx) c.active;
-  fp_sep ();
-  List.iter fp_int c.ready; fp_sep ();
-  List.iter fp_int c.blocked; fp_sep ();
-  fp_int c.pos;
-  fp_int (match c.phase with
-      | Transfer_phase -> 0 | Dispatch_phase -> 1 | Handle_phase -> 2 | Idle_phase -> 3);
-  (match c.cur with
-   | None -> fp_int 0
-   | Some d ->
-     fp_int 1; fp_entry d.e; fp_int (Bool.to_int d.applied);
-     List.iter (fun (id, h) -> fp_int id; fp_int h) d.todo; fp_sep ());
-  fp_int c.dispatched;
-  Int_set.iter fp_int c.done_; fp_sep ();
-  List.iter (fun (s, _, n) -> fp_int s; fp_int n) c.waits; fp_sep ();
-  fp_label c.last;
-  fp_final !fp
+  let h = sep (mix_o2a fp_seed (Semantics.Fqueue.to_list c.o2a)) in
+  let h = sep (mix (mix h (Semantics.Pqueue.size c.pq)) !pq_sum) in
+  let h = sep (mix_msgs h (Semantics.Fqueue.to_list c.msgq)) in
+  let h = mix (mix (mix h c.next_seq) c.msg_seq) c.puts in
+  let h = sep (mix_active h c.active) in
+  let h = sep (mix_ints h c.ready) in
+  let h = sep (mix_ints h c.blocked) in
+  let h = mix h c.pos in
+  let h = mix h (match c.phase with
+      | Transfer_phase -> 0 | Dispatch_phase -> 1 | Handle_phase -> 2 | Idle_phase -> 3) in
+  let h = match c.cur with
+    | None -> mix h 0
+    | Some d -> sep (mix_todo (mix (mix_entry (mix h 1) d.e) (Bool.to_int d.applied)) d.todo) in
+  let h = mix h c.dispatched in
+  let h = sep (Int_set.fold (fun x h -> mix h x) c.done_ h) in
+  let h = sep (mix_waits h c.waits) in
+  fp_final (mix_label h c.last)
 
 (* The visited set: an open-addressing table of fingerprints in a Bigarray
    (outside the OCaml heap: the collector never scans it), at most half full. *)
@@ -331,6 +350,8 @@ let with_explorer_gc f =
 let count ?(max_states = default_max_states) ?rules (m : Model.t) =
   with_explorer_gc @@ fun () ->
   let t0 = Unix.gettimeofday () in
+  (* the fast engine unless a mutant's rules are asked for *)
+  let agent_steps = match rules with Some r -> Model.M.step_by r | None -> FE.step in
   let seen = Fp_set.create () in
   let generated = ref 0 and final = ref 0 and depth = ref 0 and height = ref 0 in
   (* depth first: the stack holds, for each state on the current path, its
@@ -343,7 +364,7 @@ let count ?(max_states = default_max_states) ?rules (m : Model.t) =
       if seen.count > max_states then
         failwith (Printf.sprintf "exhaustion: the model has more than %d states, exploration \
                                   stopped (a larger bound: --max-states)" max_states);
-      match successors ?rules m c with
+      match successors_by agent_steps m c with
       | [] -> incr final
       | succs ->
         stack := succs :: !stack; incr height;
