@@ -70,7 +70,11 @@ type count = {
 }
 
 val count : ?max_states:int -> ?rules:Model.M.rules -> Model.t -> count
-(** @raise Failure (an exhaustion error) beyond [max_states] distinct states. *)
+(** The agent's rules are taken by the fast engine ([Engine.Fast], held equal
+    to the reference rule for rule on every state of every model by the test
+    "engine step = reference step, every model state"), or by [rules] when
+    given (a mutant's).
+    @raise Failure (an exhaustion error) beyond [max_states] distinct states. *)
 
 val collision_probability : count -> float
 (** The bound above on the probability that a fingerprint collision hid a state. *)
