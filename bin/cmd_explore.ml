@@ -148,9 +148,10 @@ let cmd =
                           ~doc:"Stop with an exhaustion error when a model has more than N states \
                                 (default 1,000,000, about 650 MB; at most 50,000,000).") in
   let fingerprints = Arg.(value & flag & info ["fingerprints"]
-                            ~doc:"Only count the states, keeping a 63-bit fingerprint of each (8 bytes \
-                                  in a table at most half full) and the breadth-first frontier, as TLC \
-                                  does; prints the probability that a collision hid a state (D38).") in
+                            ~doc:"Only count the states, depth first, keeping a 63-bit fingerprint of each \
+                                  (8 bytes, in a table at most three quarters full) and the current path, \
+                                  as TLC keeps fingerprints; prints the probability that a collision hid \
+                                  a state (D38).") in
   Cmd.v (Cmd.info "explore" ~doc:"Enumerate the reachable configurations of a TLA+ model with the OCaml semantics."
            ~man:[`S Manpage.s_description;
                  `P "Reads the model's constants from its MC*.tla and MC*.cfg, builds the \

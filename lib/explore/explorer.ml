@@ -289,7 +289,7 @@ let state_fingerprint (c : Model.M.t) =
   fp_final (mix_label h c.last)
 
 (* The visited set: an open-addressing table of fingerprints in a Bigarray
-   (outside the OCaml heap: the collector never scans it), at most half full. *)
+   (outside the OCaml heap: the collector never scans it), at most three quarters full. *)
 module Fp_set = struct
   open Bigarray
   type t = { mutable slots : (int, int_elt, c_layout) Array1.t; mutable count : int }
@@ -318,7 +318,7 @@ module Fp_set = struct
     t.slots <- a
 
   let add t h =
-    if 2 * (t.count + 1) > Array1.dim t.slots then grow t;
+    if 4 * (t.count + 1) > 3 * Array1.dim t.slots then grow t;
     let fresh = add_raw t.slots h in
     if fresh then t.count <- t.count + 1;
     fresh

@@ -44,7 +44,7 @@ val shortest_path : graph -> int -> (string * int) list
 
     The counting path ([explore --fingerprints]): the same reachable states as
     {!explore}, found depth first. The visited set holds only a 63-bit
-    fingerprint of each state (8 bytes, in a table at most half full, outside
+    fingerprint of each state (8 bytes, in a table at most three quarters full, outside
     the OCaml heap), and only the configurations on the current path and their
     unvisited successors are kept; no graph. As in TLC, two different states
     with the same fingerprint would be taken for one and the second (with what
