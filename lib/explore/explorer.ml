@@ -299,7 +299,7 @@ module Fp_set = struct
   let bytes t = Array1.dim t.slots * 8
 
   (* true when [h] was absent (it is now present) *)
-  let rec add_raw a h =
+  let add_raw a h =
     let mask = Array1.dim a - 1 in
     let rec probe i =
       let x = Array1.unsafe_get a i in
@@ -308,7 +308,7 @@ module Fp_set = struct
       else probe ((i + 1) land mask) in
     probe (h land mask)
 
-  and grow t =
+  let grow t =
     let old = t.slots in
     let a = make (2 * Array1.dim old) in
     for i = 0 to Array1.dim old - 1 do
