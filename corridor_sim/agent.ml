@@ -87,3 +87,17 @@ let work_of_step ~take ~percept (l : (_, _, _) Semantics.Machine.label) : work =
   | Behaviour_step _ -> Behaviour_step
   | Next_iteration | Idle | Init | Notify _ | Notify_with _ | Put _ | Send _ | Handle _ | Skip _
   | End_dispatch _ -> Loop { o2a_calls = 0 }
+
+let dispatch_work ~dispatch ~record ~percept : work option =
+  let first = ref None and handlers = ref 0 in
+  let observe (l : (_, _, _) Semantics.Machine.label) =
+    record l;
+    match l with
+    | Dequeue e -> first := Some e
+    | Handle _ -> incr handlers
+    | _ -> () in
+  if not (dispatch observe) then None
+  else match !first with
+    | Some e -> Some (Dispatch { percept = percept e.Semantics.Machine.p; priority = e.prio; seq = e.seq;
+                                 handlers_run = !handlers })
+    | None -> None

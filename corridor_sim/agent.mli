@@ -117,3 +117,13 @@ module type AGENT = sig
   (** The agent's [worldMap]: for each mapped position (x, y), the QR text
       stored there, in the order the keys were first stored. *)
 end
+
+val dispatch_work :
+  dispatch:((('p, 'm, 'o) Semantics.Machine.label -> unit) -> bool) ->
+  record:(('p, 'm, 'o) Semantics.Machine.label -> unit) -> percept:('p -> percept) -> work option
+(** A whole dispatch as one piece of work, what {!work_of_step} makes of its
+    rules taken one at a time (Dequeue, Handle or Skip per handler,
+    EndDispatch), in one call of the engine's derived rule (issue 17):
+    [dispatch observe] runs [Engine.Fast.dispatch ~observe] and says whether
+    it applied; every label is [record]ed in order. [None] when it did not
+    apply (the caller then takes one rule). *)

@@ -103,7 +103,20 @@ let make_with ?program:(path = program ()) ~record () : (module Agent.AGENT) =
         Some l
 
     let step t : Agent.work option =
-      Option.map (Agent.work_of_step ~take:(fun () -> take t) ~percept:percept_of_value) (take t)
+      (* a whole dispatch in one call of the derived rule when it applies (the
+         same rules, labels and work as one at a time, issue 17) *)
+      let dispatch observe =
+        match Interp.Runtime.E.dispatch ~observe t.params t.c with
+        | Some c ->
+          t.c <- c;
+          ignore (Interp.Eval.take_events c.world);
+          c.world.outbox <- [];
+          true
+        | None -> false in
+      match if t.c.phase = Mc.Dispatch_phase then Agent.dispatch_work ~dispatch ~record ~percept:percept_of_value
+        else None with
+      | Some w -> Some w
+      | None -> Option.map (Agent.work_of_step ~take:(fun () -> take t) ~percept:percept_of_value) (take t)
 
     let world_map t =
       match Interp.Eval.property t.c.world "worldMap" with

@@ -41,12 +41,12 @@ let of_result (r : Sim.result) =
           Some (Float.hypot (mx -. c.cx) (my -. c.cy)) in
       { cube = c.id; entries = n; error }) in
   let errors = List.filter_map (fun c -> c.error) cubes in
-  let prios = List.sort_uniq (fun a b -> compare b a) (List.rev_map (fun (h : Sim.handled) -> h.priority) r.handled) in
+  let prios = List.sort_uniq (fun a b -> Int.compare b a) (List.rev_map (fun (h : Sim.handled) -> h.priority) r.handled) in
   let latency = List.map (fun prio ->
       let ls = List.filter_map (fun (h : Sim.handled) ->
           if h.priority = prio then Some (h.dispatched -. h.notified) else None) r.handled in
       let a = Array.of_list ls in
-      Array.sort compare a;
+      Array.stable_sort Float.compare a;   (* the order of compare on floats, faster (issue 17) *)
       let n = Array.length a in
       { priority = prio; count = n;
         mean = Array.fold_left ( +. ) 0. a /. float_of_int (max 1 n);

@@ -92,7 +92,16 @@ let take t =
   | (l, c) :: _ -> t.c <- c; record t l; Some l
 
 let step t : Agent.work option =
-  Option.map (Agent.work_of_step ~take:(fun () -> take t) ~percept:Fun.id) (take t)
+  (* a whole dispatch in one call of the derived rule when it applies (the
+     same rules, labels and work as one at a time, issue 17) *)
+  let dispatch observe =
+    match E.dispatch ~observe t.params t.c with
+    | Some c -> t.c <- c; true
+    | None -> false in
+  match if t.c.phase = Machine.Dispatch_phase then Agent.dispatch_work ~dispatch ~record:(record t) ~percept:Fun.id
+    else None with
+  | Some w -> Some w
+  | None -> Option.map (Agent.work_of_step ~take:(fun () -> take t) ~percept:Fun.id) (take t)
 
 let world_map t = List.map (fun ((x, y), s) -> (x, y, s)) t.c.world.map
 let current_position t = t.c.world.current

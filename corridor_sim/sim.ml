@@ -61,16 +61,24 @@ let make_grid (w : World.t) =
       not (World.over_dropoff w x y || Array.exists (fun c -> World.in_cube c x y) w.cubes)) in
   { nx; ny; free; seen = Array.make (nx * ny) false }
 
+(* on ints: Stdlib's max and min are polymorphic, some 90 instructions a call *)
+let imax (a : int) b = if a >= b then a else b
+let imin (a : int) b = if a <= b then a else b
+
 let mark g x y r =
-  let i0 = max 0 (int_of_float ((x -. r) /. coverage_cell))
-  and i1 = min (g.nx - 1) (int_of_float ((x +. r) /. coverage_cell))
-  and j0 = max 0 (int_of_float ((y -. r) /. coverage_cell))
-  and j1 = min (g.ny - 1) (int_of_float ((y +. r) /. coverage_cell)) in
+  let i0 = imax 0 (int_of_float ((x -. r) /. coverage_cell))
+  and i1 = imin (g.nx - 1) (int_of_float ((x +. r) /. coverage_cell))
+  and j0 = imax 0 (int_of_float ((y -. r) /. coverage_cell))
+  and j1 = imin (g.ny - 1) (int_of_float ((y +. r) /. coverage_cell)) in
+  (* a cell already seen stays seen: only the others are measured (issue 17:
+     the robot moves 2 mm a step, so nearly every cell under it is seen) *)
   for i = i0 to i1 do
     for j = j0 to j1 do
-      let cx = Float.max (float_of_int i *. coverage_cell) (Float.min (float_of_int (i + 1) *. coverage_cell) x)
-      and cy = Float.max (float_of_int j *. coverage_cell) (Float.min (float_of_int (j + 1) *. coverage_cell) y) in
-      if (cx -. x) *. (cx -. x) +. (cy -. y) *. (cy -. y) < r *. r then g.seen.(j * g.nx + i) <- true
+      if not (Array.unsafe_get g.seen (j * g.nx + i)) then begin
+        let cx = Float.max (float_of_int i *. coverage_cell) (Float.min (float_of_int (i + 1) *. coverage_cell) x)
+        and cy = Float.max (float_of_int j *. coverage_cell) (Float.min (float_of_int (j + 1) *. coverage_cell) y) in
+        if (cx -. x) *. (cx -. x) +. (cy -. y) *. (cy -. y) < r *. r then g.seen.(j * g.nx + i) <- true
+      end
     done
   done
 

@@ -12,20 +12,33 @@ type cube = {
 
 type rect = { x_min : float; y_min : float; x_max : float; y_max : float }
 
+(* The broad phase of [disc_collides]: for wall i, its bounding box at
+   [wall_box.(4i) .. (4i+3)] (x_min, y_min, x_max, y_max); for cube j, the
+   radius of the circle about its centre that holds its footprint (half its
+   diagonal). *)
+type broad = { walls_a : segment array; wall_box : float array; cube_reach : float array;
+               cube_sides : segment list array (* cube_segments of each cube, for ray *) }
+
 type t = {
   length : float;
   width : float;
   walls : segment list;
   cubes : cube array;
   dropoffs : rect list;
+  broad : broad;
 }
 
 let pt px py = { px; py }
 
-let make ~length ~width ?(extra_walls = []) ~cubes ~dropoffs () =
-  let c00 = pt 0. 0. and c10 = pt length 0. and c11 = pt length width and c01 = pt 0. width in
-  let outer = [ { a = c00; b = c10 }; { a = c10; b = c11 }; { a = c11; b = c01 }; { a = c01; b = c00 } ] in
-  { length; width; walls = outer @ extra_walls; cubes = Array.of_list cubes; dropoffs }
+let broad_of walls cubes =
+  let walls_a = Array.of_list walls in
+  let wall_box = Array.make (4 * Array.length walls_a) 0. in
+  Array.iteri (fun i s ->
+      wall_box.(4 * i) <- Float.min s.a.px s.b.px;
+      wall_box.(4 * i + 1) <- Float.min s.a.py s.b.py;
+      wall_box.(4 * i + 2) <- Float.max s.a.px s.b.px;
+      wall_box.(4 * i + 3) <- Float.max s.a.py s.b.py) walls_a;
+  { walls_a; wall_box; cube_reach = Array.map (fun c -> c.size *. sqrt 2. /. 2.) cubes; cube_sides = [||] }
 
 (* The cube's local axes: face i has its normal at yaw + i * 90 degrees. *)
 let face_normal c i =
@@ -47,6 +60,13 @@ let cube_segments c =
   match corners c with
   | [ p1; p2; p3; p4 ] -> [ { a = p1; b = p2 }; { a = p2; b = p3 }; { a = p3; b = p4 }; { a = p4; b = p1 } ]
   | _ -> assert false
+
+let make ~length ~width ?(extra_walls = []) ~cubes ~dropoffs () =
+  let c00 = pt 0. 0. and c10 = pt length 0. and c11 = pt length width and c01 = pt 0. width in
+  let outer = [ { a = c00; b = c10 }; { a = c10; b = c11 }; { a = c11; b = c01 }; { a = c01; b = c00 } ] in
+  let walls = outer @ extra_walls and cubes = Array.of_list cubes in
+  { length; width; walls; cubes; dropoffs;
+    broad = { (broad_of walls cubes) with cube_sides = Array.map cube_segments cubes } }
 
 let in_rect r x y = x >= r.x_min && x <= r.x_max && y >= r.y_min && y <= r.y_max
 
@@ -78,9 +98,36 @@ let dist_point_segment x y s =
   let dx = wx -. t *. vx and dy = wy -. t *. vy in
   sqrt (dx *. dx +. dy *. dy)
 
+(* The exact tests (the distance to a wall below r, the disc over a cube's
+   footprint) run only on the walls and cubes the disc may reach: a wall
+   whose bounding box is farther than r along x or y, a cube whose centre is
+   farther than r plus half its diagonal, is at least that far from the disc's
+   centre, so the exact test would say no. A margin of a micrometre keeps
+   that true of the computed distances too (their rounding errors are some
+   1e-15 m): the answer is the same as testing everything, bit for bit. *)
+let margin = 1e-6
+
 let disc_collides w x y r =
-  List.exists (fun s -> dist_point_segment x y s < r) w.walls
-  || Array.exists (fun c -> disc_hits_cube c x y r) w.cubes
+  let b = w.broad in
+  let reach = r +. margin in
+  let hit = ref false and i = ref 0 in
+  let n = Array.length b.walls_a in
+  while not !hit && !i < n do
+    let k = 4 * !i in
+    if x > Array.unsafe_get b.wall_box k -. reach && x < Array.unsafe_get b.wall_box (k + 2) +. reach
+       && y > Array.unsafe_get b.wall_box (k + 1) -. reach && y < Array.unsafe_get b.wall_box (k + 3) +. reach
+       && dist_point_segment x y (Array.unsafe_get b.walls_a !i) < r
+    then hit := true;
+    incr i
+  done;
+  let j = ref 0 and m = Array.length w.cubes in
+  while not !hit && !j < m do
+    let c = Array.unsafe_get w.cubes !j in
+    let dx = x -. c.cx and dy = y -. c.cy and d = reach +. Array.unsafe_get b.cube_reach !j in
+    if dx *. dx +. dy *. dy < d *. d && disc_hits_cube c x y r then hit := true;
+    incr j
+  done;
+  !hit
 
 (* Intersection of the ray (o + t d, t >= 0) with a segment: the t, if any. *)
 let ray_segment ox oy dx dy s =
@@ -101,11 +148,11 @@ let ray w x y angle ~max =
     | Some t when t <= max -> (match !best with Some b when b <= t -> () | _ -> best := Some t)
     | _ -> () in
   List.iter consider w.walls;
-  Array.iter (fun c ->
+  Array.iteri (fun j c ->
       (* cheap reject: the cube is farther than max plus its half diagonal *)
       let ddx = c.cx -. x and ddy = c.cy -. y in
       let reach = max +. c.size in
-      if ddx *. ddx +. ddy *. ddy <= reach *. reach then List.iter consider (cube_segments c))
+      if ddx *. ddx +. ddy *. ddy <= reach *. reach then List.iter consider w.broad.cube_sides.(j))
     w.cubes;
   !best
 

@@ -149,6 +149,39 @@ let test_priorities () =
   Alcotest.(check (pair (float 0.) (float 0.))) "current position" (3., 4.) (Reference_controller.current_position a);
   Alcotest.(check bool) "idle" true (Reference_controller.step a = None)
 
+(* Issue 17: a dispatch is taken in one call of the engine's derived rule;
+   the work it reports and the labels it logs are those of its rules taken
+   one at a time: Dequeue e, one Handle or Skip per handler (4), EndDispatch
+   of e; handlers_run counts the Handles. *)
+let test_dispatch_in_one_call () =
+  let (h, _) = quiet_host () in
+  let a = Reference_controller.create Agent.default_loop h in
+  Reference_controller.enable_log a;
+  let n p = match Reference_controller.notify a p ~priority:None with Ok _ -> () | Error e -> Alcotest.fail e in
+  List.iter n [ Position (1., 2.); Qr_code_read "A"; Obstacle; Falling; Position (3., 4.) ];
+  let rec go () =
+    let before = List.length (Reference_controller.log a) in
+    match Reference_controller.step a with
+    | None -> ()
+    | Some w ->
+      let labels = List.filteri (fun i _ -> i >= before) (Reference_controller.log a) in
+      (match w, labels with
+       | Agent.Dispatch d, Semantics.Machine.Dequeue e :: rest ->
+         Alcotest.(check (pair int int)) "the percept dequeued" (d.priority, d.seq) (e.prio, e.seq);
+         let rec body hs sk = function
+           | [ Semantics.Machine.End_dispatch { seq; _ } ] ->
+             Alcotest.(check int) "EndDispatch of the same seq" e.seq seq; (hs, sk)
+           | Semantics.Machine.Handle _ :: r -> body (hs + 1) sk r
+           | Semantics.Machine.Skip _ :: r -> body hs (sk + 1) r
+           | _ -> Alcotest.fail "a dispatch's labels: Dequeue, Handle or Skip, EndDispatch" in
+         let (hs, sk) = body 0 0 rest in
+         Alcotest.(check int) "handlers_run = the Handles" hs d.handlers_run;
+         Alcotest.(check int) "one Handle or Skip per handler" 4 (hs + sk)
+       | Agent.Dispatch _, _ -> Alcotest.fail "a dispatch that does not start with Dequeue"
+       | _, l -> Alcotest.(check int) "other work: one rule" 1 (List.length l));
+      go () in
+  go ()
+
 let test_override_and_refusals () =
   let (h, _) = quiet_host () in
   let a = Reference_controller.create { Agent.default_loop with o2a_capacity = Some 2 } h in
@@ -328,6 +361,7 @@ let () =
     ("controller", [
         Alcotest.test_case "priorities, seqs and handlers (R2b, R3b)" `Quick test_priorities;
         Alcotest.test_case "override and refusals (R2a, R2d)" `Quick test_override_and_refusals;
+        Alcotest.test_case "a dispatch in one call = its rules" `Quick test_dispatch_in_one_call;
         Alcotest.test_case "budgeted loop" `Quick test_budgeted ]);
     ("simulation", [
         Alcotest.test_case "determinism per seed" `Quick test_determinism;

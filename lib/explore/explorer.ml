@@ -9,7 +9,7 @@ type graph = {
   seconds : float;
 }
 
-let successors ?(rules = Model.M.rules) (m : Model.t) (c : Model.M.t) =
+let successors_by agent_steps (m : Model.t) (c : Model.M.t) =
   let p = m.params in
   let host = ref [] in
   let add l c = host := (l, c) :: !host in
@@ -27,7 +27,20 @@ let successors ?(rules = Model.M.rules) (m : Model.t) (c : Model.M.t) =
     Array.iteri (fun o _ -> let c' = Model.M.put p c o in add c'.last c') m.objects;
   if c.msg_seq < m.max_send then
     Array.iteri (fun x _ -> let c' = Model.M.send p c x in add c'.last c') m.messages;
-  List.rev_append !host (Model.M.step_by rules p c)
+  List.rev_append !host (agent_steps p c)
+
+let successors ?(rules = Model.M.rules) m c = successors_by (Model.M.step_by rules) m c
+
+(* The fast engine on the models' bodies (with the pre-test the acceptance
+   tables give), for the counting path: its [step] is the reference's, rule
+   for rule, on every reachable configuration of every model (test "engine
+   step = reference step, every model state", test/semantics). *)
+module Fast_bodies = struct
+  include Model.Bodies
+  let percept_may_apply () (b : Model.beh) h p = List.mem p b.percept_handlers.(h - 1).accepts
+end
+
+module FE = Engine.Fast.Make (Fast_bodies)
 
 (* ------------------------------------------------------------- keys *)
 
@@ -186,3 +199,183 @@ let shortest_path g target =
     | (-1, _) -> ("Init", i) :: acc
     | (p, l) -> back p ((l, i) :: acc) in
   if target < n && seen.(target) then back target [] else []
+
+(* ------------------------------------------------- fingerprints (D38) *)
+
+(* A 63-bit fingerprint of a configuration, computed from the same values,
+   in the same order, as its canonical key [key] (without building the
+   string): every int is folded into an accumulator by xor and a multiply by a
+   dense odd constant (arithmetic modulo 2^63), a separator as a value no int
+   of the key takes, and a final mix makes every bit depend on every value.
+   The priority queue, a set, is folded order-free: the sum of its entries'
+   own mixes (the key sorts it instead). The test "fingerprints" holds the
+   two equal in the number of states on every model of spec/models. *)
+let fp_mul = 0x5bd1e9955bd1e995
+let fp_seed = 0x2545F4914F6CDD1D
+
+(* [h] threaded through, so that it stays in a register *)
+let[@inline] mix h n = (h lxor (n * 2)) * fp_mul    (* even: an int *)
+let[@inline] sep h = (h lxor 1) * fp_mul             (* odd: a separator *)
+let[@inline] mix_entry h (e : int entry) = mix (mix (mix h e.p) e.prio) e.seq
+
+let fp_final h =
+  let h = (h lxor (h lsr 31)) * 0x7fb5d329728ea185 in
+  let h = h lxor (h lsr 27) in
+  if h = 0 then 1 else h   (* 0 marks an empty slot *)
+
+let mix_msg h = function
+  | M_message { m; mseq } -> mix (mix (mix h 0) m) mseq
+  | M_percept e -> mix_entry (mix h 1) e
+
+let mix_label h (l : Model.M.lbl) =
+  match l with
+  | Init -> mix h 0
+  | Notify e -> mix_entry (mix h 1) e
+  | Notify_with e -> mix_entry (mix h 2) e
+  | Put o -> mix (mix h 3) o
+  | Send (m, s) -> mix (mix (mix h 4) m) s
+  | Transfer n -> mix (mix h 5) n
+  | Transfer_one e -> mix_entry (mix h 6) e
+  | Transfer_spin o -> mix (mix h 7) o
+  | Transfer_end -> mix h 8
+  | Dequeue e -> mix_entry (mix h 9) e
+  | Handle { id; h = hd; p; seq } -> mix (mix (mix (mix (mix h 10) id) hd) p) seq
+  | Skip { id; h = hd } -> mix (mix (mix h 11) id) hd
+  | End_dispatch { seq; discarded } -> mix (mix (mix h 12) seq) (Bool.to_int discarded)
+  | Behaviour_step { id; msg } ->
+    let h = mix (mix h 13) id in
+    (match msg with None -> mix h 0 | Some x -> mix_msg (mix h 1) x)
+  | Next_iteration -> mix h 14
+  | Idle -> mix h 15
+
+(* in queue order; [Fqueue.to_list] allocates only when the queue's back list
+   is not empty *)
+let rec mix_o2a h = function
+  | [] -> h
+  | O_percept e :: r -> mix_o2a (mix_entry (mix h 0) e) r
+  | O_object o :: r -> mix_o2a (mix (mix h 1) o) r
+
+let rec mix_msgs h = function [] -> h | x :: r -> mix_msgs (mix_msg h x) r
+let rec mix_ints h = function [] -> h | x :: r -> mix_ints (mix h x) r
+let rec mix_active h = function
+  | [] -> h
+  | (a : Model.beh instance) :: r -> mix_active (mix (mix h a.id) a.beh.bidx) r
+let rec mix_todo h = function [] -> h | (id, hd) :: r -> mix_todo (mix (mix h id) hd) r
+let rec mix_waits h = function [] -> h | (s, _, n) :: r -> mix_waits (mix (mix h s) n) r
+
+(* the priority queue, a set: the sum of its entries' own mixes *)
+let pq_sum = ref 0
+let pq_entry (e : int entry) = pq_sum := !pq_sum + fp_final (mix_entry fp_seed e)
+
+let state_fingerprint (c : Model.M.t) =
+  pq_sum := 0;
+  Semantics.Pqueue.iter pq_entry c.pq;
+  let h = sep (mix_o2a fp_seed (Semantics.Fqueue.to_list c.o2a)) in
+  let h = sep (mix (mix h (Semantics.Pqueue.size c.pq)) !pq_sum) in
+  let h = sep (mix_msgs h (Semantics.Fqueue.to_list c.msgq)) in
+  let h = mix (mix (mix h c.next_seq) c.msg_seq) c.puts in
+  let h = sep (mix_active h c.active) in
+  let h = sep (mix_ints h c.ready) in
+  let h = sep (mix_ints h c.blocked) in
+  let h = mix h c.pos in
+  let h = mix h (match c.phase with
+      | Transfer_phase -> 0 | Dispatch_phase -> 1 | Handle_phase -> 2 | Idle_phase -> 3) in
+  let h = match c.cur with
+    | None -> mix h 0
+    | Some d -> sep (mix_todo (mix (mix_entry (mix h 1) d.e) (Bool.to_int d.applied)) d.todo) in
+  let h = mix h c.dispatched in
+  let h = sep (Int_set.fold (fun x h -> mix h x) c.done_ h) in
+  let h = sep (mix_waits h c.waits) in
+  fp_final (mix_label h c.last)
+
+(* The visited set: an open-addressing table of fingerprints in a Bigarray
+   (outside the OCaml heap: the collector never scans it), at most three quarters full. *)
+module Fp_set = struct
+  open Bigarray
+  type t = { mutable slots : (int, int_elt, c_layout) Array1.t; mutable count : int }
+
+  let make n = let a = Array1.create int c_layout n in Array1.fill a 0; a
+  let create () = { slots = make 65536; count = 0 }
+  let bytes t = Array1.dim t.slots * 8
+
+  (* true when [h] was absent (it is now present) *)
+  let add_raw a h =
+    let mask = Array1.dim a - 1 in
+    let rec probe i =
+      let x = Array1.unsafe_get a i in
+      if x = 0 then (Array1.unsafe_set a i h; true)
+      else if x = h then false
+      else probe ((i + 1) land mask) in
+    probe (h land mask)
+
+  let grow t =
+    let old = t.slots in
+    let a = make (2 * Array1.dim old) in
+    for i = 0 to Array1.dim old - 1 do
+      let x = Array1.unsafe_get old i in
+      if x <> 0 then ignore (add_raw a x)
+    done;
+    t.slots <- a
+
+  let add t h =
+    if 4 * (t.count + 1) > 3 * Array1.dim t.slots then grow t;
+    let fresh = add_raw t.slots h in
+    if fresh then t.count <- t.count + 1;
+    fresh
+end
+
+type count = {
+  c_model : Model.t;
+  distinct : int;
+  generated : int;
+  final : int;
+  depth : int;
+  table_bytes : int;
+  c_seconds : float;
+}
+
+let collision_probability c =
+  (* each of the [generated] look-ups compares with at most [distinct]
+     fingerprints of 63 bits *)
+  float_of_int c.distinct *. float_of_int c.generated /. (2. ** 63.)
+
+(* Most configurations generated are already seen and die young; a larger
+   minor heap (8 MB) lets them die there, and a lazier major collector marks
+   the few that live on (the current path) less often. Restored afterwards. *)
+let with_explorer_gc f =
+  let old = Gc.get () in
+  Gc.set { old with minor_heap_size = max old.minor_heap_size (1 lsl 20); space_overhead = 400 };
+  Fun.protect ~finally:(fun () -> Gc.set old) f
+
+let count ?(max_states = default_max_states) ?rules (m : Model.t) =
+  with_explorer_gc @@ fun () ->
+  let t0 = Unix.gettimeofday () in
+  (* the fast engine unless a mutant's rules are asked for *)
+  let agent_steps = match rules with Some r -> Model.M.step_by r | None -> FE.step in
+  let seen = Fp_set.create () in
+  let generated = ref 0 and final = ref 0 and depth = ref 0 and height = ref 0 in
+  (* depth first: the stack holds, for each state on the current path, its
+     successors not yet visited; a configuration dies young unless it is on
+     the path, so the collector has little to keep *)
+  let stack = ref [] in
+  let visit c =
+    incr generated;
+    if Fp_set.add seen (state_fingerprint c) then begin
+      if seen.count > max_states then
+        failwith (Printf.sprintf "exhaustion: the model has more than %d states, exploration \
+                                  stopped (a larger bound: --max-states)" max_states);
+      match successors_by agent_steps m c with
+      | [] -> incr final
+      | succs ->
+        stack := succs :: !stack; incr height;
+        if !height > !depth then depth := !height
+    end in
+  visit (Model.M.init m.params ~world:() (List.map (fun i -> m.behaviours.(i)) m.initial));
+  while !stack <> [] do
+    match !stack with
+    | ((_, c) :: rest) :: below -> stack := rest :: below; visit c
+    | [] :: below -> stack := below; decr height
+    | [] -> ()
+  done;
+  { c_model = m; distinct = seen.count; generated = !generated; final = !final;
+    depth = !depth; table_bytes = Fp_set.bytes seen; c_seconds = Unix.gettimeofday () -. t0 }

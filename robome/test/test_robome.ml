@@ -231,6 +231,79 @@ let test_host () =
     (List.rev_map Command.to_string !got);
   Alcotest.(check bool) "unknown method" true (Result.is_error (Host.call h "callDance"))
 
+(* ------------------------------------------------ collision broad phase *)
+
+(* World.disc_collides tests exactly only the walls and cubes whose bounding
+   box or circle the disc reaches (issue 17): it must answer as the test of
+   every wall and cube does (the formula before the broad phase, here), on
+   random discs and on discs that touch a wall or a cube's corner within a
+   rounding error. *)
+let brute_collides (w : World.t) x y r =
+  let dist_point_segment x y (s : World.segment) =
+    let vx = s.b.px -. s.a.px and vy = s.b.py -. s.a.py in
+    let wx = x -. s.a.px and wy = y -. s.a.py in
+    let l2 = vx *. vx +. vy *. vy in
+    let t = if l2 = 0. then 0. else Float.max 0. (Float.min 1. ((wx *. vx +. wy *. vy) /. l2)) in
+    let dx = wx -. t *. vx and dy = wy -. t *. vy in
+    sqrt (dx *. dx +. dy *. dy) in
+  List.exists (fun s -> dist_point_segment x y s < r) w.walls
+  || Array.exists (fun c -> World.disc_hits_cube c x y r) w.cubes
+
+let broad_world () =
+  let p x y = { World.px = x; py = y } in
+  World.make ~length:10. ~width:2.
+    ~extra_walls:[ { a = p 3. 0.; b = p 3. 0.8 }; { a = p 5. 2.; b = p 5.5 1.2 }; { a = p 7. 1.; b = p 7. 1. } ]
+    ~cubes:[ cube "A" 2.5 0.7; cube ~yaw:0.35 "B" 4.2 1.4; cube ~yaw:(Float.pi /. 4.) ~size:0.3 "C" 6. 0.6 ]
+    ~dropoffs:[] ()
+
+let test_broad_phase_random () =
+  let w = broad_world () in
+  let rng = Random.State.make [| 17 |] in
+  let hits = ref 0 in
+  for _ = 1 to 200_000 do
+    let x = Random.State.float rng 11. -. 0.5 and y = Random.State.float rng 3. -. 0.5 in
+    let r = Random.State.float rng 0.4 in
+    let b = brute_collides w x y r in
+    if b then incr hits;
+    if World.disc_collides w x y r <> b then
+      Alcotest.failf "disc (%h, %h) radius %h: broad phase %b, every wall and cube %b" x y r (not b) b
+  done;
+  (* both answers occur *)
+  Alcotest.(check bool) "some discs collide, some do not" true (!hits > 1000 && !hits < 199_000)
+
+let test_broad_phase_touching () =
+  let w = broad_world () in
+  let check x y r =
+    if World.disc_collides w x y r <> brute_collides w x y r then
+      Alcotest.failf "disc (%h, %h) radius %h: the broad phase differs" x y r in
+  let shifts = [ -1e-9; -1e-12; -1e-15; 0.; 1e-15; 1e-12; 1e-9 ] in
+  let r = 0.15 in
+  (* along every wall, at distance r (plus or minus a little) on both sides,
+     and round its ends *)
+  List.iter (fun (s : World.segment) ->
+      let vx = s.b.px -. s.a.px and vy = s.b.py -. s.a.py in
+      let l = Float.max 1e-9 (sqrt (vx *. vx +. vy *. vy)) in
+      let nx = -. vy /. l and ny = vx /. l in
+      for k = -2 to 12 do
+        let t = float_of_int k /. 10. in
+        let px = s.a.px +. t *. vx and py = s.a.py +. t *. vy in
+        List.iter (fun d ->
+            List.iter (fun side -> check (px +. side *. (r +. d) *. nx) (py +. side *. (r +. d) *. ny) r) [ 1.; -1. ];
+            List.iter (fun a -> check (s.a.px +. (r +. d) *. cos a) (s.a.py +. (r +. d) *. sin a) r;
+                        check (s.b.px +. (r +. d) *. cos a) (s.b.py +. (r +. d) *. sin a) r)
+              [ 0.; 0.7; 1.6; 2.5; 3.14; 4.; 5.5 ]) shifts
+      done) w.walls;
+  (* round every cube's corners and faces *)
+  Array.iter (fun (c : World.cube) ->
+      List.iter (fun (seg : World.segment) ->
+          List.iter (fun d ->
+              List.iter (fun a -> check (seg.a.px +. (r +. d) *. cos a) (seg.a.py +. (r +. d) *. sin a) r)
+                [ 0.; 0.4; 0.785398; 1.2; 2.356; 3.9; 5.5 ]) shifts) (World.cube_segments c);
+      for i = 0 to 3 do
+        let fc = World.face_centre c i and n = World.face_normal c i in
+        List.iter (fun d -> check (fc.px +. (r +. d) *. n.px) (fc.py +. (r +. d) *. n.py) r) shifts
+      done) w.cubes
+
 let () =
   Alcotest.run "robome" [
     ("kinematics", [
@@ -254,4 +327,7 @@ let () =
         Alcotest.test_case "camera: range, fields of view, facing, occlusion" `Quick test_camera;
         Alcotest.test_case "edge detector" `Quick test_edge;
         Alcotest.test_case "UWB error" `Quick test_uwb ]);
+    ("broad phase", [
+        Alcotest.test_case "random discs: as testing every wall and cube" `Quick test_broad_phase_random;
+        Alcotest.test_case "touching discs: as testing every wall and cube" `Quick test_broad_phase_touching ]);
   ]

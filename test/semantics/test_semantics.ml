@@ -570,6 +570,38 @@ let explore_limits () =
   one_line "--max-states 0" (Printf.sprintf "%s explore %s --max-states 0" exe path);
   one_line "--max-states -5" (Printf.sprintf "%s explore %s --max-states=-5" exe path)
 
+(* D38: the counting path (fingerprints, frontier only) finds exactly the
+   states, transitions and final states of the exact explorer on every
+   model, and no two states of a model share a fingerprint. *)
+let d38_fingerprints_count_exactly () =
+  List.iter (fun p ->
+      let m = Model.load p in
+      let g = Explorer.explore m in
+      let c = Explorer.count m in
+      let n = Array.length g.states in
+      Alcotest.(check int) (m.name ^ ": distinct states") n c.distinct;
+      Alcotest.(check int) (m.name ^ ": generated = transitions + initial")
+        (Array.length g.edges + 1) c.generated;
+      Alcotest.(check int) (m.name ^ ": final states") (List.length g.deadlocks) c.final;
+      let fps = Hashtbl.create n in
+      Array.iter (fun st -> Hashtbl.replace fps (Explorer.state_fingerprint st) ()) g.states;
+      Alcotest.(check int) (m.name ^ ": fingerprints all different") n (Hashtbl.length fps))
+    (Conformance.models ~full:true ());
+  (* the bound, and the flags that do not go together: one line, exit 1 *)
+  let path = List.find (fun p -> Filename.basename p = "MCReference.tla") (Lazy.force model_paths) in
+  (match Explorer.count ~max_states:100 (Model.load path) with
+   | _ -> Alcotest.fail "100 states: counted anyway"
+   | exception Failure e ->
+     Alcotest.(check bool) ("exhaustion: " ^ e) true (String.sub e 0 11 = "exhaustion:"));
+  let one_line what cmd =
+    let (status, _, err) = run_command cmd in
+    Alcotest.(check int) (what ^ ": exit 1") 1 status;
+    Alcotest.(check int) (what ^ ": one line: " ^ err) 1
+      (List.length (List.filter (( <> ) "") (String.split_on_char '\n' err))) in
+  one_line "--fingerprints --max-states 100" (Printf.sprintf "%s explore %s --fingerprints --max-states 100" exe path);
+  one_line "--fingerprints --against-tlc" (Printf.sprintf "%s explore %s --fingerprints --against-tlc" exe path);
+  one_line "--fingerprints --all" (Printf.sprintf "%s explore --all --fingerprints" exe)
+
 let () =
   Alcotest.run "semantics" [
     ("queues", [
@@ -588,7 +620,8 @@ let () =
         Alcotest.test_case "R5d blocked until a message" `Quick blocked_until_message;
         Alcotest.test_case "R3a objects stay; printed spins" `Quick objects_stay_reference_spin_printed;
         Alcotest.test_case "R5f round robin" `Quick scheduler_round_robin ]);
-    ("limits", [ Alcotest.test_case "explore: model ranges, --max-states" `Quick explore_limits ]);
+    ("limits", [ Alcotest.test_case "explore: model ranges, --max-states" `Quick explore_limits;
+                 Alcotest.test_case "D38 fingerprints count exactly" `Quick d38_fingerprints_count_exactly ]);
     ("decisions", [
         Alcotest.test_case "D1 one-shot deactivated, not blocked" `Quick d1_oneshot_not_blocked;
         Alcotest.test_case "D2 snapshot ids reserved" `Quick d2_snapshot_ids_reserved;
