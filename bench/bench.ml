@@ -72,7 +72,7 @@ let parser_bench () =
     (100. *. t_lex /. t_parse) (100. *. (t_parse -. t_lex) /. t_parse);
   Printf.printf "  ratio parse/print time: %.2f; output %d bytes\n" (t_parse /. t_print) (String.length out);
   (* printing stays linear in the depth of expressions (issue 15): the same
-     amount of text as 100 statements of the deepest expressions D30 allows
+     amount of text as 100 statements of the deepest expressions D27 allows
      (1,000 '+', 1,000 'not'), and as 1,000 statements 100 deep; linear
      printing takes about the same time for both, a printer that copies the
      text of every level would take ten times longer for the deep one *)
@@ -108,7 +108,7 @@ let peak_rss_kb () =
 
 (* Issue 17, goal 4: a model of more than 1,000,000 states (bench/models,
    not spec/models: no test explores it), counted by the fingerprint path
-   (D38) in a child process, so that its peak RSS is its own; against TLC with
+   (D31) in a child process, so that its peak RSS is its own; against TLC with
    one worker, in the same run. *)
 let explorer_large () =
   let open Explore in

@@ -35,7 +35,7 @@ let one ~max_states model_arg against mutant =
     if Compare.agree r then 0 else 1
   end
 
-(* D38: the counting path, fingerprints only, no graph *)
+(* D31: the counting path, fingerprints only, no graph *)
 let count ~max_states model_arg mutant =
   let m = Model.load (resolve_model model_arg) in
   Model.check_explorable m;
@@ -151,7 +151,7 @@ let cmd =
                             ~doc:"Only count the states, depth first, keeping a 63-bit fingerprint of each \
                                   (8 bytes, in a table at most three quarters full) and the current path, \
                                   as TLC keeps fingerprints; prints the probability that a collision hid \
-                                  a state (D38).") in
+                                  a state (D31).") in
   Cmd.v (Cmd.info "explore" ~doc:"Enumerate the reachable configurations of a TLA+ model with the OCaml semantics."
            ~man:[`S Manpage.s_description;
                  `P "Reads the model's constants from its MC*.tla and MC*.cfg, builds the \

@@ -482,7 +482,7 @@ let limits_target ~keep ~seed index =
   let rs = rng ~seed "limits" index in
   let l = TG.limit rs in
   (* raw bytes in a text literal may be refused at the source, and an
-     expression nested more than 1,000 deep is (D30), located *)
+     expression nested more than 1,000 deep is (D27), located *)
   if (l.kind = "raw bytes" || l.kind = "deep expression") && (match parse_and_check ~file:"limit.jade" l.text with
       | None -> true
       | Some (_, diags) -> Typing.has_errors diags) then raise (Found Pass);

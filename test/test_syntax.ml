@@ -302,7 +302,7 @@ let cli_no_backtrace () =
           Alcotest.(check bool) ("a diagnostic line: " ^ l) true
             (List.exists (fun p -> is_diag_line p l) paths)) (lines err))
 
-(* ------------------------------------------------ edges (issue 15, D30, D31) *)
+(* ------------------------------------------------ edges (issue 15, D27, D28) *)
 
 module Str_has = struct
   let has s sub =
@@ -327,7 +327,7 @@ let one_error_at ~what file ~line ~col err =
       (String.length l > String.length prefix && String.sub l 0 (String.length prefix) = prefix)
   | ls -> Alcotest.failf "%s: expected one line, got %d: %s" what (List.length ls) err
 
-(* D30: 100k operators, not's and a deep type: every command that reads the
+(* D27: 100k operators, not's and a deep type: every command that reads the
    program says one located line, exit 1, and never overflows the stack. *)
 let deep_nesting () =
   let col_not = 7 + 4 * (Nesting.max_depth + 1) in   (* the node at depth 1001 *)
@@ -376,7 +376,7 @@ let fmt_deep_shape () =
   Alcotest.(check string) "a 3000-branch else-if chain: printed as read" text
     (Print.program (Parse.string ~file:"t.jade" text).program)
 
-(* D31: what cannot be a source file is one located line, exit 1. *)
+(* D28: what cannot be a source file is one located line, exit 1. *)
 let bad_sources () =
   let check_one what cmd file =
     let (status, out, err) = run_command (Printf.sprintf "%s %s" exe cmd) in
@@ -489,9 +489,9 @@ let () =
         Alcotest.test_case "fmt, --check, -i" `Quick cli_fmt;
         Alcotest.test_case "mutants through the executable" `Quick cli_no_backtrace ]);
     ("edges", [
-        Alcotest.test_case "D30 deep nesting: one located line" `Quick deep_nesting;
+        Alcotest.test_case "D27 deep nesting: one located line" `Quick deep_nesting;
         Alcotest.test_case "fmt of deep input keeps its shape" `Quick fmt_deep_shape;
-        Alcotest.test_case "D31 /dev/zero, directories, NUL, pipes" `Quick bad_sources;
+        Alcotest.test_case "D28 /dev/zero, directories, NUL, pipes" `Quick bad_sources;
         Alcotest.test_case "write errors are one line" `Quick write_errors;
         Alcotest.test_case "sim: bad scenarios and outputs are one line" `Quick sim_errors ]);
   ]

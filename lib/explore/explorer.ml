@@ -200,7 +200,7 @@ let shortest_path g target =
     | (p, l) -> back p ((l, i) :: acc) in
   if target < n && seen.(target) then back target [] else []
 
-(* ------------------------------------------------- fingerprints (D38) *)
+(* ------------------------------------------------- fingerprints (D31) *)
 
 (* A 63-bit fingerprint of a configuration, computed from the same values,
    in the same order, as its canonical key [key] (without building the

@@ -40,7 +40,7 @@ val shortest_path : graph -> int -> (string * int) list
 (** The labelled path from an initial state to the state, as (action, state)
     steps; the first element is ("Init", initial state). *)
 
-(** {2 Counting with fingerprints (D38)}
+(** {2 Counting with fingerprints (D31)}
 
     The counting path ([explore --fingerprints]): the same reachable states as
     {!explore}, found depth first. The visited set holds only a 63-bit

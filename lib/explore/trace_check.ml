@@ -37,7 +37,7 @@ let check (h : Trace.header) lines =
     distinct "behaviour" (List.map (fun (b : Trace.behaviour_info) -> b.name) h.behaviours);
     List.iter (fun (n, _) ->
         if n = "" then fail "the header names an agent with an empty name";
-        (* D27 *)
+        (* D25 *)
         if n = "host" then fail "the header names an agent host: that is the sender of the host's messages (R5e)")
       h.agents;
     let agents = List.map (fun (name, atype) ->
@@ -227,7 +227,7 @@ let check (h : Trace.header) lines =
           match body with
           | Trace.Activate b -> known_behaviour b
           | Trace.Send { performative; content; receivers } when action <> "destroy" ->
-            (* delivered after the step (R5e); what on destroy sends never is (D28) *)
+            (* delivered after the step (R5e); what on destroy sends never is (D26) *)
             List.iter (fun r ->
                 match Hashtbl.find_opt pending r with
                 | Some q -> Queue.push (a.name, performative, content) q
@@ -238,7 +238,7 @@ let check (h : Trace.header) lines =
     (match !to_create with
      | (next, _) :: _ -> fail "agent %s of the header is never created" next
      | [] -> ());
-    (* A complete trace (every agent destroyed, D14) has delivered every message (D28). *)
+    (* A complete trace (every agent destroyed, D14) has delivered every message (D26). *)
     if List.for_all (fun (_, a) -> a.destroyed > 0) agents then begin
       Hashtbl.iter (fun r q -> match Queue.peek_opt q with
           | Some (from, perf, content) ->

@@ -160,7 +160,7 @@ let dispatch_bound (c : M.t) =
 let iterate t i =
   let left = t.opts.max_steps - t.steps in
   if left > 0 then begin
-    (* D34: without a trace, a percept's dispatch is the engine's one-call
+    (* D29: without a trace, a percept's dispatch is the engine's one-call
        Dispatch; a defective implementation (hooks) takes its own rules *)
     let derived = not (Trace.writes (Tracer.writer t.tr)) && t.hooks == reference_hooks in
     let taken = ref 0 in

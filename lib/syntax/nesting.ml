@@ -1,10 +1,10 @@
 open Ast
 
-(* D30: the deepest expression, pattern or type accepted. *)
+(* D27: the deepest expression, pattern or type accepted. *)
 let max_depth = 1000
 
 let too_deep (at : Source.region) what =
-  Diag.errorf Diag.Syntax at "this %s is nested too deeply: more than %d levels (D30)%s"
+  Diag.errorf Diag.Syntax at "this %s is nested too deeply: more than %d levels (D27)%s"
     what max_depth
     (if what = "expression" then "; split it with local variables" else "")
 

@@ -1,4 +1,4 @@
-(** The nesting limit of the syntax (decision D30, docs/syntax.md).
+(** The nesting limit of the syntax (decision D27, docs/syntax.md).
 
     Every stage after the parser (the printer, the type checker, the
     interpreter, the JADE back end) walks expressions, patterns and types by
@@ -9,7 +9,7 @@
     limit (200, in {!Layout}). *)
 
 val max_depth : int
-(** 1,000 levels (D30): [1 + 1 + ... + 1] with 1,000 operators, or
+(** 1,000 levels (D27): [1 + 1 + ... + 1] with 1,000 operators, or
     [not not ... true] with 1,000 [not]s, is the most that is accepted. *)
 
 val check_program : Ast.program -> unit

@@ -58,7 +58,7 @@ let replace_all ~sub ~by s =
   go 0;
   Buffer.contents b
 
-(* D31: the largest source file read. Read in chunks up to this size, not by
+(* D28: the largest source file read. Read in chunks up to this size, not by
    the size the file system reports: a pipe or a device such as /dev/zero
    reports 0 and may never end. *)
 let max_source_bytes = 64 * 1024 * 1024
@@ -72,7 +72,7 @@ let read_all path =
         let rec go () =
           if Buffer.length b > max_source_bytes then
             Error (Printf.sprintf "the file is larger than %d MB, the most a source \
-                                   file may hold (D31)" (max_source_bytes / 1024 / 1024))
+                                   file may hold (D28)" (max_source_bytes / 1024 / 1024))
           else match input ic chunk 0 (Bytes.length chunk) with
             | 0 -> Ok (Buffer.contents b)
             | n -> Buffer.add_subbytes b chunk 0 n; go () in
@@ -80,7 +80,7 @@ let read_all path =
         | r -> r
         | exception Sys_error msg -> Error msg)
 
-(* A NUL byte is a lexical error wherever it stands, comments included (D31):
+(* A NUL byte is a lexical error wherever it stands, comments included (D28):
    a source file is text. *)
 let check_no_nul ~file text =
   match String.index_opt text '\000' with
@@ -138,12 +138,12 @@ let run entry ~file text =
 let string ~file text =
   check_no_nul ~file text;
   let (program, comments) = run Parser.Incremental.program ~file text in
-  Nesting.check_program program;   (* D30 *)
+  Nesting.check_program program;   (* D27 *)
   { program; comments }
 
 let expr ~file text =
   let e = fst (run Parser.Incremental.expr_only ~file text) in
-  Nesting.check_expr e;   (* D30 *)
+  Nesting.check_expr e;   (* D27 *)
   e
 
 let file path =

@@ -12,8 +12,8 @@ type result = {
 
 val string : file:string -> string -> result
 (** @raise Diag.Failed with the first lexical, layout or syntax error; a NUL
-    byte anywhere in the text, comments included, is one (D31), as is nesting
-    deeper than {!Nesting.max_depth} (D30). *)
+    byte anywhere in the text, comments included, is one (D28), as is nesting
+    deeper than {!Nesting.max_depth} (D27). *)
 
 val file : string -> result
 (** Reads and parses a file.
@@ -23,10 +23,10 @@ val file : string -> result
 val read_all : string -> (string, string) Stdlib.result
 (** The bytes of a file, or the reason it cannot be read: the system's (no such
     file, a directory, ...), or that it holds more than {!max_source_bytes}
-    (D31). Pipes and devices are read to their end, not by their reported size. *)
+    (D28). Pipes and devices are read to their end, not by their reported size. *)
 
 val max_source_bytes : int
-(** 64 MB (D31). *)
+(** 64 MB (D28). *)
 
 val expr : file:string -> string -> Ast.expr
 (** Parses one expression (a Jadescript literal on the command line, a percept in

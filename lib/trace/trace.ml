@@ -169,7 +169,7 @@ let without_step = function
    field of the right JSON type, no field the format does not have, no field
    twice, integers in the language's 32-bit range, the [action] field the
    one of the event, the header of version 1 with known values. A bad value
-   is never read as 0 or "" (D27: version 1 is closed). *)
+   is never read as 0 or "" (D25: version 1 is closed). *)
 
 exception Bad of string
 

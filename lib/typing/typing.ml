@@ -11,7 +11,7 @@ let first_file (files : Syntax.Parse.result list) =
   { Syntax.Source.left = p; right = p }
 
 let check files =
-  (* The parser bounds nesting (D30), so the checker cannot overflow the stack
+  (* The parser bounds nesting (D27), so the checker cannot overflow the stack
      on a parsed program; a tree built otherwise still gets one located line. *)
   try Check.program files with
   | Stack_overflow ->

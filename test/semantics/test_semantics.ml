@@ -570,7 +570,7 @@ let explore_limits () =
   one_line "--max-states 0" (Printf.sprintf "%s explore %s --max-states 0" exe path);
   one_line "--max-states -5" (Printf.sprintf "%s explore %s --max-states=-5" exe path)
 
-(* D38: the counting path (fingerprints, frontier only) finds exactly the
+(* D31: the counting path (fingerprints, frontier only) finds exactly the
    states, transitions and final states of the exact explorer on every
    model, and no two states of a model share a fingerprint. *)
 let d38_fingerprints_count_exactly () =
@@ -621,7 +621,7 @@ let () =
         Alcotest.test_case "R3a objects stay; printed spins" `Quick objects_stay_reference_spin_printed;
         Alcotest.test_case "R5f round robin" `Quick scheduler_round_robin ]);
     ("limits", [ Alcotest.test_case "explore: model ranges, --max-states" `Quick explore_limits;
-                 Alcotest.test_case "D38 fingerprints count exactly" `Quick d38_fingerprints_count_exactly ]);
+                 Alcotest.test_case "D31 fingerprints count exactly" `Quick d38_fingerprints_count_exactly ]);
     ("decisions", [
         Alcotest.test_case "D1 one-shot deactivated, not blocked" `Quick d1_oneshot_not_blocked;
         Alcotest.test_case "D2 snapshot ids reserved" `Quick d2_snapshot_ids_reserved;

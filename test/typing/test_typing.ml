@@ -771,7 +771,7 @@ let robust =
       let _, ds = Typing.check [{ Parse.program = p; comments = [] }] in
       not (List.exists (fun d -> d.Diag.kind = Diag.Crash) ds))
 
-(* A tree deeper than the parser allows (D30) can still reach the checker
+(* A tree deeper than the parser allows (D27) can still reach the checker
    from elsewhere (a generator, the playground): it never raises, and its
    diagnostic is located in the program's file, not at ":0:0". *)
 let deep_tree_located () =

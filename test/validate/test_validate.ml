@@ -243,7 +243,7 @@ let refusals () =
   expect_invalid "a refused notify, unbounded" [ with_capacity "null"; create; refused 2 ] ~line:3 ~says:"unbounded";
   expect_invalid "a notify beyond the capacity" [ with_capacity "1"; create; notify 1 2; notify 2 3 ] ~line:4 ~says:"must be refused"
 
-(* D28: what on destroy sends is never delivered; a complete trace has
+(* D26: what on destroy sends is never delivered; a complete trace has
    delivered every other message. *)
 let two = {|{"trace":"jadescript-ref","version":1,"variant":"reference","tie_policy":"stable","budget":1,"o2a_capacity":null,"seed":null,"agents":[{"name":"a","type":"A"},{"name":"b","type":"A"}],"program":{"behaviours":[],"percepts":{}}}|}
 
@@ -382,8 +382,8 @@ let () =
     "tampered", [
       Alcotest.test_case "every kind of tampering rejected, as one located line" `Slow tampered_rejected;
       Alcotest.test_case "R2d refusals only when full" `Quick refusals;
-      Alcotest.test_case "D27 32-bit integers, version 1" `Quick huge_integers;
-      Alcotest.test_case "D28 every message delivered by the end" `Quick undelivered;
+      Alcotest.test_case "D25 32-bit integers, version 1" `Quick huge_integers;
+      Alcotest.test_case "D26 every message delivered by the end" `Quick undelivered;
       Alcotest.test_case "a TLC rejection is one line" `Quick tlc_rejection_one_line;
       Alcotest.test_case "files that are no trace: one located line each" `Quick bad_files;
     ];
