@@ -640,6 +640,39 @@ let validate_target ~keep ~seed index =
           ()   (* rejected as validate rejects it (bin/cmd_validate.ml) *));
   Pass
 
+(* Every kind of tampering on the trace of a generated run, judged by the
+   OCaml checks of validate alone (in-process, no TLC: thousands per
+   minute): each tampered trace that the kind applies to must be rejected,
+   but for the kinds only TLC can see (Tamper.tlc_only), which the validate
+   target sends to TLC. *)
+let tamper_target ~keep ~seed index =
+  let rs = rng ~seed "tamper" index in
+  let prog = TG.program rs in
+  let text = Print.program prog in
+  let env = program_env ~file:"gen.jade" text in
+  let sc = EG.scenario env ~agent_type:"Ag" rs in
+  let sc = { sc with max_steps = min sc.max_steps 2_000 } in
+  in_dir keep (fun d ->
+      let trace = Filename.concat d "trace.jsonl" in
+      write_file (Filename.concat d "program.jade") text;
+      run_scenario env sc ~events:(Filename.concat d "events.jsonl") ~trace;
+      let lines = lines_of (read_file trace) in
+      (match Explore.Validate.check trace with
+       | Ok () -> ()
+       | Error (line, m) -> fail "rejected" "validate's OCaml checks reject a run's own trace, line %d: %s" line m);
+      let path = Filename.concat d "tampered.jsonl" in
+      List.iter (fun (t : Tamper.t) ->
+          if not (List.mem t.name Tamper.tlc_only) then
+            match t.apply rs lines with
+            | None -> ()
+            | Some tampered ->
+              write_file path (String.concat "\n" tampered ^ "\n");
+              match Explore.Validate.check path with
+              | Error _ -> ()
+              | Ok () -> fail "wrongly accepted" "tamper %S: the OCaml checks accept the tampered trace" t.name)
+        Tamper.all);
+  Pass
+
 (* ----------------------------------------------------------- conform *)
 
 (* Fake implementations: [name], the shell script's body (it is given run's
@@ -741,6 +774,7 @@ let targets = [
   { name = "cli"; limit = 60.0; memory = 3 * gb; run = guard cli_target };
   { name = "engine"; limit = 180.0; memory = 3 * gb; run = guard engine_target };
   { name = "validate"; limit = 180.0; memory = 3 * gb; run = guard validate_target };
+  { name = "tamper"; limit = 60.0; memory = 2 * gb; run = guard tamper_target };
   { name = "conform"; limit = 120.0; memory = 3 * gb; run = guard conform_target };
 ]
 

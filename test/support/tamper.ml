@@ -268,3 +268,5 @@ let all = [
   rearrange "dequeue: dropped" (fun rng t ->
       Option.map (fun (i, _) -> drop t.events i) (pick rng (List.filter (fun (_, e) -> event e = "dequeue") (indexed t.events))));
 ]
+
+let tlc_only = [ "loop steps of one agent swapped" ]

@@ -28,3 +28,8 @@ val all : t list
     an unknown field, [moved] as ["zero"] or [1e30], a text seq, a huge or
     negative priority, a wrong action), the steps (decreasing, swapped loop
     steps, a duplicated or dropped line where that must show). *)
+
+val tlc_only : string list
+(** The kinds only TLC can see (the order of one agent's loop steps): every
+    other kind is caught by the OCaml checks ([Explore.Validate.check]),
+    before TLC runs. *)

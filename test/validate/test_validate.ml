@@ -162,7 +162,7 @@ let one_located_line file err =
 
 (* The kinds of tampering only TLC can see (the order of one agent's loop
    steps); every other kind must be caught by the OCaml checks, before TLC. *)
-let tlc_kinds = [ "loop steps of one agent swapped" ]
+let tlc_kinds = Tamper.tlc_only
 
 let seeds = if long then [ 1; 2; 3; 4; 5; 6; 7; 8 ] else [ 1; 2; 3 ]
 
