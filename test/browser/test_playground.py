@@ -9,7 +9,7 @@ implies, the diagnostics those of `jadescript-ref check`. Screenshots for
 docs/tutorial.md are taken on the way (--shots). The last line printed is
 "N passed, M failed".
 
-    test_playground.py --page out/playground/index.html --cli PATH/main.exe [--shots docs/images]
+    test_playground.py --page out/playground/index.html --cli PATH/main.exe [--shots DIR]
 """
 
 import argparse
