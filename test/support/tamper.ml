@@ -164,7 +164,13 @@ let all = [
                 k < i && event s = "send" && agent s = str "from" e && str "content" s = str "content" e
                 && (match get "to" s with Some (`List l) -> List.mem (`String (agent e)) l | _ -> false))
                 (indexed t.events) in
-            match List.rev sends with (k, _) :: _ -> Some (i, k) | [] -> None) (indexed t.events) in
+            (* the send this delivery matches: the (d+1)-th such send, d the
+               same deliveries before it (the same content may be sent twice
+               in one step: moving before the second would stay valid) *)
+            let d = List.length (List.filter (fun (k, f) ->
+                k < i && event f = "deliver" && agent f = agent e && str "from" f = str "from" e
+                && str "content" f = str "content" e) (indexed t.events)) in
+            match List.nth_opt sends d with Some (k, _) -> Some (i, k) | None -> None) (indexed t.events) in
       Option.map (fun (i, k) -> move_before t.events ~from:i ~to_:k) (pick rng cands));
   rearrange "deliver: before its receiver exists" (fun rng t ->
       let cands = List.filter_map (fun (i, e) ->
@@ -266,7 +272,15 @@ let all = [
                   || (event e = "behaviour_step" && agent_message e <> None) in
       Option.map (fun (i, e) -> insert_after t.events i e) (pick rng (List.filter (fun (_, e) -> dup e) (indexed t.events))));
   rearrange "dequeue: dropped" (fun rng t ->
-      Option.map (fun (i, _) -> drop t.events i) (pick rng (List.filter (fun (_, e) -> event e = "dequeue") (indexed t.events))));
+      (* only a dequeue whose dispatch follows it: a run cut by --max-steps
+         right after a dequeue is still valid without it *)
+      let evs = indexed t.events in
+      let dispatch_follows i e =
+        match List.find_opt (fun (k, f) -> k > i && agent f = agent e) evs with
+        | Some (_, f) -> List.mem (event f) [ "handle"; "skip"; "end_dispatch" ]
+        | None -> false in
+      Option.map (fun (i, _) -> drop t.events i)
+        (pick rng (List.filter (fun (i, e) -> event e = "dequeue" && dispatch_follows i e) evs)));
 ]
 
 let tlc_only = [ "loop steps of one agent swapped" ]
