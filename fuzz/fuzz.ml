@@ -317,7 +317,7 @@ let () =
         @ share "limits" 40 10 @ share "run" 400 100 @ share "check" 1000 500 @ share "parse" 2500 1250
       end else begin
         let v = scaled 30 and c = max 12 (scaled 24) and cl = scaled 3_000 and l = scaled 300
-        and r = scaled 20_000 and ch = scaled 340_000 and tm = scaled 10_000 in
+        and r = scaled 20_000 and ch = scaled 340_000 and tm = scaled 3_000 in
         let p = max 1 (n - v - tm - c - scaled 500 - cl - l - r - ch) in
         share "validate" v 3 @ share "tamper" tm 100 @ share "conform" c 6 @ share "engine" (scaled 500) 25 @ share "cli" cl 50 @ share "limits" l 10
         @ share "run" r 200 @ share "check" ch 1000 @ share "parse" p 4000

@@ -651,7 +651,7 @@ let tamper_target ~keep ~seed index =
   let text = Print.program prog in
   let env = program_env ~file:"gen.jade" text in
   let sc = EG.scenario env ~agent_type:"Ag" rs in
-  let sc = { sc with max_steps = min sc.max_steps 2_000 } in
+  let sc = { sc with max_steps = min sc.max_steps 300 } in   (* some tamperings are quadratic in the trace *)
   in_dir keep (fun d ->
       let trace = Filename.concat d "trace.jsonl" in
       write_file (Filename.concat d "program.jade") text;

@@ -149,7 +149,13 @@ let all = [
   edit "behaviour step: another message than delivered" (fun _ _ e -> event e = "behaviour_step" && agent_message e <> None)
     (fun _ _ e -> Option.map (fun m -> set "message" (set "content" (`String (changed (str "content" m))) m) e) (agent_message e));
   edit "behaviour step: a message seq never delivered" (fun _ _ e -> event e = "behaviour_step" && agent_message e <> None)
-    (fun _ _ e -> Option.map (fun m -> set "message" (set "seq" (`Int (int "seq" m + 1000)) m) e) (agent_message e));
+    (fun _ t e ->
+       (* a seq above every one delivered to this agent (seq + 1000 could be
+          a later message with the same content, taken out of order: a fault
+          only TLC sees) *)
+       let top = List.fold_left (fun acc f ->
+           if event f = "deliver" && agent f = agent e then max acc (int "seq" f) else acc) 0 t.events in
+       Option.map (fun m -> set "message" (set "seq" (`Int (top + 1000)) m) e) (agent_message e));
   edit "notify: wrong seq" (is "notify") (fun _ _ e -> Some (set "seq" (`Int (int "seq" e + 1)) e));
   edit "notify: not the default priority" (fun _ _ e -> event e = "notify" && str "action" e = "Notify")
     (fun _ _ e -> Some (set "priority" (`Int (int "priority" e + 1)) e));
