@@ -54,7 +54,7 @@ let agent_spec env spec =
     if name = "" || ty = "" then fail "expected NAME:TYPE[:ARG,...]";
     (* the sender of host messages (R5e) is host: no agent may be so named *)
     if name = "host" then fail "the name host is reserved: it is the sender of the host's messages (R5e)";
-    if Syntax.Lexer.utf_8_error name <> None then fail "an agent's name is UTF-8 text";
+    if Utf8.first_invalid name <> None then fail "an agent's name is UTF-8 text";
     if Typing.Tenv.agent env ty = None then fail (Printf.sprintf "there is no agent type %s" ty);
     let values = List.map (fun a ->
         match List.assoc_opt a (Interp.Host.objects ()) with

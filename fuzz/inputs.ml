@@ -42,27 +42,7 @@ let rng ~seed target index = Random.State.make [| seed; Hashtbl.hash target; ind
 
 (* ------------------------------------------------------------ helpers *)
 
-let valid_utf8 s =
-  let n = String.length s in
-  let cont i = i < n && Char.code s.[i] land 0xC0 = 0x80 in
-  let rec go i =
-    if i >= n then true
-    else
-      let c = Char.code s.[i] in
-      if c < 0x80 then go (i + 1)
-      else if c >= 0xC2 && c <= 0xDF then cont (i + 1) && go (i + 2)
-      else if c >= 0xE0 && c <= 0xEF then
-        cont (i + 1) && cont (i + 2)
-        && (let c1 = Char.code s.[i + 1] in
-            not (c = 0xE0 && c1 < 0xA0) && not (c = 0xED && c1 >= 0xA0))
-        && go (i + 3)
-      else if c >= 0xF0 && c <= 0xF4 then
-        cont (i + 1) && cont (i + 2) && cont (i + 3)
-        && (let c1 = Char.code s.[i + 1] in
-            not (c = 0xF0 && c1 < 0x90) && not (c = 0xF4 && c1 >= 0x90))
-        && go (i + 4)
-      else false in
-  go 0
+let valid_utf8 s = Utf8.first_invalid s = None
 
 let write_file path s =
   let oc = open_out_bin path in

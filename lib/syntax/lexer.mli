@@ -37,8 +37,3 @@ val keyword_of_string : string -> Parser.token option
 val describe : Parser.token -> string
 (** How a token is named in error messages: ['do'], [an identifier],
     [the end of the line], ... *)
-
-val utf_8_error : string -> int option
-(** The offset of the first byte of the string that does not begin a
-    well-formed UTF-8 character (RFC 3629), if any. Text literals must be
-    UTF-8 (docs/syntax.md): the lexer rejects any other byte, located. *)

@@ -74,29 +74,6 @@ let printable c =
    UTF-8 character (RFC 3629: no overlong forms, no surrogates, nothing
    above U+10FFFF), if any. Text values are valid UTF-8, so that every
    trace is JSON (docs/syntax.md, "Text literals"). *)
-let utf_8_error s =
-  let n = String.length s in
-  let byte i = if i < n then Char.code s.[i] else -1 in
-  let cont i = let b = byte i in b >= 0x80 && b <= 0xBF in
-  let rec go i =
-    if i >= n then None
-    else
-      let b = byte i in
-      let len =
-        if b < 0x80 then 1
-        else if b >= 0xC2 && b <= 0xDF then (if cont (i + 1) then 2 else 0)
-        else if b >= 0xE0 && b <= 0xEF then
-          let b1 = byte (i + 1) in
-          let lo = if b = 0xE0 then 0xA0 else 0x80 and hi = if b = 0xED then 0x9F else 0xBF in
-          if b1 >= lo && b1 <= hi && cont (i + 2) then 3 else 0
-        else if b >= 0xF0 && b <= 0xF4 then
-          let b1 = byte (i + 1) in
-          let lo = if b = 0xF0 then 0x90 else 0x80 and hi = if b = 0xF4 then 0x8F else 0xBF in
-          if b1 >= lo && b1 <= hi && cont (i + 2) && cont (i + 3) then 4 else 0
-        else 0 in
-      if len = 0 then Some i else go (i + len) in
-  go 0
-
 let add_comment st lexbuf text =
   st.comments <- { region = region lexbuf; text } :: st.comments
 }
@@ -172,7 +149,7 @@ and text st start buf = parse
   | ['\000'-'\008' '\011'-'\031' '\127'] as c
       { error lexbuf "control character %s inside a text literal" (printable c) }
   | [^ '"' '\\' '\n' '\r' '\000'-'\008' '\011'-'\031' '\127']+ as s
-      { (match utf_8_error s with
+      { (match Utf8.first_invalid s with
          | Some k ->
            let p = Lexing.lexeme_start_p lexbuf in
            let p = { p with pos_cnum = p.pos_cnum + k } in

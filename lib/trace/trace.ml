@@ -564,25 +564,6 @@ let fold_file path f init =
 
 exception Located of int * string
 
-(* The index of the first byte of [s] that is not part of valid UTF-8 (JSON
-   text is UTF-8, RFC 8259), if any. *)
-let invalid_utf8 s =
-  let n = String.length s in
-  let cont i = i < n && Char.code s.[i] land 0xc0 = 0x80 in
-  let rec go i =
-    if i >= n then None
-    else
-      let c = Char.code s.[i] in
-      if c < 0x80 then go (i + 1)
-      else if c >= 0xc2 && c <= 0xdf && cont (i + 1) then go (i + 2)
-      else if c >= 0xe0 && c <= 0xef && cont (i + 1) && cont (i + 2)
-              && (let d = Char.code s.[i + 1] in
-                  (c <> 0xe0 || d >= 0xa0) && (c <> 0xed || d < 0xa0)) then go (i + 3)
-      else if c >= 0xf0 && c <= 0xf4 && cont (i + 1) && cont (i + 2) && cont (i + 3)
-              && (let d = Char.code s.[i + 1] in
-                  (c <> 0xf0 || d >= 0x90) && (c <> 0xf4 || d < 0x90)) then go (i + 4)
-      else Some i in
-  go 0
 
 (* A trace line is far shorter than this; a longer one (a file of zeros, a
    runaway writer) is an error, not a line read into memory without end. *)
@@ -616,7 +597,7 @@ let read_located path =
           | None -> (h, acc)
           | Some l when String.trim l = "" -> go h acc (n + 1)
           | Some l ->
-            (match invalid_utf8 l with
+            (match Utf8.first_invalid l with
              | Some k -> located n "not JSON: byte %d is not valid UTF-8" (k + 1)
              | None -> ());
             let j = match Yojson.Safe.from_string l with
