@@ -269,14 +269,7 @@ let every_event () =
 
 (* --------------------------------------- a run without a trace *)
 
-let rec literal_of rand (ty : Typing.Types.t) =
-  match Typing.Types.repr ty with
-  | Typing.Types.Integer -> string_of_int (Random.State.int rand 5)
-  | Typing.Types.Double | Typing.Types.Float -> Printf.sprintf "%d.5" (Random.State.int rand 5)
-  | Typing.Types.Text -> Printf.sprintf "\"t%d\"" (Random.State.int rand 3)
-  | Typing.Types.Boolean -> if Random.State.bool rand then "true" else "false"
-  | Typing.Types.List t -> "[" ^ literal_of rand t ^ "]"
-  | _ -> "0"
+let literal_of = Test_support.Event_gen.small_literal
 
 (* The same program, agents and host events, run once with a trace (every
    rule a step) and once without (the derived rule Dispatch where it may):
@@ -289,7 +282,7 @@ let same_without_trace (prog, seed) =
   if List.exists (fun d -> d.Diag.severity = Diag.Error) diags then
     QCheck.Test.fail_reportf "the generated program does not check";
   let rand = Random.State.make [| seed |] in
-  let percept_types = List.filter (fun (s : Typing.Tenv.schema) -> s.s_percept) (Typing.Tenv.schemas env) in
+  let percept_types = Test_support.Event_gen.percept_types env in
   let params = match Typing.Tenv.agent_create env "Ag" with Some r -> r.r_params | None -> [] in
   let args = List.map (fun (_, ty) -> Interp.Eval.literal_value env (Parse.expr ~file:"a" (literal_of rand ty))) params in
   let host = List.init (1 + Random.State.int rand 30) (fun _ ->

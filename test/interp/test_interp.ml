@@ -421,17 +421,9 @@ let conform_resources () =
 
 (* ------------------------------------- random programs, random hosts *)
 
-let percept_types env =
-  List.filter (fun (s : Typing.Tenv.schema) -> s.s_percept) (Typing.Tenv.schemas env)
+let percept_types = Test_support.Event_gen.percept_types
 
-let rec literal_of rand (ty : Typing.Types.t) =
-  match Typing.Types.repr ty with
-  | Typing.Types.Integer -> string_of_int (Random.State.int rand 5)
-  | Typing.Types.Double | Typing.Types.Float -> Printf.sprintf "%d.5" (Random.State.int rand 5)
-  | Typing.Types.Text -> Printf.sprintf "\"t%d\"" (Random.State.int rand 3)
-  | Typing.Types.Boolean -> if Random.State.bool rand then "true" else "false"
-  | Typing.Types.List t -> "[" ^ literal_of rand t ^ "]"
-  | _ -> "0"
+let literal_of = Test_support.Event_gen.small_literal
 
 (* A percept of one of the program's percept types, in Jadescript syntax. *)
 let random_percept_text rand env =

@@ -123,3 +123,18 @@ let run_args s =
       [ "--variant"; Mc.string_of_variant s.variant; "--fuel"; string_of_int s.fuel;
         "--max-steps"; string_of_int s.max_steps ];
       (match s.capacity with Some c -> [ "--o2a-capacity"; string_of_int c ] | None -> []) ]
+
+(* Small literals for the tests' own random hosts (test/interp,
+   test/fastpath, test/validate, test/backend): a few values per type, so
+   that equal percepts and messages happen. *)
+let rec small_literal rand (ty : Typing.Types.t) =
+  match Typing.Types.repr ty with
+  | Typing.Types.Integer -> string_of_int (Random.State.int rand 5)
+  | Typing.Types.Double | Typing.Types.Float -> Printf.sprintf "%d.5" (Random.State.int rand 5)
+  | Typing.Types.Text -> Printf.sprintf "\"t%d\"" (Random.State.int rand 3)
+  | Typing.Types.Boolean -> if Random.State.bool rand then "true" else "false"
+  | Typing.Types.List t -> "[" ^ small_literal rand t ^ "]"
+  | _ -> "0"
+
+let percept_types env =
+  List.filter (fun (s : Typing.Tenv.schema) -> s.s_percept) (Typing.Tenv.schemas env)

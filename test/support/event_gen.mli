@@ -53,3 +53,11 @@ val run_args : scenario -> string list
 (** The options of [run] the scenario sets ([--seed], [--variant], [--fuel],
     [--max-steps], [--o2a-capacity]; the tie policy and budget have no
     command-line option and are the defaults there). *)
+
+val small_literal : Random.State.t -> Typing.Types.t -> string
+(** A literal of the type from a few values (integers 0-4, decimals 0.5-4.5,
+    texts "t0"-"t2", booleans, one-element lists; ["0"] otherwise), in
+    Jadescript syntax: the random hosts of the test suites. *)
+
+val percept_types : Typing.Tenv.t -> Typing.Tenv.schema list
+(** The program's percept types. *)

@@ -311,14 +311,7 @@ let tlc_rejection_one_line () =
 
 (* ------------------------------------- random programs, random hosts *)
 
-let rec literal_of rand (ty : Typing.Types.t) =
-  match Typing.Types.repr ty with
-  | Typing.Types.Integer -> string_of_int (Random.State.int rand 5)
-  | Typing.Types.Double | Typing.Types.Float -> Printf.sprintf "%d.5" (Random.State.int rand 5)
-  | Typing.Types.Text -> Printf.sprintf "\"t%d\"" (Random.State.int rand 3)
-  | Typing.Types.Boolean -> if Random.State.bool rand then "true" else "false"
-  | Typing.Types.List t -> "[" ^ literal_of rand t ^ "]"
-  | _ -> "0"
+let literal_of = Test_support.Event_gen.small_literal
 
 (* Runs of generated well-typed programs (test/support/typed_gen.ml), two
    agents, every variant, bounded and unbounded O2A queues, seeded or not,
