@@ -435,12 +435,17 @@ let tlc_judge trace =
   | exception Failure m -> fail "rejected by TLC" "validate: %s" m
   | exception Explore.Tlc.Error m -> fail "tlc" "TLC failed: %s" m
 
+(* A well-typed program of Typed_gen, printed and checked, with a host
+   scenario of Event_gen for its agent type Ag: what the run, cli, validate
+   and tamper targets start from. *)
+let generated rs =
+  let text = Print.program (TG.program rs) in
+  let env = program_env ~file:"gen.jade" text in
+  (text, env, EG.scenario env ~agent_type:"Ag" rs)
+
 let run_target ~keep ~seed index =
   let rs = rng ~seed "run" index in
-  let prog = TG.program rs in
-  let text = Print.program prog in
-  let env = program_env ~file:"gen.jade" text in
-  let sc = EG.scenario env ~agent_type:"Ag" rs in
+  let (text, env, sc) = generated rs in
   in_dir keep (fun d ->
       write_file (Filename.concat d "program.jade") text;
       let trace = Filename.concat d "trace.jsonl" in
@@ -534,10 +539,7 @@ let bad_cli_args = [
 let cli_target ~keep ~seed index =
   let rs = rng ~seed "cli" index in
   let exe = jsref () in
-  let prog = TG.program rs in
-  let text = Print.program prog in
-  let env = program_env ~file:"gen.jade" text in
-  let sc = EG.scenario env ~agent_type:"Ag" rs in
+  let (text, _, sc) = generated rs in
   in_dir keep (fun d ->
       let pj = Filename.concat d "program.jade" and ev = Filename.concat d "events.jsonl"
       and tr = Filename.concat d "trace.jsonl" in
@@ -593,10 +595,7 @@ let cli_target ~keep ~seed index =
 
 let validate_target ~keep ~seed index =
   let rs = rng ~seed "validate" index in
-  let prog = TG.program rs in
-  let text = Print.program prog in
-  let env = program_env ~file:"gen.jade" text in
-  let sc = EG.scenario env ~agent_type:"Ag" rs in
+  let (text, env, sc) = generated rs in
   (* small runs of the loops TLC models *)
   let sc = { sc with variant = pick rs [ Mc.Reference; Mc.Reference; Mc.Budgeted; Mc.Native ];
                      max_steps = 300; fuel = 100_000 } in
@@ -627,10 +626,7 @@ let validate_target ~keep ~seed index =
    target sends to TLC. *)
 let tamper_target ~keep ~seed index =
   let rs = rng ~seed "tamper" index in
-  let prog = TG.program rs in
-  let text = Print.program prog in
-  let env = program_env ~file:"gen.jade" text in
-  let sc = EG.scenario env ~agent_type:"Ag" rs in
+  let (text, env, sc) = generated rs in
   let sc = { sc with max_steps = min sc.max_steps 300 } in   (* some tamperings are quadratic in the trace *)
   in_dir keep (fun d ->
       let trace = Filename.concat d "trace.jsonl" in
