@@ -63,7 +63,7 @@ let rec run impl vectors update only timeout keep =
 and run_vectors impl vectors update only timeout keep =
   match timeout with
   | Some t when not (t > 0. && t <= 86400.) ->
-    prerr_endline (Printf.sprintf "jadescript-ref: error: --timeout %g: from above 0 to 86400 seconds" t); 1
+    prerr_endline (Printf.sprintf "jadescript-ref: error: --timeout %g: a number of seconds above 0 and at most 86400" t); 1
   | _ ->
   let dir = find_vectors vectors in
   match O.load dir with
