@@ -23,6 +23,11 @@ type t = {
 }
 
 let r = M.rules
+
+(* The altered rules shared with the models' mutants (lib/explore/altered.ml):
+   ties to the last notified, the first handler only, one percept moved, a
+   behaviour step before the dispatch. *)
+module A = Explore.Altered.Make (B)
 let ref_hooks = R.reference_hooks
 
 (* The reference machine's step on an altered rule table. *)
@@ -62,13 +67,6 @@ let objects_take_no_room_put p _ _ (c : M.t) v =
 
 (* ---------------------------------------------------------- rule side *)
 
-(* Dequeue: among the highest priority, the LAST notified. *)
-let ties_to_largest_seq p (c : M.t) =
-  let cands = r.dequeue { p with tie = Unstable } c in
-  let seq (l, _) = match l with Dequeue e -> e.seq | _ -> min_int in
-  let m = List.fold_left (fun m x -> max m (seq x)) min_int cands in
-  List.filter (fun x -> seq x = m) cands
-
 (* Dequeue: the lowest priority first (a comparator the wrong way round). *)
 let lowest_priority_first p (c : M.t) =
   match r.dequeue p c with
@@ -81,12 +79,6 @@ let lowest_priority_first p (c : M.t) =
     List.map (fun (l, (c' : M.t)) -> (l, { c' with pq = Pqueue.remove e c.pq }))
       (r.dequeue p { c with pq = Pqueue.insert e Pqueue.empty })
 
-(* Handle: the rest of the snapshot is dropped once a handler ran. *)
-let first_handler_only =
-  map_results (fun _ _ l (c' : M.t) -> match l, c'.cur with
-      | Handle _, Some d -> { c' with cur = Some { d with todo = [] } }
-      | _ -> c') r.handle_or_skip
-
 (* EndDispatch: never a discard. *)
 let discard_not_recorded p c =
   List.map (fun (l, c') -> match l with
@@ -94,17 +86,6 @@ let discard_not_recorded p c =
       | _ -> (l, c')) (r.end_dispatch p c)
 
 let is_percept = function O_percept _ -> true | O_object _ -> false
-
-(* Transfer: only the first percept of O2A moves. *)
-let transfer_moves_one p (c : M.t) =
-  match r.transfer p c with
-  | [] -> []
-  | x ->
-    match Fqueue.remove_first is_percept c.o2a with
-    | None -> x
-    | Some (first, rest) ->
-      List.map (fun (l, (c' : M.t)) -> (l, { c' with o2a = rest }))
-        (r.transfer p { c with o2a = Fqueue.of_list [ first ] })
 
 (* Transfer: the objects are thrown away with the percepts (R3a: they stay). *)
 let objects_dropped =
@@ -136,20 +117,6 @@ let printed_drops_object p (c : M.t) =
   | [] -> []
   | x -> List.map (fun (l, (c' : M.t)) ->
       (l, { c' with o2a = (match Fqueue.pop c.o2a with Some (_, q) -> q | None -> c.o2a) })) x
-
-(* Right after a transfer, with a percept waiting and a behaviour ready, a
-   behaviour step runs before the dispatch (R3c). *)
-let step_first (c : M.t) =
-  c.phase = Dispatch_phase && c.ready <> [] && not (Pqueue.is_empty c.pq)
-  && (match c.last with Transfer _ | Transfer_end -> true | _ -> false)
-
-let step_before_dispatch_dequeue p c = if step_first c then [] else r.dequeue p c
-
-let step_before_dispatch_step p (c : M.t) =
-  if not (step_first c) then r.behaviour_step p c
-  else
-    List.map (fun (l, (c' : M.t)) -> (l, { c' with pq = c.pq; phase = Dispatch_phase }))
-      (r.behaviour_step p { c with pq = Pqueue.empty })
 
 (* Two behaviour steps per iteration (R3c: one). *)
 let two_steps =
@@ -407,17 +374,17 @@ let all = [
   d "seed-ignored" "R6" "--seed is ignored: every round is in creation order"
     { ref_hooks with round = (fun _ pl -> P.round None pl) };
   d "ties-largest-seq" "R3b" "among equal priorities the newest percept goes first"
-    (with_rules { r with dequeue = ties_to_largest_seq });
+    (with_rules { r with dequeue = A.ties_to_largest_seq });
   d "lowest-priority-first" "R3b" "the lowest priority is dispatched first"
     (with_rules { r with dequeue = lowest_priority_first });
   d "first-handler-only" "R3b" "only the first applicable handler runs"
-    (with_rules { r with handle_or_skip = first_handler_only });
+    (with_rules { r with handle_or_skip = A.first_handler_only });
   d "discard-not-recorded" "R3b" "a percept no handler took ends as end_dispatch, not discard"
     (with_rules { r with end_dispatch = discard_not_recorded });
   d "one-dispatch-per-iteration" "R3b" "one percept is dispatched per iteration, not all"
     { ref_hooks with step = one_dispatch_per_iteration };
   d "transfer-moves-one" "R3a" "Transfer moves only the first percept"
-    (with_rules { r with transfer = transfer_moves_one });
+    (with_rules { r with transfer = A.transfer_moves_one });
   d "objects-dropped" "R3a" "Transfer throws the objects away instead of leaving them"
     (with_rules { r with transfer = objects_dropped });
   d "objects-block-transfer" "R3a" "Transfer stops at the first object"
@@ -427,7 +394,7 @@ let all = [
   d "printed-drops-object" "R3a" "the printed loop throws an object away instead of spinning"
     (with_rules { r with transfer_spin = printed_drops_object });
   d "step-before-dispatch" "R3c" "the behaviour step runs before the dispatch"
-    (with_rules { r with dequeue = step_before_dispatch_dequeue; behaviour_step = step_before_dispatch_step });
+    (with_rules { r with dequeue = A.step_before_dispatch_dequeue; behaviour_step = A.step_before_dispatch_step });
   d "two-steps-per-iteration" "R3c" "two behaviour steps per iteration"
     (with_rules { r with behaviour_step = two_steps });
   d "late-percepts-join" "R3d" "percepts notified during a dispatch join it"
