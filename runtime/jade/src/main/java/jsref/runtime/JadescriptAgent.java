@@ -846,7 +846,7 @@ public abstract class JadescriptAgent extends jade.core.Agent implements JadeHoo
       if (cfg.variant == Variant.NATIVE) {
         for (int h = 1; h <= b.perceptHandlerCount() && !taken; h++) {
           effects.clear();
-          PerceptMatch pm = new PerceptMatch(this, b, h);
+          HandlerMatch pm = new HandlerMatch(this, b, h, true);
           ACLMessage m = receive(new MessageTemplate(pm));
           if (m != null) {
             Arrived a = arrivals.remove(m);
@@ -860,7 +860,7 @@ public abstract class JadescriptAgent extends jade.core.Agent implements JadeHoo
         }
       }
       for (int h = 1; h <= b.messageHandlerCount() && !taken; h++) {
-        ACLMessage m = receive(new MessageTemplate(new MessageMatch(this, b, h)));
+        ACLMessage m = receive(new MessageTemplate(new HandlerMatch(this, b, h, false)));
         if (m != null) {
           Arrived a = arrivals.remove(m);
           taken = true;
@@ -888,34 +888,29 @@ public abstract class JadescriptAgent extends jade.core.Agent implements JadeHoo
     writeRule("behaviour_step", "BehaviourStep", () -> f);
   }
 
-  /** A percept handler as a JADE message template (native): the percept
-      messages in arrival order; the first whose handler applies is taken,
-      and its body has run. */
-  private static final class PerceptMatch implements MessageTemplate.MatchExpression {
+  /** A handler as a JADE message template. A percept handler (native): the
+      percept messages in arrival order; the first whose handler applies is
+      taken, and its body has run. A message handler: its performative,
+      pattern and {@code when} (R5b). One class for both, as they differ only
+      in what they look at. */
+  private static final class HandlerMatch implements MessageTemplate.MatchExpression {
     private static final long serialVersionUID = 1L;
     private final transient JadescriptAgent agent;
     private final transient JadescriptBehaviour b;
     private final int h;
-    PerceptMatch(JadescriptAgent agent, JadescriptBehaviour b, int h) { this.agent = agent; this.b = b; this.h = h; }
-    @Override public boolean match(ACLMessage m) {
-      Arrived a = agent.arrivals.get(m);
-      if (a == null || a.percept() == null) return false;
-      agent.freshFuel();
-      return b.perceptHandler(h, a.percept().percept());
+    private final boolean percept;
+    HandlerMatch(JadescriptAgent agent, JadescriptBehaviour b, int h, boolean percept) {
+      this.agent = agent; this.b = b; this.h = h; this.percept = percept;
     }
-  }
-
-  /** A message handler as a JADE message template: its performative, pattern
-      and {@code when} (R5b). */
-  private static final class MessageMatch implements MessageTemplate.MatchExpression {
-    private static final long serialVersionUID = 1L;
-    private final transient JadescriptAgent agent;
-    private final transient JadescriptBehaviour b;
-    private final int h;
-    MessageMatch(JadescriptAgent agent, JadescriptBehaviour b, int h) { this.agent = agent; this.b = b; this.h = h; }
     @Override public boolean match(ACLMessage m) {
       Arrived a = agent.arrivals.get(m);
-      if (a == null || a.msg() == null) return false;
+      if (a == null) return false;
+      if (percept) {
+        if (a.percept() == null) return false;
+        agent.freshFuel();
+        return b.perceptHandler(h, a.percept().percept());
+      }
+      if (a.msg() == null) return false;
       String perf = b.messagePerformative(h);
       if (perf != null && !perf.equals(a.msg().performative())) return false;
       agent.freshFuel();
