@@ -502,7 +502,10 @@ public final class Main {
         Object pr = m.get("priority");
         if (pr == null) evs.add(new Notify(ag.name(), v, null));
         else if (pr instanceof Long k2 && k2 >= 0 && k2 <= Integer.MAX_VALUE) evs.add(new Notify(ag.name(), v, (int) (long) k2));
-        else bad.accept(1, "\"priority\" is a natural number (R2a)");
+        // integers are Java's int (D8); the same lines as the reference's reader
+        else if (pr instanceof Long)
+          bad.accept(columnOf(line, "priority"), "\"priority\" is a natural number of 32 bits (R2a, D8): 0 to 2147483647");
+        else bad.accept(columnOf(line, "priority"), "\"priority\" is a natural number (R2a)");
       } else if (notify == null && put instanceof String o && msg == null && run == null) {
         // as the reference: the object is read before the agent is looked up
         Object v = null;
@@ -512,9 +515,17 @@ public final class Main {
         Spec ag = eventAgent(m, specs, bad);
         if (ag != null && ok) evs.add(new Put(ag.name(), v));
       } else if (notify == null && put == null && msg instanceof String c && run == null) {
-        String perf = m.get("performative") instanceof String s ? s : "inform";
-        Object v = null;
+        Object pf = m.get("performative");
+        String perf = pf == null ? "inform" : pf instanceof String s && PERFORMATIVES.contains(s) ? s : null;
         boolean ok = true;
+        if (perf == null) {
+          // as the reference (Interp.Events): only the performatives the language knows
+          bad.accept(columnOf(line, "performative"),
+              "\"performative\" is one of the FIPA performatives the language knows: "
+              + String.join(", ", PERFORMATIVES));
+          ok = false;
+        }
+        Object v = null;
         try { v = Literals.parse(c, program, file); }
         catch (LiteralError e) { bad.accept(e.column(), e.message()); ok = false; }
         Spec ag = eventAgent(m, specs, bad);
@@ -532,6 +543,21 @@ public final class Main {
     }
     if (!errors.isEmpty()) throw new Stop(String.join("\n", errors));
     return evs;
+  }
+
+  /** The FIPA performatives the language knows, in the order of the
+      reference's list (Typing.performatives, lib/typing/check.ml). */
+  static final List<String> PERFORMATIVES = List.of(
+      "accept_proposal", "agree", "cancel", "cfp", "confirm", "disconfirm", "failure",
+      "inform", "inform_if", "inform_ref", "not_understood", "propagate", "propose",
+      "proxy", "query_if", "query_ref", "refuse", "reject_proposal", "request",
+      "request_when", "request_whenever", "subscribe");
+
+  /** The 1-based column of a field's name in a line, as the reference's
+      events reader finds it; 1 when it is not there. */
+  private static int columnOf(String line, String field) {
+    int i = line.indexOf("\"" + field + "\"");
+    return i < 0 ? 1 : i + 1;
   }
 
   private static Spec eventAgent(Map<?, ?> m, List<Spec> specs, java.util.function.BiConsumer<Integer, String> bad) {

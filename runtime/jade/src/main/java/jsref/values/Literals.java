@@ -215,11 +215,17 @@ public final class Literals {
 
   private static Object value(Node e, ProgramInfo program, String file) throws LiteralError {
     switch (e.k) {
-      case INT: return (int) e.n;
+      case INT:
+        // D8: integers are 32-bit, as Eval.literal_value and the type checker say
+        if (e.n > Integer.MAX_VALUE)
+          throw new LiteralError(e.col, "integer literal " + e.n + " is out of range: integer is 32-bit (-2147483648..2147483647)");
+        return (int) e.n;
       case REAL: return Double.parseDouble(e.s);
       case TEXT: return e.s;
       case BOOL: return e.s.equals("true");
       case NEG: {
+        // -2147483648: the least int, as the checker reads it
+        if (e.kids.get(0).k == K.INT && e.kids.get(0).n == 2147483648L) return Integer.MIN_VALUE;
         Object v = value(e.kids.get(0), program, file);
         if (v instanceof Integer) return -(Integer) v;
         if (v instanceof Double) return -(Double) v;
