@@ -422,7 +422,7 @@ let rec expr ctx (e : Ast.expr) : string =
   | Map [] -> "new JMap()"
   | Map kvs ->
     (* the interpreter evaluates each value before its key *)
-    "JMap.ofValueKey(" ^ String.concat ", " (List.concat_map (fun (k, v) -> [ expr ctx v; expr ctx k ]) kvs) ^ ")"
+    "JMap.ofValueKeyAt(" ^ String.concat ", " (at :: List.concat_map (fun (k, v) -> [ expr ctx v; expr ctx k ]) kvs) ^ ")"
   | Call (g, args) -> call ctx e.at g args
   | Index (m, k) -> Printf.sprintf "Ops.index(%s, %s, %s)" at (expr ctx m) (expr ctx k)
   | Of (p, x) -> Printf.sprintf "Ops.of(%s, %s, %s, this)" at (java_string p.it) (expr ctx x)
@@ -447,8 +447,8 @@ let rec expr ctx (e : Ast.expr) : string =
   | Binop (Or, l, r) ->
     Printf.sprintf "(Ops.truth(%s, \"or\", %s) ? Boolean.TRUE : %s)" at (expr ctx l) (expr ctx r)
   (* the interpreter evaluates the right operand of a comparison first *)
-  | Binop (Eq, l, r) -> Printf.sprintf "Ops.eqRL(%s, %s)" (expr ctx r) (expr ctx l)
-  | Binop (Neq, l, r) -> Printf.sprintf "Ops.neqRL(%s, %s)" (expr ctx r) (expr ctx l)
+  | Binop (Eq, l, r) -> Printf.sprintf "Ops.eqRL(%s, %s, %s)" at (expr ctx r) (expr ctx l)
+  | Binop (Neq, l, r) -> Printf.sprintf "Ops.neqRL(%s, %s, %s)" at (expr ctx r) (expr ctx l)
   | Binop ((Lt | Gt | Le | Ge) as op, l, r) ->
     let f = match op with Lt -> "ltRL" | Gt -> "gtRL" | Le -> "leRL" | _ -> "geRL" in
     Printf.sprintf "Ops.%s(%s, %s, %s)" f at (expr ctx r) (expr ctx l)

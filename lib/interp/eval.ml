@@ -155,9 +155,16 @@ let bounded_text ~quote at v =
   if not (V.printed_within ~quote max_text v) then too_big at "its text would be too long";
   v
 
+(* D38: a comparison or a hash past V.max_visits values. *)
+let too_large_to_compare at =
+  raise (Exhaustion (at, Printf.sprintf "value too large: comparing or hashing it would visit more than %d values"
+                       V.max_visits))
+
 let map_set_bounded at (m : V.map_v) k v =
-  if m.size >= max_map_size && V.map_find m k = None then too_big at "the map would have too many entries";
-  V.map_set m k v
+  try
+    if m.size >= max_map_size && V.map_find m k = None then too_big at "the map would have too many entries";
+    V.map_set m k v
+  with V.Too_large -> too_large_to_compare at
 
 let uids = ref 0
 
@@ -302,6 +309,11 @@ let as_float_pair a b = match a, b with
   | V.Double d, V.Float _ -> (V.Float (V.float32 d), b)
   | _ -> (a, b)
 
+(* = and != (D38: past V.max_visits, an exhaustion error at the operator) *)
+let equal_values at a b =
+  let (a, b) = as_float_pair a b in
+  try V.equal a b with V.Too_large -> too_large_to_compare at
+
 let arith at (op : Ast.binop) a b =
   let (a, b) = as_float_pair a b in
   let numeric v = match v with V.Int _ | V.Float _ | V.Double _ -> true | _ -> false in
@@ -380,7 +392,13 @@ let rec expr (f : frame) (e : Ast.expr) : V.t =
   | List es -> V.list_of (List.map (expr f) es)
   | Map kvs ->
     let m = V.map_empty () in
-    (match m with V.Map mv -> List.iter (fun (k, v) -> V.map_set mv (expr f k) (expr f v)) kvs | _ -> ());
+    (match m with
+     | V.Map mv ->
+       List.iter (fun (k, v) ->
+           let v = expr f v in            (* the value before its key *)
+           let k = expr f k in
+           try V.map_set mv k v with V.Too_large -> too_large_to_compare e.at) kvs
+     | _ -> ());
     m
   | Call (g, args) -> call f e.at g.it (List.map (expr f) args)
   | Index (m, k) ->
@@ -390,7 +408,7 @@ let rec expr (f : frame) (e : Ast.expr) : V.t =
        if i < 0 || i >= l.len then err e.at "index %d is out of bounds (the list has %d elements)" i l.len;
        l.items.(i)
      | V.Map m, _ ->
-       (match V.map_find m kv with
+       (match (try V.map_find m kv with V.Too_large -> too_large_to_compare e.at) with
         | Some v -> v
         | None -> err e.at "the map has no key %s" (V.to_literal kv))
      | _ -> err e.at "cannot index a %s" (V.type_name mv))
@@ -409,8 +427,8 @@ let rec expr (f : frame) (e : Ast.expr) : V.t =
                                             | v -> err e.at "and needs booleans, not a %s" (V.type_name v))
   | Binop (Or, l, r) -> (match expr f l with V.Bool true -> V.Bool true | V.Bool false -> expr f r
                                            | v -> err e.at "or needs booleans, not a %s" (V.type_name v))
-  | Binop (Eq, l, r) -> let (a, b) = as_float_pair (expr f l) (expr f r) in V.Bool (V.equal a b)
-  | Binop (Neq, l, r) -> let (a, b) = as_float_pair (expr f l) (expr f r) in V.Bool (not (V.equal a b))
+  | Binop (Eq, l, r) -> V.Bool (equal_values e.at (expr f l) (expr f r))
+  | Binop (Neq, l, r) -> V.Bool (not (equal_values e.at (expr f l) (expr f r)))
   | Binop ((Lt | Gt | Le | Ge) as op, l, r) -> compare_values e.at op (expr f l) (expr f r)
   | Binop (Add, l, r) ->
     let a = expr f l and b = expr f r in
@@ -733,7 +751,13 @@ let rec literal_value env (e : Ast.expr) : V.t =
   | List es -> V.list_of (List.map (literal_value env) es)
   | Map kvs ->
     let m = V.map_empty () in
-    (match m with V.Map mv -> List.iter (fun (k, v) -> V.map_set mv (literal_value env k) (literal_value env v)) kvs | _ -> ());
+    (match m with
+     | V.Map mv ->
+       List.iter (fun (k, v) ->
+           try V.map_set mv (literal_value env k) (literal_value env v)
+           with V.Too_large ->
+             err e.at "value too large: comparing or hashing it would visit more than %d values" V.max_visits) kvs
+     | _ -> ());
     m
   | Call ({ it = "aid"; _ }, [ a ]) -> (match literal_value env a with V.Text n -> V.Aid n | _ -> err e.at "aid takes a text")
   | Call (g, args) -> construct env e.at g.it (List.map (literal_value env) args)

@@ -20,7 +20,7 @@ type t =
   | Unit
 
 and list_v = { mutable items : t array; mutable len : int }
-and map_v = { table : (t * t ref) list Int_table.t; mutable order : t list; mutable size : int }
+and map_v = { table : (t * t ref) list Int_table.t; mutable order : (t * t ref) list; mutable size : int }
 and schema_v = { sname : string; slots : (string * t ref) array }
 and native = { nid : int; cls : string; methods : (string * (t list -> t)) list }
 
@@ -37,50 +37,75 @@ let tag = function
 
 let num = function Int i -> float_of_int i | Float f | Double f -> f | _ -> nan
 
-let rec compare a b = match a, b with
+(* D38: one comparison of two values, or one hash of a value, visits at
+   most [max_visits] values: each call of [cmp] or [hsh] below is a visit,
+   each time a shared part is reached again, so a value built by sharing
+   (a list of two copies of a list of two copies of ...) cannot make an
+   operator run for ever. Past the bound, [Too_large]; the evaluator turns
+   it into an exhaustion error at the operator. *)
+exception Too_large
+
+let max_visits = 10_000_000
+let visits = ref 0
+
+let visit () =
+  incr visits;
+  if !visits > max_visits then raise Too_large
+
+let rec cmp a b =
+  visit ();
+  if a == b then 0 else
+  match a, b with
   | Bool x, Bool y -> Stdlib.compare x y
   | Int x, Int y -> Stdlib.compare x y
   | (Int _ | Float _ | Double _), (Int _ | Float _ | Double _) -> Stdlib.compare (num a) (num b)
   | Text x, Text y | Aid x, Aid y | Agent_ref x, Agent_ref y -> Stdlib.compare x y
-  | List x, List y -> List.compare compare (list_items x) (list_items y)
+  | List x, List y -> List.compare cmp (list_items x) (list_items y)
   | Map x, Map y ->
-    List.compare (fun (k1, v1) (k2, v2) -> let c = compare k1 k2 in if c <> 0 then c else compare v1 v2)
+    List.compare (fun (k1, v1) (k2, v2) -> let c = cmp k1 k2 in if c <> 0 then c else cmp v1 v2)
       (map_bindings x) (map_bindings y)
   | Schema x, Schema y ->
     let c = Stdlib.compare x.sname y.sname in
     if c <> 0 then c
-    else List.compare (fun (_, u) (_, v) -> compare !u !v) (Array.to_list x.slots) (Array.to_list y.slots)
+    else List.compare (fun (_, u) (_, v) -> cmp !u !v) (Array.to_list x.slots) (Array.to_list y.slots)
   | Native x, Native y -> Stdlib.compare x.nid y.nid
   | Behaviour_ref x, Behaviour_ref y -> Stdlib.compare x y
   | Unit, Unit -> 0
   | _ -> Stdlib.compare (tag a) (tag b)
 
-and map_bindings m =
-  List.rev_map (fun k -> (k, match map_find m k with Some v -> v | None -> Unit)) m.order
+(* the bindings in insertion order, without a look-up *)
+and map_bindings m = List.rev_map (fun (k, r) -> (k, !r)) m.order
 
-and hash v = match v with
+and hsh v =
+  visit ();
+  match v with
   | Bool b -> if b then 1 else 0
   | Int i -> i
   | Float f | Double f ->
     (* an integral value hashes as the integer it equals (1 = 1.0) *)
     if Float.is_integer f && Float.abs f < 4e18 then int_of_float f else Hashtbl.hash f
   | Text s | Aid s | Agent_ref s -> Hashtbl.hash s
-  | List l -> List.fold_left (fun h x -> (h * 31) + hash x) 7 (list_items l)
-  | Map m -> List.fold_left (fun h (k, x) -> (h * 31) + (hash k * 17) + hash x) 11 (map_bindings m)
-  | Schema s -> Array.fold_left (fun h (_, x) -> (h * 31) + hash !x) (Hashtbl.hash s.sname) s.slots
+  | List l -> List.fold_left (fun h x -> (h * 31) + hsh x) 7 (list_items l)
+  | Map m -> List.fold_left (fun h (k, x) -> (h * 31) + (hsh k * 17) + hsh x) 11 (map_bindings m)
+  | Schema s -> Array.fold_left (fun h (_, x) -> (h * 31) + hsh !x) (Hashtbl.hash s.sname) s.slots
   | Native n -> n.nid
   | Behaviour_ref i -> i
   | Unit -> 0
 
-and map_find m k =
+(* Each comparison and each hash starts with a budget of its own (D38). *)
+let compare a b = visits := 0; cmp a b
+let equal a b = compare a b = 0
+let hash v = visits := 0; hsh v
+
+(* A look-up: one hash of the key, then one comparison with each key of the
+   same hash. *)
+let map_find m k =
   match Int_table.find_opt m.table (hash k land max_int) with
   | None -> None
   | Some bucket ->
-    (match List.find_opt (fun (k', _) -> compare k k' = 0) bucket with
+    (match List.find_opt (fun (k', _) -> equal k k') bucket with
      | Some (_, v) -> Some !v
      | None -> None)
-
-let equal a b = compare a b = 0
 
 let map_empty () = Map { table = Int_table.create 8; order = []; size = 0 }
 
@@ -89,8 +114,9 @@ let map_set m k v =
   let bucket = match Int_table.find m.table h with b -> b | exception Not_found -> [] in
   let rec find = function
     | [] ->
-      Int_table.replace m.table h ((k, ref v) :: bucket);
-      m.order <- k :: m.order;
+      let r = ref v in
+      Int_table.replace m.table h ((k, r) :: bucket);
+      m.order <- (k, r) :: m.order;
       m.size <- m.size + 1
     | (k', r) :: rest -> if equal k k' then r := v else find rest in
   find bucket

@@ -34,7 +34,7 @@ and list_v = { mutable items : t array; mutable len : int }
 
 and map_v = {
   table : (t * t ref) list Int_table.t;        (** structural hash -> bindings *)
-  mutable order : t list;                      (** keys, newest first *)
+  mutable order : (t * t ref) list;            (** the bindings, newest first *)
   mutable size : int;
 }
 (** A hash map keyed by structural equality, remembering insertion order. *)
@@ -53,8 +53,21 @@ val int32 : int -> t
 val float32 : float -> float
 (** Rounds to the nearest binary32. *)
 
+exception Too_large
+(** D38: a comparison or a hash would visit more than {!max_visits} values. *)
+
+val max_visits : int
+(** 10,000,000. Every value a comparison ({!compare}, {!equal}) or a hash
+    ({!hash}) reaches counts one, each time it is reached (a part shared
+    twice counts twice); each call has a budget of its own. A look-up in a
+    map ({!map_find}, {!map_set}) is one hash of the key and one comparison
+    with each stored key of the same hash. Past the bound the call raises
+    {!Too_large}: the evaluator makes it an exhaustion error at the
+    operator (docs/semantics.md, D38). *)
+
 val compare : t -> t -> int
-(** Structural, with integers, floats and doubles compared by value. *)
+(** Structural, with integers, floats and doubles compared by value.
+    @raise Too_large past {!max_visits} (D38). *)
 
 val equal : t -> t -> bool
 

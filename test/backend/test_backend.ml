@@ -237,8 +237,9 @@ let shapes () =
       let a = List.assoc "A.java" units and b = List.assoc "B.java" units and pos = List.assoc "pos.java" units in
       let has t s = if not (contains t s) then Alcotest.failf "expected %S in:\n%s" s t in
       let at l c = Printf.sprintf "\"%s:%d:%d\"" f l c in
-      (* the right operand of a comparison first *)
-      has a (Printf.sprintf "Ops.eqRL(Integer.valueOf(2), Ops.local(%s, \"k\", k))" (at 9 16));
+      (* the right operand of a comparison first, after the operator's
+         position (D38: a comparison too large is an error there) *)
+      has a (Printf.sprintf "Ops.eqRL(%s, Integer.valueOf(2), Ops.local(%s, \"k\", k))" (at 9 16) (at 9 16));
       (* for: the item, then the tick, then the body in a labelled block (continue) *)
       has a (Printf.sprintf "tick(%s);   // the loop's item" (at 8 9));
       has a "if (true) break body$";

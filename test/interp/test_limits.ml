@@ -144,6 +144,52 @@ let d21_sizes () =
           Alcotest.(check string) "the run carried on" (Printf.sprintf "a: still here %d\n" Interp.Eval.max_map_size) out;
           Alcotest.(check bool) "the trace is JSON" true json))
 
+(* ---------------------------------------------------------------- D38 *)
+
+(* A list of two copies of a list of two copies of ... d levels above [1]:
+   d + 1 lists in memory, 3 * 2^d - 1 parts (the innermost list and its 1
+   are 2). Comparing two such (built apart, so that no part is physically
+   shared between them) visits every pair of parts, and hashing one every
+   part: 3 * 2^d - 1 visits each. At d = 21 that is 6,291,455, within the
+   10,000,000 of D38; at d = 22, 12,582,911, past it. *)
+let rec shared_list d = if d = 0 then Interp.Value.list_of [ Interp.Value.Int 1 ]
+  else let x = shared_list (d - 1) in Interp.Value.list_of [ x; x ]
+
+let d38_bound () =
+  let module V = Interp.Value in
+  Alcotest.(check int) "the bound" 10_000_000 V.max_visits;
+  let too_large f = match f () with _ -> false | exception V.Too_large -> true in
+  Alcotest.(check bool) "d = 21: compares, equal" true (V.equal (shared_list 21) (shared_list 21));
+  Alcotest.(check bool) "d = 21: hashes" false (too_large (fun () -> V.hash (shared_list 21)));
+  Alcotest.(check bool) "d = 22: comparing is too large" true
+    (too_large (fun () -> V.equal (shared_list 22) (shared_list 22)));
+  Alcotest.(check bool) "d = 22: hashing is too large" true (too_large (fun () -> V.hash (shared_list 22)));
+  (* a value compared with itself stops at once, and each call has its own budget *)
+  let x = shared_list 40 in
+  Alcotest.(check bool) "the same value: equal at once" true (V.equal x x);
+  Alcotest.(check bool) "a budget per call" true (V.equal (shared_list 21) (shared_list 21));
+  (* two maps of 1,000,000 entries each (D21's most) compare within the bound *)
+  let big () = let m = V.map_empty () in
+    (match m with V.Map mv -> for i = 0 to Interp.Eval.max_map_size - 1 do V.map_set mv (V.Int i) (V.Int i) done
+                | _ -> ());
+    m in
+  Alcotest.(check bool) "two full maps compare" true (V.equal (big ()) (big ()));
+  (* through the command line: located exhaustion errors, the run carries on *)
+  let b = Buffer.create 4096 in
+  Buffer.add_string b "ontology O\n\tproposition tick extends percept\n\n\
+                       agent A uses ontology O\n\ton create do\n\t\tactivate behaviour B\n\n\
+                       cyclic behaviour B for agent A\n\ton percept when content matches tick do\n\t\ta0 = [1]\n\t\tb0 = [1]\n";
+  for i = 1 to 40 do Printf.bprintf b "\t\ta%d = [a%d, a%d]\n\t\tb%d = [b%d, b%d]\n" i (i - 1) (i - 1) i (i - 1) (i - 1) done;
+  Buffer.add_string b "\t\tlog \"equal \" + (a40 = b40)\n\n\ton percept when content matches tick do\n\t\tlog \"still here\"\n";
+  with_file "jsref_shared.jade" (Buffer.contents b) (fun p ->
+      with_file "jsref_shared.jsonl" "{\"agent\": \"a\", \"notify\": \"tick\"}\n" (fun ev ->
+          let (status, out, err) = run (Printf.sprintf "%s --agent a:A --events %s" p ev) in
+          Alcotest.(check int) "exit 1 (D15)" 1 status;
+          Alcotest.(check (list string)) "one exhaustion error, at the ="
+            [ Printf.sprintf "%s:92:19: error: exhaustion: value too large: comparing or hashing it would visit more than 10000000 values" p ]
+            (lines err);
+          Alcotest.(check string) "the run carried on" "a: still here\n" out))
+
 (* ---------------------------------------------------------------- D22 *)
 
 (* Distinct texts of 128 KB kept in a map pass 64 MB: an exhaustion error
@@ -287,7 +333,8 @@ let () =
         Alcotest.test_case "D19 a deactivation counts at once" `Quick d19_deactivate_then_activate;
         Alcotest.test_case "D20 rounds end when nothing can change" `Quick d20_rounds;
         Alcotest.test_case "D21 texts and maps bounded" `Quick d21_sizes;
-        Alcotest.test_case "D22 --max-memory" `Quick d22_memory ]);
+        Alcotest.test_case "D22 --max-memory" `Quick d22_memory;
+        Alcotest.test_case "D38 comparisons bounded" `Quick d38_bound ]);
     ("edges", [
         Alcotest.test_case "run: bad command-line values" `Quick cli_values;
         Alcotest.test_case "run: bad events values" `Quick events_values;

@@ -35,8 +35,19 @@ public final class JMap implements java.io.Serializable {
 
   /** A map from alternating values and keys, in the order the interpreter
       evaluates a map literal ({@code {k1: v1, k2: v2}}: {@code v1, k1, v2, k2}).
+      A comparison or hash of a key past {@link Ops#MAX_VISITS} is an error
+      at the literal (D38).
+      @param at position of the literal
       @param valueKeys {@code v1, k1, v2, k2, ...}
       @return the new map */
+  public static JMap ofValueKeyAt(String at, Object... valueKeys) {
+    try { return ofValueKey(valueKeys); }
+    catch (Ops.TooLarge e) { throw Ops.tooLargeToCompare(at); }
+  }
+
+  /** A map literal without a position (host values).
+      @param valueKeys value, key, value, key, ...
+      @return the map */
   public static JMap ofValueKey(Object... valueKeys) {
     JMap m = new JMap();
     for (int i = 0; i + 1 < valueKeys.length; i += 2) m.put(valueKeys[i + 1], valueKeys[i]);

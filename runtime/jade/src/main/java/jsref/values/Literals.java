@@ -243,7 +243,11 @@ public final class Literals {
         for (int i = 0; i + 1 < e.kids.size(); i += 2) {
           Object v = value(e.kids.get(i + 1), program, file);   // the value first, as the interpreter
           Object k = value(e.kids.get(i), program, file);
-          m.put(k, v);
+          try { m.put(k, v); }
+          catch (Ops.TooLarge x) {   // D38
+            throw new LiteralError(e.col, "value too large: comparing or hashing it would visit more than "
+                + Ops.MAX_VISITS + " values");
+          }
         }
         return m;
       }

@@ -108,7 +108,34 @@ public final class Ops {
       @param a a value
       @param b a value
       @return negative, zero or positive */
-  public static int compare(Object a, Object b) {
+  public static int compare(Object a, Object b) { return compare(a, b, new int[1]); }
+
+  /** D38: a comparison or a hash visits at most this many values
+      ({@code Value.max_visits}): every value reached counts one, each time
+      it is reached; each call has a budget of its own. */
+  public static final int MAX_VISITS = 10_000_000;
+
+  /** Past {@link #MAX_VISITS}: turned into an exhaustion error at the
+      operator by the callers that know the position. */
+  public static final class TooLarge extends RuntimeException {
+    private static final long serialVersionUID = 1L;
+    TooLarge() { super("too large to compare", null, false, false); }
+  }
+
+  private static final TooLarge TOO_LARGE = new TooLarge();
+
+  private static void visit(int[] visits) { if (++visits[0] > MAX_VISITS) throw TOO_LARGE; }
+
+  /** The error of D38 at a position.
+      @param at position
+      @return the error */
+  public static JadescriptError tooLargeToCompare(String at) {
+    return new JadescriptError(at, "value too large: comparing or hashing it would visit more than "
+        + MAX_VISITS + " values");
+  }
+
+  private static int compare(Object a, Object b, int[] visits) {
+    visit(visits);
     if (a == b) return 0;
     int ta = tag(a), tb = tag(b);
     if (ta != tb) return Integer.compare(ta, tb);
@@ -122,16 +149,16 @@ public final class Ops {
       case 4: {
         JList x = (JList) a, y = (JList) b;
         int n = Math.min(x.size(), y.size());
-        for (int i = 0; i < n; i++) { int c = compare(x.get(i), y.get(i)); if (c != 0) return c; }
+        for (int i = 0; i < n; i++) { int c = compare(x.get(i), y.get(i), visits); if (c != 0) return c; }
         return Integer.compare(x.size(), y.size());
       }
       case 5: {
         List<Map.Entry<Object, Object>> x = ((JMap) a).entries(), y = ((JMap) b).entries();
         int n = Math.min(x.size(), y.size());
         for (int i = 0; i < n; i++) {
-          int c = compare(x.get(i).getKey(), y.get(i).getKey());
+          int c = compare(x.get(i).getKey(), y.get(i).getKey(), visits);
           if (c != 0) return c;
-          c = compare(x.get(i).getValue(), y.get(i).getValue());
+          c = compare(x.get(i).getValue(), y.get(i).getValue(), visits);
           if (c != 0) return c;
         }
         return Integer.compare(x.size(), y.size());
@@ -142,7 +169,7 @@ public final class Ops {
         if (c != 0) return c;
         Object[] u = x.slotValues(), v = y.slotValues();
         int n = Math.min(u.length, v.length);
-        for (int i = 0; i < n; i++) { c = compare(u[i], v[i]); if (c != 0) return c; }
+        for (int i = 0; i < n; i++) { c = compare(u[i], v[i], visits); if (c != 0) return c; }
         return Integer.compare(u.length, v.length);
       }
       case 8: return compareTexts(((AgentRef) a).name(), ((AgentRef) b).name());
@@ -168,7 +195,10 @@ public final class Ops {
       1.0 included).
       @param v a value
       @return the hash */
-  public static int hash(Object v) {
+  public static int hash(Object v) { return hash(v, new int[1]); }
+
+  private static int hash(Object v, int[] visits) {
+    visit(visits);
     if (v instanceof Boolean) return ((Boolean) v) ? 1 : 0;
     if (v instanceof Integer) return hashLong((Integer) v);
     if (v instanceof Float || v instanceof Double) {
@@ -184,18 +214,18 @@ public final class Ops {
     if (v instanceof JList) {
       JList l = (JList) v;
       int h = 7;
-      for (int i = 0; i < l.size(); i++) h = h * 31 + hash(l.get(i));
+      for (int i = 0; i < l.size(); i++) h = h * 31 + hash(l.get(i), visits);
       return h;
     }
     if (v instanceof JMap) {
       int h = 11;
-      for (Map.Entry<Object, Object> e : ((JMap) v).entries()) h = h * 31 + hash(e.getKey()) * 17 + hash(e.getValue());
+      for (Map.Entry<Object, Object> e : ((JMap) v).entries()) h = h * 31 + hash(e.getKey(), visits) * 17 + hash(e.getValue(), visits);
       return h;
     }
     if (v instanceof Schema) {
       Schema s = (Schema) v;
       int h = s.schemaName().hashCode();
-      for (Object x : s.slotValues()) h = h * 31 + hash(x);
+      for (Object x : s.slotValues()) h = h * 31 + hash(x, visits);
       return h;
     }
     if (v instanceof Nothing || v == null) return 0;
@@ -344,11 +374,31 @@ public final class Ops {
       @return the result */
   public static Object eqRL(Object r, Object l) { return equal(asFloatBeside(l, r), asFloatBeside(r, l)); }
 
+  /** {@code l = r} at a position, operands given right first (D38).
+      @param at position of the operator
+      @param r right
+      @param l left
+      @return the result */
+  public static Object eqRL(String at, Object r, Object l) {
+    try { return equal(asFloatBeside(l, r), asFloatBeside(r, l)); }
+    catch (TooLarge e) { throw tooLargeToCompare(at); }
+  }
+
   /** {@code l != r}, operands given right first.
       @param r right
       @param l left
       @return the result */
   public static Object neqRL(Object r, Object l) { return !equal(asFloatBeside(l, r), asFloatBeside(r, l)); }
+
+  /** {@code l != r} at a position, operands given right first (D38).
+      @param at position of the operator
+      @param r right
+      @param l left
+      @return the result */
+  public static Object neqRL(String at, Object r, Object l) {
+    try { return !equal(asFloatBeside(l, r), asFloatBeside(r, l)); }
+    catch (TooLarge e) { throw tooLargeToCompare(at); }
+  }
 
   private static int order(String at, Object l, Object r) {
     Object a = asFloatBeside(l, r), b = asFloatBeside(r, l);
@@ -418,7 +468,8 @@ public final class Ops {
       return l.get(i);
     }
     if (m instanceof JMap) {
-      Object v = ((JMap) m).get(k);
+      Object v;
+      try { v = ((JMap) m).get(k); } catch (TooLarge e) { throw tooLargeToCompare(at); }
       if (v == null) throw new JadescriptError(at, "the map has no key " + Text.literal(k));
       return v;
     }
@@ -441,8 +492,10 @@ public final class Ops {
     }
     if (m instanceof JMap) {
       JMap jm = (JMap) m;
-      if (jm.size() >= MAX_MAP_SIZE && !jm.containsKey(k)) throw tooBig(at, "the map would have too many entries");
-      jm.put(k, v);
+      try {
+        if (jm.size() >= MAX_MAP_SIZE && !jm.containsKey(k)) throw tooBig(at, "the map would have too many entries");
+        jm.put(k, v);
+      } catch (TooLarge e) { throw tooLargeToCompare(at); }
       return;
     }
     throw new JadescriptError(at, "cannot index a " + Text.typeName(m));
