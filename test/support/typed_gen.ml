@@ -554,7 +554,7 @@ type limit = { kind : string; size : int; text : string }
    thing [size] times (or [n] times, n from the events file). *)
 let limit_kinds = [
   "recursion"; "mutual recursion"; "long loop"; "growing text"; "deep parentheses"; "growing map"; "growing map of texts";
-  "activations"; "deep expression"; "nested loops"; "many percepts"; "raw bytes"
+  "activations"; "deep expression"; "nested loops"; "many percepts"; "raw bytes"; "shared parts"
 ]
 
 let limit_body kind size =
@@ -591,6 +591,16 @@ let limit_body kind size =
     ("", i ^ "a = 0\n" ^ i ^ "for x in [1, 2, 3, 4, 5, 6, 7, 8, 9, 10] do\n" ^ i ^ "\tfor y in [1, 2, 3, 4, 5, 6, 7, 8, 9, 10] do\n"
          ^ i ^ "\t\tk = 0\n" ^ i ^ "\t\twhile k < " ^ string_of_int size ^ " do\n" ^ i ^ "\t\t\tk = k + 1\n"
          ^ i ^ "\t\t\ta = a + x * y\n" ^ i ^ "log \"a \" + a\n")
+  | "shared parts" ->
+    (* D38: two lists of two copies of ... [size] levels deep, 3 * 2^size - 1
+       parts each, compared, hashed as a map key, printed *)
+    let chain x = i ^ x ^ "0 = [n]\n"
+                  ^ String.concat "" (List.init size (fun k ->
+                      Printf.sprintf "%s%s%d = [%s%d, %s%d]\n" i x (k + 1) x k x k)) in
+    let top x = Printf.sprintf "%s%d" x size in
+    ("", chain "a" ^ chain "b" ^ i ^ "log \"same \" + (" ^ top "a" ^ " = " ^ top "b" ^ ")\n"
+         ^ i ^ "m = {" ^ top "b" ^ ": 1}\n" ^ i ^ "log \"found \" + m[" ^ top "a" ^ "]\n"
+         ^ i ^ "log " ^ top "a" ^ "\n")
   | "raw bytes" ->
     (* invalid UTF-8 and control bytes inside a text literal *)
     ("", i ^ "log \"caf\xff \x01\xc3 \xed\xa0\x80 end\" + n\n")
@@ -610,6 +620,7 @@ let limit rs =
     | "deep expression" -> pick rs [ 10; 500; 5_000; 50_000 ]
     | "deep parentheses" -> pick rs [ 10; 100; 190 ]
     | "nested loops" -> pick rs [ 10; 1_000; 100_000 ]
+    | "shared parts" -> pick rs [ 3; 12; 21; 22; 40; 62 ]
     | _ -> 0 in
   let (routines, body) = limit_body kind size in
   let text =
