@@ -200,28 +200,39 @@ let shortest_path g target =
     | (p, l) -> back p ((l, i) :: acc) in
   if target < n && seen.(target) then back target [] else []
 
-(* ------------------------------------------------- fingerprints (D31) *)
+(* ------------------------------------------------- fingerprints (D31, D37) *)
 
-(* A 63-bit fingerprint of a configuration, computed from the same values,
-   in the same order, as its canonical key [key] (without building the
-   string): every int is folded into an accumulator by xor and a multiply by a
-   dense odd constant (arithmetic modulo 2^63), a separator as a value no int
-   of the key takes, and a final mix makes every bit depend on every value.
-   The priority queue, a set, is folded order-free: the sum of its entries'
-   own mixes (the key sorts it instead). The test "fingerprints" holds the
-   two equal in the number of states on every model of spec/models. *)
+(* A 63-bit fingerprint of a configuration, from the same values as its
+   canonical key [key] (without building the string), in two levels (D37).
+   Each part of the configuration that is a structure (the O2A queue, the
+   priority queue, the message queue, the active behaviours, the ready and
+   blocked lists, the dispatch in progress and the two ghosts) has a part
+   hash of its own; the fingerprint folds the part hashes, the numbers (the
+   counters, pos, the phase) and the last action, in a fixed order. A
+   successor is a new record around mostly the same fields as its parent's
+   (the rules are [{ c with ... }]): where a field is physically the same
+   value as the parent's, its part hash is the parent's, and only the parts
+   that the rule changed are hashed again ([node_after]). Physical equality
+   implies equality, so the result is the fingerprint computed from scratch
+   whatever the rules did (test "D37 incremental fingerprint = from
+   scratch").
+
+   Every int is folded into an accumulator by xor and a multiply by a dense
+   odd constant (arithmetic modulo 2^63); a part hash and the fingerprint
+   end with a mix that makes every bit depend on every bit. The priority
+   queue, a set, is hashed order-free: the sum of its entries' own mixes
+   (the key sorts it instead). *)
 let fp_mul = 0x5bd1e9955bd1e995
 let fp_seed = 0x2545F4914F6CDD1D
 
 (* [h] threaded through, so that it stays in a register *)
-let[@inline] mix h n = (h lxor (n * 2)) * fp_mul    (* even: an int *)
-let[@inline] sep h = (h lxor 1) * fp_mul             (* odd: a separator *)
+let[@inline] mix h n = (h lxor n) * fp_mul
 let[@inline] mix_entry h (e : int entry) = mix (mix (mix h e.p) e.prio) e.seq
 
-let fp_final h =
+(* every bit of the result depends on every bit of [h] *)
+let[@inline] avalanche h =
   let h = (h lxor (h lsr 31)) * 0x7fb5d329728ea185 in
-  let h = h lxor (h lsr 27) in
-  if h = 0 then 1 else h   (* 0 marks an empty slot *)
+  h lxor (h lsr 27)
 
 let mix_msg h = function
   | M_message { m; mseq } -> mix (mix (mix h 0) m) mseq
@@ -261,46 +272,89 @@ let rec mix_active h = function
   | [] -> h
   | (a : Model.beh instance) :: r -> mix_active (mix (mix h a.id) a.beh.bidx) r
 let rec mix_todo h = function [] -> h | (id, hd) :: r -> mix_todo (mix (mix h id) hd) r
-let rec mix_waits h = function [] -> h | (s, _, n) :: r -> mix_waits (mix (mix h s) n) r
+let rec mix_waits h = function
+  | [] -> h
+  | (s, k, n) :: r -> mix_waits (mix (mix (mix h s) k) n) r
 
-(* the priority queue, a set: the sum of its entries' own mixes *)
+(* the part hashes *)
+let part_o2a q = avalanche (mix_o2a fp_seed (Semantics.Fqueue.to_list q))
 let pq_sum = ref 0
-let pq_entry (e : int entry) = pq_sum := !pq_sum + fp_final (mix_entry fp_seed e)
-
-let state_fingerprint (c : Model.M.t) =
+let pq_entry (e : int entry) = pq_sum := !pq_sum + avalanche (mix_entry fp_seed e)
+let part_pq pq =
   pq_sum := 0;
-  Semantics.Pqueue.iter pq_entry c.pq;
-  let h = sep (mix_o2a fp_seed (Semantics.Fqueue.to_list c.o2a)) in
-  let h = sep (mix (mix h (Semantics.Pqueue.size c.pq)) !pq_sum) in
-  let h = sep (mix_msgs h (Semantics.Fqueue.to_list c.msgq)) in
+  Semantics.Pqueue.iter pq_entry pq;
+  avalanche (mix (mix fp_seed (Semantics.Pqueue.size pq)) !pq_sum)
+let part_msgq q = avalanche (mix_msgs fp_seed (Semantics.Fqueue.to_list q))
+let part_active l = avalanche (mix_active fp_seed l)
+let part_ints l = avalanche (mix_ints fp_seed l)
+let part_cur = function
+  | None -> 0
+  | Some d -> avalanche (mix_todo (mix (mix_entry fp_seed d.e) (Bool.to_int d.applied)) d.todo)
+let part_done s = avalanche (Int_set.fold (fun x h -> mix h x) s fp_seed)
+let part_waits l = avalanche (mix_waits fp_seed l)
+
+let phase_int = function
+  | Transfer_phase -> 0 | Dispatch_phase -> 1 | Handle_phase -> 2 | Idle_phase -> 3
+
+(* A configuration of the counting path with its part hashes, its
+   fingerprint and its depth (the states on the path from the initial one
+   that found it). *)
+type node = {
+  c : Model.M.t;
+  h_o2a : int; h_pq : int; h_msgq : int; h_active : int; h_ready : int;
+  h_blocked : int; h_cur : int; h_done : int; h_waits : int;
+  fp : int;                          (* never 0: 0 marks an empty slot *)
+  d : int;
+}
+
+let make_node (c : Model.M.t) d h_o2a h_pq h_msgq h_active h_ready h_blocked h_cur h_done h_waits =
+  let h = mix (mix (mix fp_seed h_o2a) h_pq) h_msgq in
   let h = mix (mix (mix h c.next_seq) c.msg_seq) c.puts in
-  let h = sep (mix_active h c.active) in
-  let h = sep (mix_ints h c.ready) in
-  let h = sep (mix_ints h c.blocked) in
-  let h = mix h c.pos in
-  let h = mix h (match c.phase with
-      | Transfer_phase -> 0 | Dispatch_phase -> 1 | Handle_phase -> 2 | Idle_phase -> 3) in
-  let h = match c.cur with
-    | None -> mix h 0
-    | Some d -> sep (mix_todo (mix (mix_entry (mix h 1) d.e) (Bool.to_int d.applied)) d.todo) in
-  let h = mix h c.dispatched in
-  let h = sep (Int_set.fold (fun x h -> mix h x) c.done_ h) in
-  let h = sep (mix_waits h c.waits) in
-  fp_final (mix_label h c.last)
+  let h = mix (mix (mix h h_active) h_ready) h_blocked in
+  let h = mix (mix (mix h c.pos) (phase_int c.phase)) h_cur in
+  let h = mix (mix (mix h c.dispatched) h_done) h_waits in
+  let h = avalanche (mix_label h c.last) in
+  let fp = if h = 0 then 1 else h in
+  { c; h_o2a; h_pq; h_msgq; h_active; h_ready; h_blocked; h_cur; h_done; h_waits; fp; d }
+
+(* every part hashed *)
+let node_of (c : Model.M.t) =
+  make_node c 1 (part_o2a c.o2a) (part_pq c.pq) (part_msgq c.msgq) (part_active c.active)
+    (part_ints c.ready) (part_ints c.blocked) (part_cur c.cur) (part_done c.done_)
+    (part_waits c.waits)
+
+(* a successor [c] of [n.c]: only the parts that are not the parent's hashed *)
+let node_after n (c : Model.M.t) =
+  let c0 = n.c in
+  make_node c (n.d + 1)
+    (if c.o2a == c0.o2a then n.h_o2a else part_o2a c.o2a)
+    (if c.pq == c0.pq then n.h_pq else part_pq c.pq)
+    (if c.msgq == c0.msgq then n.h_msgq else part_msgq c.msgq)
+    (if c.active == c0.active then n.h_active else part_active c.active)
+    (if c.ready == c0.ready then n.h_ready else part_ints c.ready)
+    (if c.blocked == c0.blocked then n.h_blocked else part_ints c.blocked)
+    (if c.cur == c0.cur then n.h_cur else part_cur c.cur)
+    (if c.done_ == c0.done_ then n.h_done else part_done c.done_)
+    (if c.waits == c0.waits then n.h_waits else part_waits c.waits)
+
+let state_fingerprint c = (node_of c).fp
+let fingerprint_after ~parent c = (node_after (node_of parent) c).fp
 
 (* The visited set: an open-addressing table of fingerprints in a Bigarray
-   (outside the OCaml heap: the collector never scans it), at most three quarters full. *)
+   (outside the OCaml heap: the collector never scans it), at most three
+   quarters full. The type of the slots is written out, so that a read or a
+   write is one instruction, not a call into the runtime. *)
 module Fp_set = struct
   open Bigarray
-  type t = { mutable slots : (int, int_elt, c_layout) Array1.t; mutable count : int }
+  type slots = (int, int_elt, c_layout) Array1.t
+  type t = { mutable slots : slots; mutable mask : int; mutable count : int }
 
-  let make n = let a = Array1.create int c_layout n in Array1.fill a 0; a
-  let create () = { slots = make 65536; count = 0 }
+  let make n : slots = let a = Array1.create int c_layout n in Array1.fill a 0; a
+  let create () = { slots = make 65536; mask = 65535; count = 0 }
   let bytes t = Array1.dim t.slots * 8
 
   (* true when [h] was absent (it is now present) *)
-  let add_raw a h =
-    let mask = Array1.dim a - 1 in
+  let add_raw (a : slots) mask h =
     let rec probe i =
       let x = Array1.unsafe_get a i in
       if x = 0 then (Array1.unsafe_set a i h; true)
@@ -310,16 +364,17 @@ module Fp_set = struct
 
   let grow t =
     let old = t.slots in
-    let a = make (2 * Array1.dim old) in
+    let n = 2 * Array1.dim old in
+    let a = make n in
     for i = 0 to Array1.dim old - 1 do
       let x = Array1.unsafe_get old i in
-      if x <> 0 then ignore (add_raw a x)
+      if x <> 0 then ignore (add_raw a (n - 1) x)
     done;
-    t.slots <- a
+    t.slots <- a; t.mask <- n - 1
 
   let add t h =
-    if 4 * (t.count + 1) > 3 * Array1.dim t.slots then grow t;
-    let fresh = add_raw t.slots h in
+    if 4 * (t.count + 1) > 3 * (t.mask + 1) then grow t;
+    let fresh = add_raw t.slots t.mask h in
     if fresh then t.count <- t.count + 1;
     fresh
 end
@@ -341,41 +396,121 @@ let collision_probability c =
 
 (* Most configurations generated are already seen and die young; a larger
    minor heap (8 MB) lets them die there, and a lazier major collector marks
-   the few that live on (the current path) less often. Restored afterwards. *)
+   the few that live on (the states found, not yet expanded) less often.
+   Restored afterwards. *)
 let with_explorer_gc f =
   let old = Gc.get () in
   Gc.set { old with minor_heap_size = max old.minor_heap_size (1 lsl 20); space_overhead = 400 };
   Fun.protect ~finally:(fun () -> Gc.set old) f
 
+(* The successors for counting: the same configurations as [successors]
+   (test "D37 the counting path's successors"), without their labels (each
+   configuration holds its own in [last]) and without a closure per rule.
+   The host rules within the model's bounds, consed onto [acc]: *)
+let rec notifies p (m : Model.t) c i acc =
+  if i < 0 then acc
+  else notifies p m c (i - 1) (Model.M.notify p c i m.default_priority.(i) :: acc)
+
+let rec notify_withs p c i ks acc =
+  match ks with
+  | [] -> acc
+  | k :: r -> notify_withs p c i r (Model.M.notify_with p c i k :: acc)
+
+let rec overridden p (m : Model.t) c i acc =
+  if i < 0 then acc else overridden p m c (i - 1) (notify_withs p c i m.overrides acc)
+
+let rec puts p c o acc = if o < 0 then acc else puts p c (o - 1) (Model.M.put p c o :: acc)
+let rec sends p c x acc = if x < 0 then acc else sends p c (x - 1) (Model.M.send p c x :: acc)
+
+let host_successors (m : Model.t) (c : Model.M.t) =
+  let p = m.params in
+  let room = Model.M.o2a_has_room p c in
+  let acc = if c.msg_seq < m.max_send then sends p c (Array.length m.messages - 1) [] else [] in
+  let acc = if room && c.puts < m.max_put then puts p c (Array.length m.objects - 1) acc else acc in
+  if room && (p.flood || c.next_seq < m.max_notify) then
+    notifies p m c (Array.length m.percepts - 1)
+      (overridden p m c (Array.length m.percepts - 1) acc)
+  else acc
+
+(* The reference's agent rules, asked only of those whose enabling
+   condition holds in the configuration's phase (every rule of
+   Machine.step_by names its phase); where the fast engine has a faster way
+   (the batch Transfer, Dequeue as one pop) its [step], held equal to the
+   reference's by test. *)
+let agent_successors p (c : Model.M.t) =
+  match c.phase with
+  | Transfer_phase ->
+    if p.variant = Reference || p.variant = Budgeted then FE.step p c
+    else Model.M.transfer p c @ Model.M.transfer_one p c @ Model.M.transfer_spin p c
+         @ Model.M.transfer_end p c
+  | Dispatch_phase ->
+    if p.variant <> Native && p.tie = Stable && not p.flood && not (Model.M.dispatch_over p c)
+    then FE.step p c
+    else Model.M.dequeue p c @ Model.M.behaviour_step p c @ Model.M.next_iteration p c
+         @ Model.M.idle p c
+  | Handle_phase -> Model.M.handle_or_skip p c @ Model.M.end_dispatch p c
+  | Idle_phase -> []
+
+let count_successors (m : Model.t) c =
+  List.rev_append (List.rev_map snd (agent_successors m.params c)) (host_successors m c)
+
+type tally = { mutable generated : int; mutable final : int; mutable depth : int;
+               mutable fps : int array }
+
 let count ?(max_states = default_max_states) ?rules (m : Model.t) =
   with_explorer_gc @@ fun () ->
   let t0 = Unix.gettimeofday () in
-  (* the fast engine unless a mutant's rules are asked for *)
-  let agent_steps = match rules with Some r -> Model.M.step_by r | None -> FE.step in
+  let p = m.params in
+  (* the reference's rules by phase, unless a mutant's rules are asked for *)
+  let agent = match rules with Some r -> Model.M.step_by r p | None -> agent_successors p in
   let seen = Fp_set.create () in
-  let generated = ref 0 and final = ref 0 and depth = ref 0 and height = ref 0 in
-  (* depth first: the stack holds, for each state on the current path, its
-     successors not yet visited; a configuration dies young unless it is on
-     the path, so the collector has little to keep *)
-  let stack = ref [] in
-  let visit c =
-    incr generated;
-    if Fp_set.add seen (state_fingerprint c) then begin
-      if seen.count > max_states then
-        failwith (Printf.sprintf "exhaustion: the model has more than %d states, exploration \
-                                  stopped (a larger bound: --max-states)" max_states);
-      match successors_by agent_steps m c with
-      | [] -> incr final
-      | succs ->
-        stack := succs :: !stack; incr height;
-        if !height > !depth then depth := !height
-    end in
-  visit (Model.M.init m.params ~world:() (List.map (fun i -> m.behaviours.(i)) m.initial));
-  while !stack <> [] do
-    match !stack with
-    | ((_, c) :: rest) :: below -> stack := rest :: below; visit c
-    | [] :: below -> stack := below; decr height
+  let t = { generated = 0; final = 0; depth = 0; fps = Array.make 64 0 } in
+  let fresh fp =
+    Fp_set.add seen fp
+    && (seen.count <= max_states
+        || failwith (Printf.sprintf "exhaustion: the model has more than %d states, exploration \
+                                     stopped (a larger bound: --max-states)" max_states)) in
+  (* The nodes of a state's successors, newest first, and their
+     fingerprints in t.fps from index [k] up. *)
+  let note k (n' : node) =
+    if k >= Array.length t.fps then begin
+      let a = Array.make (2 * k) 0 in Array.blit t.fps 0 a 0 k; t.fps <- a
+    end;
+    Array.unsafe_set t.fps k n'.fp in
+  let rec of_configs n k acc = function
+    | [] -> (k, acc)
+    | c' :: r -> let n' = node_after n c' in note k n'; of_configs n (k + 1) (n' :: acc) r in
+  let rec of_pairs n k acc = function
+    | [] -> of_configs n k acc (host_successors m n.c)
+    | (_, c') :: r -> let n' = node_after n c' in note k n'; of_pairs n (k + 1) (n' :: acc) r in
+  (* the new ones onto the stack; [k] indexes [nodes]' head in t.fps *)
+  let rec push k nodes stack =
+    match nodes with
+    | [] -> stack
+    | (n' : node) :: r ->
+      if Array.unsafe_get t.fps k = 0 then push (k - 1) r stack
+      else begin
+        if n'.d > t.depth then t.depth <- n'.d;
+        push (k - 1) r (n' :: stack)
+      end in
+  (* Depth first, a state marked seen when it is generated: only the states
+     found and not yet expanded are kept. The fingerprints of a state's
+     successors are looked up together, one after the other, so that the
+     processor fetches their slots of the table at the same time. *)
+  let rec loop = function
     | [] -> ()
-  done;
-  { c_model = m; distinct = seen.count; generated = !generated; final = !final;
-    depth = !depth; table_bytes = Fp_set.bytes seen; c_seconds = Unix.gettimeofday () -. t0 }
+    | n :: stack ->
+      match of_pairs n 0 [] (agent n.c) with
+      | (0, _) -> t.final <- t.final + 1; loop stack
+      | (k, nodes) ->
+        t.generated <- t.generated + k;
+        for i = 0 to k - 1 do
+          Array.unsafe_set t.fps i (Bool.to_int (fresh (Array.unsafe_get t.fps i)))
+        done;
+        loop (push (k - 1) nodes stack) in
+  let n0 = node_of (Model.M.init p ~world:() (List.map (fun i -> m.behaviours.(i)) m.initial)) in
+  t.generated <- 1; t.depth <- 1;
+  ignore (fresh n0.fp);
+  loop [ n0 ];
+  { c_model = m; distinct = seen.count; generated = t.generated; final = t.final;
+    depth = t.depth; table_bytes = Fp_set.bytes seen; c_seconds = Unix.gettimeofday () -. t0 }

@@ -57,7 +57,22 @@ val shortest_path : graph -> int -> (string * int) list
 
 val state_fingerprint : Model.M.t -> int
 (** The 63-bit fingerprint of a configuration (never 0): computed from the
-    values its canonical {!key} is made of, without building the key. *)
+    values its canonical {!key} is made of, without building the key. It is
+    made in two levels (D37): a hash of each part of the configuration that
+    is a structure (the queues, the behaviour lists, the dispatch in
+    progress, the ghosts), then the fingerprint of those part hashes, the
+    numbers and the last action. *)
+
+val fingerprint_after : parent:Model.M.t -> Model.M.t -> int
+(** [fingerprint_after ~parent c] is [state_fingerprint c], computed the way
+    the counting path does for a successor [c] of [parent] (D37): the part
+    hashes of [parent] are kept for every field of [c] that is physically
+    the same value as [parent]'s, and only the other parts are hashed. *)
+
+val count_successors : Model.t -> Model.M.t -> Model.M.t list
+(** The successors {!count} takes: the configurations of {!successors} (in
+    another order), with the agent's rules asked by phase and, where it is
+    faster, by the fast engine. *)
 
 type count = {
   c_model : Model.t;
