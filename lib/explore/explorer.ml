@@ -307,13 +307,15 @@ type node = {
   d : int;
 }
 
+(* Four chains that do not wait for each other (the processor runs them
+   side by side: a multiply waits for the one before it), then one. *)
 let make_node (c : Model.M.t) d h_o2a h_pq h_msgq h_active h_ready h_blocked h_cur h_done h_waits =
-  let h = mix (mix (mix fp_seed h_o2a) h_pq) h_msgq in
-  let h = mix (mix (mix h c.next_seq) c.msg_seq) c.puts in
-  let h = mix (mix (mix h h_active) h_ready) h_blocked in
-  let h = mix (mix (mix h c.pos) (phase_int c.phase)) h_cur in
-  let h = mix (mix (mix h c.dispatched) h_done) h_waits in
-  let h = avalanche (mix_label h c.last) in
+  let a = mix (mix (mix (mix (mix fp_seed h_o2a) h_pq) h_msgq) h_cur) h_waits in
+  let b = mix (mix (mix (mix fp_seed h_active) h_ready) h_blocked) h_done in
+  let n = mix (mix (mix (mix (mix (mix fp_seed c.next_seq) c.msg_seq) c.puts) c.pos)
+                 (phase_int c.phase)) c.dispatched in
+  let l = mix_label fp_seed c.last in
+  let h = avalanche (mix (mix (mix a b) n) l) in
   let fp = if h = 0 then 1 else h in
   { c; h_o2a; h_pq; h_msgq; h_active; h_ready; h_blocked; h_cur; h_done; h_waits; fp; d }
 
@@ -353,14 +355,16 @@ module Fp_set = struct
   let create () = { slots = make 65536; mask = 65535; count = 0 }
   let bytes t = Array1.dim t.slots * 8
 
-  (* true when [h] was absent (it is now present) *)
+  (* true when [h] was absent (it is now present); linear probing *)
   let add_raw (a : slots) mask h =
-    let rec probe i =
-      let x = Array1.unsafe_get a i in
-      if x = 0 then (Array1.unsafe_set a i h; true)
-      else if x = h then false
-      else probe ((i + 1) land mask) in
-    probe (h land mask)
+    let i = ref (h land mask) and r = ref 2 in      (* 2: still probing *)
+    while !r = 2 do
+      let x = Array1.unsafe_get a !i in
+      if x = 0 then (Array1.unsafe_set a !i h; r := 1)
+      else if x = h then r := 0
+      else i := (!i + 1) land mask
+    done;
+    !r = 1
 
   let grow t =
     let old = t.slots in
@@ -374,9 +378,7 @@ module Fp_set = struct
 
   let add t h =
     if 4 * (t.count + 1) > 3 * (t.mask + 1) then grow t;
-    let fresh = add_raw t.slots t.mask h in
-    if fresh then t.count <- t.count + 1;
-    fresh
+    add_raw t.slots t.mask h && (t.count <- t.count + 1; true)
 end
 
 type count = {
