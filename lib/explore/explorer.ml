@@ -276,68 +276,184 @@ let rec mix_waits h = function
   | [] -> h
   | (s, k, n) :: r -> mix_waits (mix (mix (mix h s) k) n) r
 
-(* the part hashes *)
-let part_o2a q = avalanche (mix_o2a fp_seed (Semantics.Fqueue.to_list q))
+(* The part hashes. For the four lists that a host rule extends at its end
+   (the O2A and message queues, ready, waits), the accumulator before the
+   final mix is kept too: the hash of the list with one more element is one
+   step from it. *)
+let acc_o2a q = mix_o2a fp_seed (Semantics.Fqueue.to_list q)
+let acc_msgq q = mix_msgs fp_seed (Semantics.Fqueue.to_list q)
+let acc_ints l = mix_ints fp_seed l
+let acc_waits l = mix_waits fp_seed l
 let pq_sum = ref 0
 let pq_entry (e : int entry) = pq_sum := !pq_sum + avalanche (mix_entry fp_seed e)
 let part_pq pq =
   pq_sum := 0;
   Semantics.Pqueue.iter pq_entry pq;
   avalanche (mix (mix fp_seed (Semantics.Pqueue.size pq)) !pq_sum)
-let part_msgq q = avalanche (mix_msgs fp_seed (Semantics.Fqueue.to_list q))
 let part_active l = avalanche (mix_active fp_seed l)
-let part_ints l = avalanche (mix_ints fp_seed l)
 let part_cur = function
   | None -> 0
   | Some d -> avalanche (mix_todo (mix (mix_entry fp_seed d.e) (Bool.to_int d.applied)) d.todo)
 let part_done s = avalanche (Int_set.fold (fun x h -> mix h x) s fp_seed)
-let part_waits l = avalanche (mix_waits fp_seed l)
+let h_nil = avalanche (acc_ints [])
 
 let phase_int = function
   | Transfer_phase -> 0 | Dispatch_phase -> 1 | Handle_phase -> 2 | Idle_phase -> 3
 
-(* A configuration of the counting path with its part hashes, its
-   fingerprint and its depth (the states on the path from the initial one
-   that found it). *)
-type node = {
-  c : Model.M.t;
-  h_o2a : int; h_pq : int; h_msgq : int; h_active : int; h_ready : int;
-  h_blocked : int; h_cur : int; h_done : int; h_waits : int;
-  fp : int;                          (* never 0: 0 marks an empty slot *)
-  d : int;
-}
-
-(* Four chains that do not wait for each other (the processor runs them
+(* The fingerprint from the part hashes, the numbers and the label's hash:
+   four chains that do not wait for each other (the processor runs them
    side by side: a multiply waits for the one before it), then one. *)
-let make_node (c : Model.M.t) d h_o2a h_pq h_msgq h_active h_ready h_blocked h_cur h_done h_waits =
+let[@inline] fold_fp h_o2a h_pq h_msgq h_cur h_waits h_active h_ready h_blocked h_done
+    next_seq msg_seq puts pos phase dispatched l =
   let a = mix (mix (mix (mix (mix fp_seed h_o2a) h_pq) h_msgq) h_cur) h_waits in
   let b = mix (mix (mix (mix fp_seed h_active) h_ready) h_blocked) h_done in
-  let n = mix (mix (mix (mix (mix (mix fp_seed c.next_seq) c.msg_seq) c.puts) c.pos)
-                 (phase_int c.phase)) c.dispatched in
-  let l = mix_label fp_seed c.last in
+  let n = mix (mix (mix (mix (mix (mix fp_seed next_seq) msg_seq) puts) pos) phase) dispatched in
   let h = avalanche (mix (mix (mix a b) n) l) in
-  let fp = if h = 0 then 1 else h in
-  { c; h_o2a; h_pq; h_msgq; h_active; h_ready; h_blocked; h_cur; h_done; h_waits; fp; d }
+  if h = 0 then 1 else h     (* 0 marks an empty slot of the table *)
+
+(* A configuration of the counting path with its part hashes, its
+   fingerprint and its depth (the states on the path from the initial one
+   that found it). A host rule's successor is made only once its
+   fingerprint is found new ([build]): until then [c] is its parent's
+   configuration and [act] the host action to take from it. *)
+type node = {
+  mutable c : Model.M.t;
+  a_o2a : int; h_o2a : int; h_pq : int; a_msgq : int; h_msgq : int; h_active : int;
+  a_ready : int; h_ready : int; h_blocked : int; h_cur : int; h_done : int;
+  a_waits : int; h_waits : int;
+  fp : int;
+  d : int;
+  act : int;      (* -1: [c] is made; else kind + 4 * index (kinds: 0 notify,
+                     1 notify with a priority, 2 put, 3 send) *)
+  act_k : int;    (* the priority of a notification *)
+}
 
 (* every part hashed *)
 let node_of (c : Model.M.t) =
-  make_node c 1 (part_o2a c.o2a) (part_pq c.pq) (part_msgq c.msgq) (part_active c.active)
-    (part_ints c.ready) (part_ints c.blocked) (part_cur c.cur) (part_done c.done_)
-    (part_waits c.waits)
+  let a_o2a = acc_o2a c.o2a and a_msgq = acc_msgq c.msgq in
+  let a_ready = acc_ints c.ready and a_waits = acc_waits c.waits in
+  let h_o2a = avalanche a_o2a and h_pq = part_pq c.pq and h_msgq = avalanche a_msgq in
+  let h_active = part_active c.active and h_ready = avalanche a_ready in
+  let h_blocked = avalanche (acc_ints c.blocked) and h_cur = part_cur c.cur in
+  let h_done = part_done c.done_ and h_waits = avalanche a_waits in
+  let fp = fold_fp h_o2a h_pq h_msgq h_cur h_waits h_active h_ready h_blocked h_done
+      c.next_seq c.msg_seq c.puts c.pos (phase_int c.phase) c.dispatched (mix_label fp_seed c.last) in
+  { c; a_o2a; h_o2a; h_pq; a_msgq; h_msgq; h_active; a_ready; h_ready; h_blocked; h_cur;
+    h_done; a_waits; h_waits; fp; d = 1; act = -1; act_k = 0 }
 
-(* a successor [c] of [n.c]: only the parts that are not the parent's hashed *)
+(* A successor [c] of [n.c] by an agent rule: only the parts that are not
+   physically the parent's are hashed. *)
 let node_after n (c : Model.M.t) =
   let c0 = n.c in
-  make_node c (n.d + 1)
-    (if c.o2a == c0.o2a then n.h_o2a else part_o2a c.o2a)
-    (if c.pq == c0.pq then n.h_pq else part_pq c.pq)
-    (if c.msgq == c0.msgq then n.h_msgq else part_msgq c.msgq)
-    (if c.active == c0.active then n.h_active else part_active c.active)
-    (if c.ready == c0.ready then n.h_ready else part_ints c.ready)
-    (if c.blocked == c0.blocked then n.h_blocked else part_ints c.blocked)
-    (if c.cur == c0.cur then n.h_cur else part_cur c.cur)
-    (if c.done_ == c0.done_ then n.h_done else part_done c.done_)
-    (if c.waits == c0.waits then n.h_waits else part_waits c.waits)
+  let same_o2a = c.o2a == c0.o2a and same_msgq = c.msgq == c0.msgq in
+  let same_ready = c.ready == c0.ready and same_waits = c.waits == c0.waits in
+  let a_o2a = if same_o2a then n.a_o2a else acc_o2a c.o2a in
+  let h_o2a = if same_o2a then n.h_o2a else avalanche a_o2a in
+  let h_pq = if c.pq == c0.pq then n.h_pq else part_pq c.pq in
+  let a_msgq = if same_msgq then n.a_msgq else acc_msgq c.msgq in
+  let h_msgq = if same_msgq then n.h_msgq else avalanche a_msgq in
+  let h_active = if c.active == c0.active then n.h_active else part_active c.active in
+  let a_ready = if same_ready then n.a_ready else acc_ints c.ready in
+  let h_ready = if same_ready then n.h_ready else avalanche a_ready in
+  let h_blocked = if c.blocked == c0.blocked then n.h_blocked else avalanche (acc_ints c.blocked) in
+  let h_cur = if c.cur == c0.cur then n.h_cur else part_cur c.cur in
+  let h_done = if c.done_ == c0.done_ then n.h_done else part_done c.done_ in
+  let a_waits = if same_waits then n.a_waits else acc_waits c.waits in
+  let h_waits = if same_waits then n.h_waits else avalanche a_waits in
+  let fp = fold_fp h_o2a h_pq h_msgq h_cur h_waits h_active h_ready h_blocked h_done
+      c.next_seq c.msg_seq c.puts c.pos (phase_int c.phase) c.dispatched (mix_label fp_seed c.last) in
+  { c; a_o2a; h_o2a; h_pq; a_msgq; h_msgq; h_active; a_ready; h_ready; h_blocked; h_cur;
+    h_done; a_waits; h_waits; fp; d = n.d + 1; act = -1; act_k = 0 }
+
+(* The successors by the host rules, before they are made: their part
+   hashes and fingerprints from the parent's and what the rule changes, as
+   Machine.notify_effect, put and send change it (test "D37 incremental
+   fingerprint = from scratch" holds the two equal on every transition of
+   every model). [wake] is Machine.wake_idle's phase. *)
+let wake (c : Model.M.t) = if c.phase = Idle_phase then 0 else phase_int c.phase
+
+(* Notify (kind 0, label tag 1) or NotifyWith (kind 1, tag 2) of percept [i]
+   with priority [k]: O_percept {i; k; seq} at the end of O2A, next_seq,
+   (seq, k, 0) at the end of waits when the ghosts are kept, the phase
+   woken. *)
+let notify_node p (n : node) kind i k =
+  let c = n.c in
+  let seq = if p.flood then 0 else c.next_seq + 1 in
+  let a_o2a = mix (mix (mix (mix n.a_o2a 0) i) k) seq in
+  let h_o2a = avalanche a_o2a in
+  let ghosts = p.ghosts && not p.flood in
+  let a_waits = if ghosts then mix (mix (mix n.a_waits seq) k) 0 else n.a_waits in
+  let h_waits = if ghosts then avalanche a_waits else n.h_waits in
+  let l = mix (mix (mix (mix fp_seed (kind + 1)) i) k) seq in
+  let fp = fold_fp h_o2a n.h_pq n.h_msgq n.h_cur h_waits n.h_active n.h_ready n.h_blocked n.h_done
+      seq c.msg_seq c.puts c.pos (wake c) c.dispatched l in
+  { n with a_o2a; h_o2a; a_waits; h_waits; fp; d = n.d + 1; act = kind + 4 * i; act_k = k }
+
+(* Put of object [o]: O_object o at the end of O2A, puts + 1; no wake (D3). *)
+let put_node (n : node) o =
+  let c = n.c in
+  let a_o2a = mix (mix n.a_o2a 1) o in
+  let h_o2a = avalanche a_o2a in
+  let fp = fold_fp h_o2a n.h_pq n.h_msgq n.h_cur n.h_waits n.h_active n.h_ready n.h_blocked n.h_done
+      c.next_seq c.msg_seq (c.puts + 1) c.pos (phase_int c.phase) c.dispatched (mix (mix fp_seed 3) o) in
+  { n with a_o2a; h_o2a; fp; d = n.d + 1; act = 2 + 4 * o; act_k = 0 }
+
+(* Send of message [x]: M_message {x; seq} at the end of the message queue,
+   msg_seq, the blocked behaviours at the end of ready, none blocked, the
+   phase woken. *)
+let send_node (n : node) x =
+  let c = n.c in
+  let seq = c.msg_seq + 1 in
+  let a_msgq = mix (mix (mix n.a_msgq 0) x) seq in
+  let h_msgq = avalanche a_msgq in
+  let a_ready = mix_ints n.a_ready c.blocked in
+  let h_ready = avalanche a_ready in
+  let fp = fold_fp n.h_o2a n.h_pq h_msgq n.h_cur n.h_waits n.h_active h_ready h_nil n.h_done
+      c.next_seq seq c.puts c.pos (wake c) c.dispatched (mix (mix (mix fp_seed 4) x) seq) in
+  { n with a_msgq; h_msgq; a_ready; h_ready; h_blocked = h_nil; fp; d = n.d + 1;
+           act = 3 + 4 * x; act_k = 0 }
+
+(* The host rules within the model's bounds, as [successors] takes them,
+   consed onto [acc]. *)
+let rec notify_nodes p (m : Model.t) n i acc =
+  if i < 0 then acc
+  else notify_nodes p m n (i - 1) (notify_node p n 0 i m.default_priority.(i) :: acc)
+
+let rec notify_with_nodes p n i ks acc =
+  match ks with
+  | [] -> acc
+  | k :: r -> notify_with_nodes p n i r (notify_node p n 1 i k :: acc)
+
+let rec overridden_nodes p (m : Model.t) n i acc =
+  if i < 0 then acc else overridden_nodes p m n (i - 1) (notify_with_nodes p n i m.overrides acc)
+
+let rec put_nodes n o acc = if o < 0 then acc else put_nodes n (o - 1) (put_node n o :: acc)
+let rec send_nodes n x acc = if x < 0 then acc else send_nodes n (x - 1) (send_node n x :: acc)
+
+let host_nodes (m : Model.t) (n : node) acc =
+  let p = m.params and c = n.c in
+  let room = Model.M.o2a_has_room p c in
+  let acc = if c.msg_seq < m.max_send then send_nodes n (Array.length m.messages - 1) acc else acc in
+  let acc = if room && c.puts < m.max_put then put_nodes n (Array.length m.objects - 1) acc else acc in
+  if room && (p.flood || c.next_seq < m.max_notify) then
+    notify_nodes p m n (Array.length m.percepts - 1)
+      (overridden_nodes p m n (Array.length m.percepts - 1) acc)
+  else acc
+
+(* A host rule's successor made, by the rule itself. *)
+let build p (n : node) =
+  if n.act >= 0 then begin
+    let i = n.act lsr 2 in
+    n.c <- (match n.act land 3 with
+        | 0 -> Model.M.notify p n.c i n.act_k
+        | 1 -> Model.M.notify_with p n.c i n.act_k
+        | 2 -> Model.M.put p n.c i
+        | _ -> Model.M.send p n.c i)
+  end
+
+let rec agent_nodes n acc = function
+  | [] -> acc
+  | (_, c') :: r -> agent_nodes n (node_after n c' :: acc) r
 
 let state_fingerprint c = (node_of c).fp
 let fingerprint_after ~parent c = (node_after (node_of parent) c).fp
@@ -405,35 +521,6 @@ let with_explorer_gc f =
   Gc.set { old with minor_heap_size = max old.minor_heap_size (1 lsl 20); space_overhead = 400 };
   Fun.protect ~finally:(fun () -> Gc.set old) f
 
-(* The successors for counting: the same configurations as [successors]
-   (test "D37 the counting path's successors"), without their labels (each
-   configuration holds its own in [last]) and without a closure per rule.
-   The host rules within the model's bounds, consed onto [acc]: *)
-let rec notifies p (m : Model.t) c i acc =
-  if i < 0 then acc
-  else notifies p m c (i - 1) (Model.M.notify p c i m.default_priority.(i) :: acc)
-
-let rec notify_withs p c i ks acc =
-  match ks with
-  | [] -> acc
-  | k :: r -> notify_withs p c i r (Model.M.notify_with p c i k :: acc)
-
-let rec overridden p (m : Model.t) c i acc =
-  if i < 0 then acc else overridden p m c (i - 1) (notify_withs p c i m.overrides acc)
-
-let rec puts p c o acc = if o < 0 then acc else puts p c (o - 1) (Model.M.put p c o :: acc)
-let rec sends p c x acc = if x < 0 then acc else sends p c (x - 1) (Model.M.send p c x :: acc)
-
-let host_successors (m : Model.t) (c : Model.M.t) =
-  let p = m.params in
-  let room = Model.M.o2a_has_room p c in
-  let acc = if c.msg_seq < m.max_send then sends p c (Array.length m.messages - 1) [] else [] in
-  let acc = if room && c.puts < m.max_put then puts p c (Array.length m.objects - 1) acc else acc in
-  if room && (p.flood || c.next_seq < m.max_notify) then
-    notifies p m c (Array.length m.percepts - 1)
-      (overridden p m c (Array.length m.percepts - 1) acc)
-  else acc
-
 (* The reference's agent rules, asked only of those whose enabling
    condition holds in the configuration's phase (every rule of
    Machine.step_by names its phase); where the fast engine has a faster way
@@ -454,7 +541,9 @@ let agent_successors p (c : Model.M.t) =
   | Idle_phase -> []
 
 let count_successors (m : Model.t) c =
-  List.rev_append (List.rev_map snd (agent_successors m.params c)) (host_successors m c)
+  let n = node_of c in
+  List.map (fun n' -> build m.params n'; (n'.fp, n'.c))
+    (host_nodes m n (agent_nodes n [] (agent_successors m.params c)))
 
 type tally = { mutable generated : int; mutable final : int; mutable depth : int;
                mutable fps : int array }
@@ -472,28 +561,25 @@ let count ?(max_states = default_max_states) ?rules (m : Model.t) =
     && (seen.count <= max_states
         || failwith (Printf.sprintf "exhaustion: the model has more than %d states, exploration \
                                      stopped (a larger bound: --max-states)" max_states)) in
-  (* The nodes of a state's successors, newest first, and their
-     fingerprints in t.fps from index [k] up. *)
-  let note k (n' : node) =
-    if k >= Array.length t.fps then begin
-      let a = Array.make (2 * k) 0 in Array.blit t.fps 0 a 0 k; t.fps <- a
-    end;
-    Array.unsafe_set t.fps k n'.fp in
-  let rec of_configs n k acc = function
-    | [] -> (k, acc)
-    | c' :: r -> let n' = node_after n c' in note k n'; of_configs n (k + 1) (n' :: acc) r in
-  let rec of_pairs n k acc = function
-    | [] -> of_configs n k acc (host_successors m n.c)
-    | (_, c') :: r -> let n' = node_after n c' in note k n'; of_pairs n (k + 1) (n' :: acc) r in
-  (* the new ones onto the stack; [k] indexes [nodes]' head in t.fps *)
+  (* the fingerprints of [nodes] into t.fps, from index [k] down; their number *)
+  let rec note k = function
+    | [] -> k
+    | (n' : node) :: r ->
+      if k >= Array.length t.fps then begin
+        let a = Array.make (2 * k) 0 in Array.blit t.fps 0 a 0 k; t.fps <- a
+      end;
+      Array.unsafe_set t.fps k n'.fp;
+      note (k + 1) r in
+  (* the new ones, made, onto the stack; [k] indexes [nodes]' head in t.fps *)
   let rec push k nodes stack =
     match nodes with
     | [] -> stack
     | (n' : node) :: r ->
-      if Array.unsafe_get t.fps k = 0 then push (k - 1) r stack
+      if Array.unsafe_get t.fps k = 0 then push (k + 1) r stack
       else begin
+        build p n';
         if n'.d > t.depth then t.depth <- n'.d;
-        push (k - 1) r (n' :: stack)
+        push (k + 1) r (n' :: stack)
       end in
   (* Depth first, a state marked seen when it is generated: only the states
      found and not yet expanded are kept. The fingerprints of a state's
@@ -502,14 +588,15 @@ let count ?(max_states = default_max_states) ?rules (m : Model.t) =
   let rec loop = function
     | [] -> ()
     | n :: stack ->
-      match of_pairs n 0 [] (agent n.c) with
-      | (0, _) -> t.final <- t.final + 1; loop stack
-      | (k, nodes) ->
+      let nodes = host_nodes m n (agent_nodes n [] (agent n.c)) in
+      match note 0 nodes with
+      | 0 -> t.final <- t.final + 1; loop stack
+      | k ->
         t.generated <- t.generated + k;
         for i = 0 to k - 1 do
           Array.unsafe_set t.fps i (Bool.to_int (fresh (Array.unsafe_get t.fps i)))
         done;
-        loop (push (k - 1) nodes stack) in
+        loop (push 0 nodes stack) in
   let n0 = node_of (Model.M.init p ~world:() (List.map (fun i -> m.behaviours.(i)) m.initial)) in
   t.generated <- 1; t.depth <- 1;
   ignore (fresh n0.fp);

@@ -69,10 +69,15 @@ val fingerprint_after : parent:Model.M.t -> Model.M.t -> int
     hashes of [parent] are kept for every field of [c] that is physically
     the same value as [parent]'s, and only the other parts are hashed. *)
 
-val count_successors : Model.t -> Model.M.t -> Model.M.t list
-(** The successors {!count} takes: the configurations of {!successors} (in
-    another order), with the agent's rules asked by phase and, where it is
-    faster, by the fast engine. *)
+val count_successors : Model.t -> Model.M.t -> (int * Model.M.t) list
+(** The successors {!count} takes (the configurations of {!successors}, in
+    another order; the agent's rules asked by phase and, where it is faster,
+    by the fast engine), each with the fingerprint the counting path gives
+    it without hashing it whole (D37): for an agent rule's successor, as
+    {!fingerprint_after} does; for a host rule's (Notify, NotifyWith, Put,
+    Send), from the parent's part hashes and what the rule changes, before
+    the successor is made (the counting path makes it only when the
+    fingerprint is new). *)
 
 type count = {
   c_model : Model.t;

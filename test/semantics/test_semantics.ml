@@ -603,11 +603,13 @@ let d38_fingerprints_count_exactly () =
   one_line "--fingerprints --all" (Printf.sprintf "%s explore --all --fingerprints" exe)
 
 (* D37: the counting path's fingerprint of a successor, made from its
-   parent's part hashes and only the parts the rule changed, is the
-   fingerprint computed from scratch: for every transition of every model
-   (full ones too), by the reference's rules and by the counting path's own
-   successors (the fast engine shares fields differently). And the counting
-   path's successors are the exact explorer's, as a multiset of keys. *)
+   parent's part hashes and only the parts the rule changed (an agent rule:
+   the fields that are not physically the parent's; a host rule: predicted
+   from the action before the successor is made), is the fingerprint
+   computed from scratch: for every transition of every model (full ones
+   too), by the reference's rules and by the counting path's own successors
+   (the fast engine shares fields differently). And the counting path's
+   successors are the exact explorer's, as a multiset of keys. *)
 let d37_incremental_fingerprint () =
   let checked = ref 0 in
   List.iter (fun p ->
@@ -616,7 +618,14 @@ let d37_incremental_fingerprint () =
       Array.iter (fun (c : Model.M.t) ->
           let keys l = List.sort compare (List.map Explorer.key l) in
           let reference = List.map snd (Explorer.successors m c) in
-          let counted = Explorer.count_successors m c in
+          let counted_fps = Explorer.count_successors m c in
+          let counted = List.map snd counted_fps in
+          List.iter (fun (fp, c') ->
+              incr checked;
+              if fp <> Explorer.state_fingerprint c' then
+                Alcotest.failf "%s: from %s to %s: fingerprint %d from scratch, %d on the counting path"
+                  m.name (Explorer.show m c) (Explorer.show m c') (Explorer.state_fingerprint c') fp)
+            counted_fps;
           if keys counted <> keys reference then
             Alcotest.failf "%s: from %s\nthe counting path takes %d successors: %s\nthe explorer %d: %s"
               m.name (Explorer.show m c) (List.length counted)
