@@ -561,7 +561,7 @@ let count ?(max_states = default_max_states) ?rules (m : Model.t) =
     && (seen.count <= max_states
         || failwith (Printf.sprintf "exhaustion: the model has more than %d states, exploration \
                                      stopped (a larger bound: --max-states)" max_states)) in
-  (* the fingerprints of [nodes] into t.fps, from index [k] down; their number *)
+  (* the fingerprints of [nodes] into t.fps, from index [k] up; their number *)
   let rec note k = function
     | [] -> k
     | (n' : node) :: r ->
