@@ -160,7 +160,7 @@ let explorer_large () =
           machine's load moves less than the wall clock's *)
        Printf.printf "  processor time: explorer %.3f s, TLC %.1f s (ratio %.1fx)\n" cpu !tlc_cpu
          (!tlc_cpu /. max cpu 0.001);
-       Printf.printf "  where the explorer's time goes (callgrind, MCReferenceFull: 2,430 instructions a state,\n\
+       Printf.printf "  where the explorer's time goes (callgrind, MCReferenceFull: 2,410 instructions a state,\n\
                      \  4,870 before D37): the agent's rules 30%%, the fingerprints of their successors 22%%, the\n\
                      \  host's successors fingerprinted before they are made 20%%, making the new ones 6%%, the\n\
                      \  table 11%%; TLC's single worker has the second core for its JIT and collector.\n")
