@@ -272,9 +272,8 @@ let rec mix_active h = function
   | [] -> h
   | (a : Model.beh instance) :: r -> mix_active (mix (mix h a.id) a.beh.bidx) r
 let rec mix_todo h = function [] -> h | (id, hd) :: r -> mix_todo (mix (mix h id) hd) r
-let rec mix_waits h = function
-  | [] -> h
-  | (s, k, n) :: r -> mix_waits (mix (mix (mix h s) k) n) r
+(* as the key: a wait's priority is its percept's, which the key has *)
+let rec mix_waits h = function [] -> h | (s, _, n) :: r -> mix_waits (mix (mix h s) n) r
 
 (* The part hashes. For the four lists that a host rule extends at its end
    (the O2A and message queues, ready, waits), the accumulator before the
@@ -374,15 +373,15 @@ let wake (c : Model.M.t) = if c.phase = Idle_phase then 0 else phase_int c.phase
 
 (* Notify (kind 0, label tag 1) or NotifyWith (kind 1, tag 2) of percept [i]
    with priority [k]: O_percept {i; k; seq} at the end of O2A, next_seq,
-   (seq, k, 0) at the end of waits when the ghosts are kept, the phase
-   woken. *)
+   (seq, k, 0) at the end of waits when the ghosts are kept (hashed as
+   (seq, 0), as [mix_waits] does), the phase woken. *)
 let notify_node p (n : node) kind i k =
   let c = n.c in
   let seq = if p.flood then 0 else c.next_seq + 1 in
   let a_o2a = mix (mix (mix (mix n.a_o2a 0) i) k) seq in
   let h_o2a = avalanche a_o2a in
   let ghosts = p.ghosts && not p.flood in
-  let a_waits = if ghosts then mix (mix (mix n.a_waits seq) k) 0 else n.a_waits in
+  let a_waits = if ghosts then mix (mix n.a_waits seq) 0 else n.a_waits in
   let h_waits = if ghosts then avalanche a_waits else n.h_waits in
   let l = mix (mix (mix (mix fp_seed (kind + 1)) i) k) seq in
   let fp = fold_fp h_o2a n.h_pq n.h_msgq n.h_cur h_waits n.h_active n.h_ready n.h_blocked n.h_done
