@@ -200,28 +200,39 @@ let shortest_path g target =
     | (p, l) -> back p ((l, i) :: acc) in
   if target < n && seen.(target) then back target [] else []
 
-(* ------------------------------------------------- fingerprints (D31) *)
+(* ------------------------------------------------- fingerprints (D31, D37) *)
 
-(* A 63-bit fingerprint of a configuration, computed from the same values,
-   in the same order, as its canonical key [key] (without building the
-   string): every int is folded into an accumulator by xor and a multiply by a
-   dense odd constant (arithmetic modulo 2^63), a separator as a value no int
-   of the key takes, and a final mix makes every bit depend on every value.
-   The priority queue, a set, is folded order-free: the sum of its entries'
-   own mixes (the key sorts it instead). The test "fingerprints" holds the
-   two equal in the number of states on every model of spec/models. *)
+(* A 63-bit fingerprint of a configuration, from the same values as its
+   canonical key [key] (without building the string), in two levels (D37).
+   Each part of the configuration that is a structure (the O2A queue, the
+   priority queue, the message queue, the active behaviours, the ready and
+   blocked lists, the dispatch in progress and the two ghosts) has a part
+   hash of its own; the fingerprint folds the part hashes, the numbers (the
+   counters, pos, the phase) and the last action, in a fixed order. A
+   successor is a new record around mostly the same fields as its parent's
+   (the rules are [{ c with ... }]): where a field is physically the same
+   value as the parent's, its part hash is the parent's, and only the parts
+   that the rule changed are hashed again ([node_after]). Physical equality
+   implies equality, so the result is the fingerprint computed from scratch
+   whatever the rules did (test "D37 incremental fingerprint = from
+   scratch").
+
+   Every int is folded into an accumulator by xor and a multiply by a dense
+   odd constant (arithmetic modulo 2^63); a part hash and the fingerprint
+   end with a mix that makes every bit depend on every bit. The priority
+   queue, a set, is hashed order-free: the sum of its entries' own mixes
+   (the key sorts it instead). *)
 let fp_mul = 0x5bd1e9955bd1e995
 let fp_seed = 0x2545F4914F6CDD1D
 
 (* [h] threaded through, so that it stays in a register *)
-let[@inline] mix h n = (h lxor (n * 2)) * fp_mul    (* even: an int *)
-let[@inline] sep h = (h lxor 1) * fp_mul             (* odd: a separator *)
+let[@inline] mix h n = (h lxor n) * fp_mul
 let[@inline] mix_entry h (e : int entry) = mix (mix (mix h e.p) e.prio) e.seq
 
-let fp_final h =
+(* every bit of the result depends on every bit of [h] *)
+let[@inline] avalanche h =
   let h = (h lxor (h lsr 31)) * 0x7fb5d329728ea185 in
-  let h = h lxor (h lsr 27) in
-  if h = 0 then 1 else h   (* 0 marks an empty slot *)
+  h lxor (h lsr 27)
 
 let mix_msg h = function
   | M_message { m; mseq } -> mix (mix (mix h 0) m) mseq
@@ -261,67 +272,237 @@ let rec mix_active h = function
   | [] -> h
   | (a : Model.beh instance) :: r -> mix_active (mix (mix h a.id) a.beh.bidx) r
 let rec mix_todo h = function [] -> h | (id, hd) :: r -> mix_todo (mix (mix h id) hd) r
+(* as the key: a wait's priority is its percept's, which the key has *)
 let rec mix_waits h = function [] -> h | (s, _, n) :: r -> mix_waits (mix (mix h s) n) r
 
-(* the priority queue, a set: the sum of its entries' own mixes *)
+(* The part hashes. For the four lists that a host rule extends at its end
+   (the O2A and message queues, ready, waits), the accumulator before the
+   final mix is kept too: the hash of the list with one more element is one
+   step from it. *)
+let acc_o2a q = mix_o2a fp_seed (Semantics.Fqueue.to_list q)
+let acc_msgq q = mix_msgs fp_seed (Semantics.Fqueue.to_list q)
+let acc_ints l = mix_ints fp_seed l
+let acc_waits l = mix_waits fp_seed l
 let pq_sum = ref 0
-let pq_entry (e : int entry) = pq_sum := !pq_sum + fp_final (mix_entry fp_seed e)
-
-let state_fingerprint (c : Model.M.t) =
+let pq_entry (e : int entry) = pq_sum := !pq_sum + avalanche (mix_entry fp_seed e)
+let part_pq pq =
   pq_sum := 0;
-  Semantics.Pqueue.iter pq_entry c.pq;
-  let h = sep (mix_o2a fp_seed (Semantics.Fqueue.to_list c.o2a)) in
-  let h = sep (mix (mix h (Semantics.Pqueue.size c.pq)) !pq_sum) in
-  let h = sep (mix_msgs h (Semantics.Fqueue.to_list c.msgq)) in
-  let h = mix (mix (mix h c.next_seq) c.msg_seq) c.puts in
-  let h = sep (mix_active h c.active) in
-  let h = sep (mix_ints h c.ready) in
-  let h = sep (mix_ints h c.blocked) in
-  let h = mix h c.pos in
-  let h = mix h (match c.phase with
-      | Transfer_phase -> 0 | Dispatch_phase -> 1 | Handle_phase -> 2 | Idle_phase -> 3) in
-  let h = match c.cur with
-    | None -> mix h 0
-    | Some d -> sep (mix_todo (mix (mix_entry (mix h 1) d.e) (Bool.to_int d.applied)) d.todo) in
-  let h = mix h c.dispatched in
-  let h = sep (Int_set.fold (fun x h -> mix h x) c.done_ h) in
-  let h = sep (mix_waits h c.waits) in
-  fp_final (mix_label h c.last)
+  Semantics.Pqueue.iter pq_entry pq;
+  avalanche (mix (mix fp_seed (Semantics.Pqueue.size pq)) !pq_sum)
+let part_active l = avalanche (mix_active fp_seed l)
+let part_cur = function
+  | None -> 0
+  | Some d -> avalanche (mix_todo (mix (mix_entry fp_seed d.e) (Bool.to_int d.applied)) d.todo)
+let part_done s = avalanche (Int_set.fold (fun x h -> mix h x) s fp_seed)
+let h_nil = avalanche (acc_ints [])
+
+let phase_int = function
+  | Transfer_phase -> 0 | Dispatch_phase -> 1 | Handle_phase -> 2 | Idle_phase -> 3
+
+(* The fingerprint from the part hashes, the numbers and the label's hash:
+   four chains that do not wait for each other (the processor runs them
+   side by side: a multiply waits for the one before it), then one. *)
+let[@inline] fold_fp h_o2a h_pq h_msgq h_cur h_waits h_active h_ready h_blocked h_done
+    next_seq msg_seq puts pos phase dispatched l =
+  let a = mix (mix (mix (mix (mix fp_seed h_o2a) h_pq) h_msgq) h_cur) h_waits in
+  let b = mix (mix (mix (mix fp_seed h_active) h_ready) h_blocked) h_done in
+  let n = mix (mix (mix (mix (mix (mix fp_seed next_seq) msg_seq) puts) pos) phase) dispatched in
+  let h = avalanche (mix (mix (mix a b) n) l) in
+  if h = 0 then 1 else h     (* 0 marks an empty slot of the table *)
+
+(* A configuration of the counting path with its part hashes, its
+   fingerprint and its depth (the states on the path from the initial one
+   that found it). A host rule's successor is made only once its
+   fingerprint is found new ([build]): until then [c] is its parent's
+   configuration and [act] the host action to take from it. *)
+type node = {
+  mutable c : Model.M.t;
+  a_o2a : int; h_o2a : int; h_pq : int; a_msgq : int; h_msgq : int; h_active : int;
+  a_ready : int; h_ready : int; h_blocked : int; h_cur : int; h_done : int;
+  a_waits : int; h_waits : int;
+  fp : int;
+  d : int;
+  act : int;      (* -1: [c] is made; else kind + 4 * index (kinds: 0 notify,
+                     1 notify with a priority, 2 put, 3 send) *)
+  act_k : int;    (* the priority of a notification *)
+}
+
+(* every part hashed *)
+let node_of (c : Model.M.t) =
+  let a_o2a = acc_o2a c.o2a and a_msgq = acc_msgq c.msgq in
+  let a_ready = acc_ints c.ready and a_waits = acc_waits c.waits in
+  let h_o2a = avalanche a_o2a and h_pq = part_pq c.pq and h_msgq = avalanche a_msgq in
+  let h_active = part_active c.active and h_ready = avalanche a_ready in
+  let h_blocked = avalanche (acc_ints c.blocked) and h_cur = part_cur c.cur in
+  let h_done = part_done c.done_ and h_waits = avalanche a_waits in
+  let fp = fold_fp h_o2a h_pq h_msgq h_cur h_waits h_active h_ready h_blocked h_done
+      c.next_seq c.msg_seq c.puts c.pos (phase_int c.phase) c.dispatched (mix_label fp_seed c.last) in
+  { c; a_o2a; h_o2a; h_pq; a_msgq; h_msgq; h_active; a_ready; h_ready; h_blocked; h_cur;
+    h_done; a_waits; h_waits; fp; d = 1; act = -1; act_k = 0 }
+
+(* A successor [c] of [n.c] by an agent rule: only the parts that are not
+   physically the parent's are hashed. *)
+let node_after n (c : Model.M.t) =
+  let c0 = n.c in
+  let same_o2a = c.o2a == c0.o2a and same_msgq = c.msgq == c0.msgq in
+  let same_ready = c.ready == c0.ready and same_waits = c.waits == c0.waits in
+  let a_o2a = if same_o2a then n.a_o2a else acc_o2a c.o2a in
+  let h_o2a = if same_o2a then n.h_o2a else avalanche a_o2a in
+  let h_pq = if c.pq == c0.pq then n.h_pq else part_pq c.pq in
+  let a_msgq = if same_msgq then n.a_msgq else acc_msgq c.msgq in
+  let h_msgq = if same_msgq then n.h_msgq else avalanche a_msgq in
+  let h_active = if c.active == c0.active then n.h_active else part_active c.active in
+  let a_ready = if same_ready then n.a_ready else acc_ints c.ready in
+  let h_ready = if same_ready then n.h_ready else avalanche a_ready in
+  let h_blocked = if c.blocked == c0.blocked then n.h_blocked else avalanche (acc_ints c.blocked) in
+  let h_cur = if c.cur == c0.cur then n.h_cur else part_cur c.cur in
+  let h_done = if c.done_ == c0.done_ then n.h_done else part_done c.done_ in
+  let a_waits = if same_waits then n.a_waits else acc_waits c.waits in
+  let h_waits = if same_waits then n.h_waits else avalanche a_waits in
+  let fp = fold_fp h_o2a h_pq h_msgq h_cur h_waits h_active h_ready h_blocked h_done
+      c.next_seq c.msg_seq c.puts c.pos (phase_int c.phase) c.dispatched (mix_label fp_seed c.last) in
+  { c; a_o2a; h_o2a; h_pq; a_msgq; h_msgq; h_active; a_ready; h_ready; h_blocked; h_cur;
+    h_done; a_waits; h_waits; fp; d = n.d + 1; act = -1; act_k = 0 }
+
+(* The successors by the host rules, before they are made: their part
+   hashes and fingerprints from the parent's and what the rule changes, as
+   Machine.notify_effect, put and send change it (test "D37 incremental
+   fingerprint = from scratch" holds the two equal on every transition of
+   every model). [wake] is Machine.wake_idle's phase. *)
+let wake (c : Model.M.t) = if c.phase = Idle_phase then 0 else phase_int c.phase
+
+(* Notify (kind 0, label tag 1) or NotifyWith (kind 1, tag 2) of percept [i]
+   with priority [k]: O_percept {i; k; seq} at the end of O2A, next_seq,
+   (seq, k, 0) at the end of waits when the ghosts are kept (hashed as
+   (seq, 0), as [mix_waits] does), the phase woken. *)
+let notify_node p (n : node) kind i k =
+  let c = n.c in
+  let seq = if p.flood then 0 else c.next_seq + 1 in
+  let a_o2a = mix (mix (mix (mix n.a_o2a 0) i) k) seq in
+  let h_o2a = avalanche a_o2a in
+  let ghosts = p.ghosts && not p.flood in
+  let a_waits = if ghosts then mix (mix n.a_waits seq) 0 else n.a_waits in
+  let h_waits = if ghosts then avalanche a_waits else n.h_waits in
+  let l = mix (mix (mix (mix fp_seed (kind + 1)) i) k) seq in
+  let fp = fold_fp h_o2a n.h_pq n.h_msgq n.h_cur h_waits n.h_active n.h_ready n.h_blocked n.h_done
+      seq c.msg_seq c.puts c.pos (wake c) c.dispatched l in
+  { n with a_o2a; h_o2a; a_waits; h_waits; fp; d = n.d + 1; act = kind + 4 * i; act_k = k }
+
+(* Put of object [o]: O_object o at the end of O2A, puts + 1; no wake (D3). *)
+let put_node (n : node) o =
+  let c = n.c in
+  let a_o2a = mix (mix n.a_o2a 1) o in
+  let h_o2a = avalanche a_o2a in
+  let fp = fold_fp h_o2a n.h_pq n.h_msgq n.h_cur n.h_waits n.h_active n.h_ready n.h_blocked n.h_done
+      c.next_seq c.msg_seq (c.puts + 1) c.pos (phase_int c.phase) c.dispatched (mix (mix fp_seed 3) o) in
+  { n with a_o2a; h_o2a; fp; d = n.d + 1; act = 2 + 4 * o; act_k = 0 }
+
+(* Send of message [x]: M_message {x; seq} at the end of the message queue,
+   msg_seq, the blocked behaviours at the end of ready, none blocked, the
+   phase woken. *)
+let send_node (n : node) x =
+  let c = n.c in
+  let seq = c.msg_seq + 1 in
+  let a_msgq = mix (mix (mix n.a_msgq 0) x) seq in
+  let h_msgq = avalanche a_msgq in
+  let a_ready = mix_ints n.a_ready c.blocked in
+  let h_ready = avalanche a_ready in
+  let fp = fold_fp n.h_o2a n.h_pq h_msgq n.h_cur n.h_waits n.h_active h_ready h_nil n.h_done
+      c.next_seq seq c.puts c.pos (wake c) c.dispatched (mix (mix (mix fp_seed 4) x) seq) in
+  { n with a_msgq; h_msgq; a_ready; h_ready; h_blocked = h_nil; fp; d = n.d + 1;
+           act = 3 + 4 * x; act_k = 0 }
+
+(* The host rules within the model's bounds, as [successors] takes them,
+   consed onto [acc]. *)
+let rec notify_nodes p (m : Model.t) n i acc =
+  if i < 0 then acc
+  else notify_nodes p m n (i - 1) (notify_node p n 0 i m.default_priority.(i) :: acc)
+
+let rec notify_with_nodes p n i ks acc =
+  match ks with
+  | [] -> acc
+  | k :: r -> notify_with_nodes p n i r (notify_node p n 1 i k :: acc)
+
+let rec overridden_nodes p (m : Model.t) n i acc =
+  if i < 0 then acc else overridden_nodes p m n (i - 1) (notify_with_nodes p n i m.overrides acc)
+
+let rec put_nodes n o acc = if o < 0 then acc else put_nodes n (o - 1) (put_node n o :: acc)
+let rec send_nodes n x acc = if x < 0 then acc else send_nodes n (x - 1) (send_node n x :: acc)
+
+let host_nodes (m : Model.t) (n : node) acc =
+  let p = m.params and c = n.c in
+  let room = Model.M.o2a_has_room p c in
+  let acc = if c.msg_seq < m.max_send then send_nodes n (Array.length m.messages - 1) acc else acc in
+  let acc = if room && c.puts < m.max_put then put_nodes n (Array.length m.objects - 1) acc else acc in
+  if room && (p.flood || c.next_seq < m.max_notify) then
+    notify_nodes p m n (Array.length m.percepts - 1)
+      (overridden_nodes p m n (Array.length m.percepts - 1) acc)
+  else acc
+
+(* A host rule's successor made, by the rule itself. *)
+let build p (n : node) =
+  if n.act >= 0 then begin
+    let i = n.act lsr 2 in
+    n.c <- (match n.act land 3 with
+        | 0 -> Model.M.notify p n.c i n.act_k
+        | 1 -> Model.M.notify_with p n.c i n.act_k
+        | 2 -> Model.M.put p n.c i
+        | _ -> Model.M.send p n.c i)
+  end
+
+let rec agent_nodes n acc = function
+  | [] -> acc
+  | (_, c') :: r -> agent_nodes n (node_after n c' :: acc) r
+
+let state_fingerprint c = (node_of c).fp
+let fingerprint_after ~parent c = (node_after (node_of parent) c).fp
 
 (* The visited set: an open-addressing table of fingerprints in a Bigarray
-   (outside the OCaml heap: the collector never scans it), at most three quarters full. *)
+   (outside the OCaml heap: the collector never scans it), at most three
+   quarters full. The type of the slots is written out, so that a read or a
+   write is one instruction, not a call into the runtime. *)
 module Fp_set = struct
   open Bigarray
-  type t = { mutable slots : (int, int_elt, c_layout) Array1.t; mutable count : int }
+  type slots = (int, int_elt, c_layout) Array1.t
+  type t = { mutable slots : slots; mutable mask : int; mutable count : int }
 
-  let make n = let a = Array1.create int c_layout n in Array1.fill a 0; a
-  let create () = { slots = make 65536; count = 0 }
+  let make n : slots = let a = Array1.create int c_layout n in Array1.fill a 0; a
+  let create () = { slots = make 65536; mask = 65535; count = 0 }
   let bytes t = Array1.dim t.slots * 8
 
-  (* true when [h] was absent (it is now present) *)
-  let add_raw a h =
-    let mask = Array1.dim a - 1 in
-    let rec probe i =
-      let x = Array1.unsafe_get a i in
-      if x = 0 then (Array1.unsafe_set a i h; true)
-      else if x = h then false
-      else probe ((i + 1) land mask) in
-    probe (h land mask)
+  (* true when [h] was absent (it is now present); linear probing *)
+  let add_raw (a : slots) mask h =
+    let i = ref (h land mask) and r = ref 2 in      (* 2: still probing *)
+    while !r = 2 do
+      let x = Array1.unsafe_get a !i in
+      if x = 0 then (Array1.unsafe_set a !i h; r := 1)
+      else if x = h then r := 0
+      else i := (!i + 1) land mask
+    done;
+    !r = 1
 
   let grow t =
     let old = t.slots in
-    let a = make (2 * Array1.dim old) in
+    let n = 2 * Array1.dim old in
+    let a = make n in
     for i = 0 to Array1.dim old - 1 do
       let x = Array1.unsafe_get old i in
-      if x <> 0 then ignore (add_raw a x)
+      if x <> 0 then ignore (add_raw a (n - 1) x)
     done;
-    t.slots <- a
+    t.slots <- a; t.mask <- n - 1
 
+  (* [add_raw] written out: this runs once for every state generated *)
   let add t h =
-    if 4 * (t.count + 1) > 3 * Array1.dim t.slots then grow t;
-    let fresh = add_raw t.slots h in
-    if fresh then t.count <- t.count + 1;
-    fresh
+    if 4 * (t.count + 1) > 3 * (t.mask + 1) then grow t;
+    let a = t.slots and mask = t.mask in
+    let i = ref (h land mask) and r = ref 2 in      (* 2: still probing *)
+    while !r = 2 do
+      let x = Array1.unsafe_get a !i in
+      if x = 0 then (Array1.unsafe_set a !i h; r := 1)
+      else if x = h then r := 0
+      else i := (!i + 1) land mask
+    done;
+    !r = 1 && (t.count <- t.count + 1; true)
 end
 
 type count = {
@@ -341,41 +522,92 @@ let collision_probability c =
 
 (* Most configurations generated are already seen and die young; a larger
    minor heap (8 MB) lets them die there, and a lazier major collector marks
-   the few that live on (the current path) less often. Restored afterwards. *)
+   the few that live on (the states found, not yet expanded) less often.
+   Restored afterwards. *)
 let with_explorer_gc f =
   let old = Gc.get () in
   Gc.set { old with minor_heap_size = max old.minor_heap_size (1 lsl 20); space_overhead = 400 };
   Fun.protect ~finally:(fun () -> Gc.set old) f
 
+(* The reference's agent rules, asked only of those whose enabling
+   condition holds in the configuration's phase (every rule of
+   Machine.step_by names its phase); where the fast engine has a faster way
+   (the batch Transfer, Dequeue as one pop) its [step], held equal to the
+   reference's by test. *)
+let agent_successors p (c : Model.M.t) =
+  match c.phase with
+  | Transfer_phase ->
+    if p.variant = Reference || p.variant = Budgeted then FE.step p c
+    else Model.M.transfer p c @ Model.M.transfer_one p c @ Model.M.transfer_spin p c
+         @ Model.M.transfer_end p c
+  | Dispatch_phase ->
+    if p.variant <> Native && p.tie = Stable && not p.flood && not (Model.M.dispatch_over p c)
+    then FE.step p c
+    else Model.M.dequeue p c @ Model.M.behaviour_step p c @ Model.M.next_iteration p c
+         @ Model.M.idle p c
+  | Handle_phase -> Model.M.handle_or_skip p c @ Model.M.end_dispatch p c
+  | Idle_phase -> []
+
+let count_successors (m : Model.t) c =
+  let n = node_of c in
+  List.map (fun n' -> build m.params n'; (n'.fp, n'.c))
+    (host_nodes m n (agent_nodes n [] (agent_successors m.params c)))
+
+type tally = { mutable generated : int; mutable final : int; mutable depth : int;
+               mutable fps : int array }
+
 let count ?(max_states = default_max_states) ?rules (m : Model.t) =
   with_explorer_gc @@ fun () ->
   let t0 = Unix.gettimeofday () in
-  (* the fast engine unless a mutant's rules are asked for *)
-  let agent_steps = match rules with Some r -> Model.M.step_by r | None -> FE.step in
+  let p = m.params in
+  (* the reference's rules by phase, unless a mutant's rules are asked for *)
+  let agent = match rules with Some r -> Model.M.step_by r p | None -> agent_successors p in
   let seen = Fp_set.create () in
-  let generated = ref 0 and final = ref 0 and depth = ref 0 and height = ref 0 in
-  (* depth first: the stack holds, for each state on the current path, its
-     successors not yet visited; a configuration dies young unless it is on
-     the path, so the collector has little to keep *)
-  let stack = ref [] in
-  let visit c =
-    incr generated;
-    if Fp_set.add seen (state_fingerprint c) then begin
-      if seen.count > max_states then
-        failwith (Printf.sprintf "exhaustion: the model has more than %d states, exploration \
-                                  stopped (a larger bound: --max-states)" max_states);
-      match successors_by agent_steps m c with
-      | [] -> incr final
-      | succs ->
-        stack := succs :: !stack; incr height;
-        if !height > !depth then depth := !height
-    end in
-  visit (Model.M.init m.params ~world:() (List.map (fun i -> m.behaviours.(i)) m.initial));
-  while !stack <> [] do
-    match !stack with
-    | ((_, c) :: rest) :: below -> stack := rest :: below; visit c
-    | [] :: below -> stack := below; decr height
+  let t = { generated = 0; final = 0; depth = 0; fps = Array.make 64 0 } in
+  let fresh fp =
+    Fp_set.add seen fp
+    && (seen.count <= max_states
+        || failwith (Printf.sprintf "exhaustion: the model has more than %d states, exploration \
+                                     stopped (a larger bound: --max-states)" max_states)) in
+  (* the fingerprints of [nodes] into t.fps, from index [k] up; their number *)
+  let rec note k = function
+    | [] -> k
+    | (n' : node) :: r ->
+      if k >= Array.length t.fps then begin
+        let a = Array.make (2 * k) 0 in Array.blit t.fps 0 a 0 k; t.fps <- a
+      end;
+      Array.unsafe_set t.fps k n'.fp;
+      note (k + 1) r in
+  (* the new ones, made, onto the stack; [k] indexes [nodes]' head in t.fps *)
+  let rec push k nodes stack =
+    match nodes with
+    | [] -> stack
+    | (n' : node) :: r ->
+      if Array.unsafe_get t.fps k = 0 then push (k + 1) r stack
+      else begin
+        build p n';
+        if n'.d > t.depth then t.depth <- n'.d;
+        push (k + 1) r (n' :: stack)
+      end in
+  (* Depth first, a state marked seen when it is generated: only the states
+     found and not yet expanded are kept. The fingerprints of a state's
+     successors are looked up together, one after the other, so that the
+     processor fetches their slots of the table at the same time. *)
+  let rec loop = function
     | [] -> ()
-  done;
-  { c_model = m; distinct = seen.count; generated = !generated; final = !final;
-    depth = !depth; table_bytes = Fp_set.bytes seen; c_seconds = Unix.gettimeofday () -. t0 }
+    | n :: stack ->
+      let nodes = host_nodes m n (agent_nodes n [] (agent n.c)) in
+      match note 0 nodes with
+      | 0 -> t.final <- t.final + 1; loop stack
+      | k ->
+        t.generated <- t.generated + k;
+        for i = 0 to k - 1 do
+          Array.unsafe_set t.fps i (Bool.to_int (fresh (Array.unsafe_get t.fps i)))
+        done;
+        loop (push 0 nodes stack) in
+  let n0 = node_of (Model.M.init p ~world:() (List.map (fun i -> m.behaviours.(i)) m.initial)) in
+  t.generated <- 1; t.depth <- 1;
+  ignore (fresh n0.fp);
+  loop [ n0 ];
+  { c_model = m; distinct = seen.count; generated = t.generated; final = t.final;
+    depth = t.depth; table_bytes = Fp_set.bytes seen; c_seconds = Unix.gettimeofday () -. t0 }
