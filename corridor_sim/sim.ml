@@ -264,29 +264,27 @@ module Make (A : Agent.AGENT) = struct
           | Fall q -> falls := (t, q) :: !falls; fell_unreported := true; tr "%.6f fall x=%.4f y=%.4f" t q.x q.y)
         evs in
     let rec loop () =
-      match Event_queue.peek_time agenda with
-      | Some t when t <= sc.duration ->
-        (match Event_queue.pop agenda with
-         | None -> ()
-         | Some (t, ev) ->
-           incr events;
-           robot_events (Robot.advance robot t);
-           now := t;
-           (match ev with
-            | Sample (src, k) -> sample src k
-            | Deliver (pc, src) -> notify pc src
-            | Sound ->
-              sound_scheduled := false;
-              (match Sound_queue.pop sound with
-               | Some (c, issued, _) ->
-                 Robot.apply robot c;
-                 commands := (issued, t, c) :: !commands;
-                 tr "%.6f play %s" t (Command.to_string c)
-               | None -> ());
-              schedule_sound ()
-            | Agent_work -> agent_work ()));
+      let t = Event_queue.next_time agenda in
+      if (not (Event_queue.is_empty agenda)) && t <= sc.duration then begin
+        let ev = Event_queue.take agenda in
+        incr events;
+        robot_events (Robot.advance robot t);
+        now := t;
+        (match ev with
+         | Sample (src, k) -> sample src k
+         | Deliver (pc, src) -> notify pc src
+         | Sound ->
+           sound_scheduled := false;
+           (match Sound_queue.pop sound with
+            | Some (c, issued, _) ->
+              Robot.apply robot c;
+              commands := (issued, t, c) :: !commands;
+              tr "%.6f play %s" t (Command.to_string c)
+            | None -> ());
+           schedule_sound ()
+         | Agent_work -> agent_work ());
         loop ()
-      | _ -> () in
+      end in
     loop ();
     robot_events (Robot.advance robot sc.duration);
     now := sc.duration;

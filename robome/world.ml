@@ -70,7 +70,10 @@ let make ~length ~width ?(extra_walls = []) ~cubes ~dropoffs () =
 
 let in_rect r x y = x >= r.x_min && x <= r.x_max && y >= r.y_min && y <= r.y_max
 
-let over_dropoff w x y = List.exists (fun r -> in_rect r x y) w.dropoffs
+(* a loop rather than List.exists: no closure over x and y at every physics step *)
+let rec over_any rs x y = match rs with [] -> false | r :: rest -> in_rect r x y || over_any rest x y
+
+let over_dropoff w x y = over_any w.dropoffs x y
 
 (* Coordinates of a point in the cube's frame. *)
 let local c x y =
@@ -128,6 +131,24 @@ let disc_collides w x y r =
     incr j
   done;
   !hit
+
+(* A lower bound of the distance from (x, y) to every wall and cube: the
+   exact distance to each wall, and to each cube the distance to its centre
+   less half its diagonal. *)
+let clearance w x y =
+  let b = w.broad in
+  let d = ref infinity in
+  for i = 0 to Array.length b.walls_a - 1 do
+    let e = dist_point_segment x y (Array.unsafe_get b.walls_a i) in
+    if e < !d then d := e
+  done;
+  for j = 0 to Array.length w.cubes - 1 do
+    let c = Array.unsafe_get w.cubes j in
+    let dx = x -. c.cx and dy = y -. c.cy in
+    let e = sqrt (dx *. dx +. dy *. dy) -. Array.unsafe_get b.cube_reach j in
+    if e < !d then d := e
+  done;
+  !d
 
 (* Intersection of the ray (o + t d, t >= 0) with a segment: the t, if any. *)
 let ray_segment ox oy dx dy s =

@@ -66,6 +66,20 @@ val disc_collides : t -> float -> float -> float -> bool
     (with a micrometre to spare) are tested exactly: the same answer as
     testing them all, for a few comparisons each (issue 17). *)
 
+val clearance : t -> float -> float -> float
+(** [clearance w x y]: a lower bound of the distance from [(x, y)] to every
+    wall and cube footprint (the distance to each wall; to each cube, the
+    distance to its centre less half its diagonal); [infinity] in a world
+    without either. A disc of radius [r] centred within [clearance w x y -.
+    r -. margin] of [(x, y)] collides with nothing: {!Robot} skips
+    {!disc_collides} that way (issue 17). *)
+
+val margin : float
+(** The micrometre that the broad phase of {!disc_collides} and the use of
+    {!clearance} keep to spare, far above the rounding errors of the
+    distances (some 1e-15 m), so that skipping the exact test never changes
+    its answer. *)
+
 val ray : t -> float -> float -> float -> max:float -> float option
 (** [ray w x y angle ~max]: the distance to the first wall or cube side hit
     by the ray from [(x, y)] in direction [angle], if it is at most [max]. *)
