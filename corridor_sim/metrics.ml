@@ -28,6 +28,36 @@ let percentile sorted q =
   let n = Array.length sorted in
   if n = 0 then 0. else sorted.(min (n - 1) (int_of_float (Float.ceil (q *. float_of_int n)) - 1 |> max 0))
 
+(* Merge [s.(lo .. mid-1)] and [s.(mid .. hi-1)], both sorted, into
+   [d.(lo .. hi-1)]; on a tie the left one first (stable). *)
+let merge (s : float array) lo mid hi (d : float array) =
+  let i = ref lo and j = ref mid in
+  for k = lo to hi - 1 do
+    if !i < mid && (!j >= hi || Float.compare (Array.unsafe_get s !i) (Array.unsafe_get s !j) <= 0) then begin
+      Array.unsafe_set d k (Array.unsafe_get s !i); incr i
+    end else begin
+      Array.unsafe_set d k (Array.unsafe_get s !j); incr j
+    end
+  done
+
+(* Bottom-up merge sort on a float array: runs of 1, 2, 4... merged from
+   one array into the other. *)
+let sort_floats (a : float array) =
+  let n = Array.length a in
+  let src = ref a and dst = ref (Array.make n 0.) and width = ref 1 in
+  while !width < n do
+    let s = !src and d = !dst and w = !width in
+    let lo = ref 0 in
+    while !lo < n do
+      let mid = if !lo + w < n then !lo + w else n in
+      let hi = if mid + w < n then mid + w else n in
+      merge s !lo mid hi d;
+      lo := hi
+    done;
+    src := d; dst := s; width := 2 * w
+  done;
+  if !src != a then Array.blit !src 0 a 0 n
+
 let of_result (r : Sim.result) =
   let cubes = Array.to_list r.world.cubes |> List.map (fun (c : Robome.World.cube) ->
       let mine = List.filter (fun (_, _, s) -> s <> "" && Array.mem s c.faces) r.world_map in
@@ -43,11 +73,14 @@ let of_result (r : Sim.result) =
   let errors = List.filter_map (fun c -> c.error) cubes in
   let prios = List.sort_uniq (fun a b -> Int.compare b a) (List.rev_map (fun (h : Sim.handled) -> h.priority) r.handled) in
   let latency = List.map (fun prio ->
-      let ls = List.filter_map (fun (h : Sim.handled) ->
-          if h.priority = prio then Some (h.dispatched -. h.notified) else None) r.handled in
-      let a = Array.of_list ls in
-      Array.stable_sort Float.compare a;   (* the order of compare on floats, faster (issue 17) *)
-      let n = Array.length a in
+      let n = List.fold_left (fun n (h : Sim.handled) -> if h.priority = prio then n + 1 else n) 0 r.handled in
+      let a = Array.make n 0. in
+      ignore (List.fold_left (fun k (h : Sim.handled) ->
+          if h.priority = prio then (a.(k) <- h.dispatched -. h.notified; k + 1) else k) 0 r.handled);
+      (* sorted, for the mean is summed in increasing order (issue 17: the
+         order of Array.stable_sort Float.compare, without boxing a float
+         per comparison) *)
+      sort_floats a;
       { priority = prio; count = n;
         mean = Array.fold_left ( +. ) 0. a /. float_of_int (max 1 n);
         p95 = percentile a 0.95; max = (if n = 0 then 0. else a.(n - 1)) }) prios in

@@ -27,12 +27,13 @@ let trig () = { angle = nan; sin_a = nan; cos_a = nan }
 
 (* The same float bit for bit (nan never is; 0. and -0. are not the same:
    sin keeps the sign of a zero). *)
-let same a b = a = b && (a <> 0. || 1. /. a = 1. /. b)
+let same a b = a = b && (a <> 0. || 1. /. a = 1. /. b) [@@inline]
 
+(* inlined, so that no float is boxed to call it *)
 let load t a =
   if not (same t.angle a) then begin
     t.angle <- a; t.sin_a <- sin a; t.cos_a <- cos a
-  end
+  end [@@inline]
 
 let sin_of t a = load t a; t.sin_a
 let cos_of t a = load t a; t.cos_a

@@ -3,14 +3,13 @@ let nearest_ahead r =
   let nb = Array.length p.proximity_bands in
   let max = p.proximity_bands.(nb - 1) in
   let fx = q.x +. p.body_radius *. cos q.theta and fy = q.y +. p.body_radius *. sin q.theta in
-  let best = ref None in
+  let best = ref infinity in
   for i = -2 to 2 do
     let a = q.theta +. float_of_int i *. p.proximity_half_angle /. 2. in
-    match World.ray (Robot.world r) fx fy a ~max with
-    | Some d -> (match !best with Some b when b <= d -> () | _ -> best := Some d)
-    | None -> ()
+    let d = World.ray_distance (Robot.world r) fx fy a ~max in
+    if d < !best then best := d
   done;
-  !best
+  if !best = infinity then None else Some !best
 
 let proximity_band (p : Params.t) = function
   | None -> None

@@ -177,6 +177,40 @@ let ray w x y angle ~max =
     w.cubes;
   !best
 
+(* The earlier of [best] and the hit of the ray on [s] if it is at most
+   [max]: the test of [ray_segment], without an option. *)
+let closer ox oy dx dy s max best =
+  let ex = s.b.px -. s.a.px and ey = s.b.py -. s.a.py in
+  let den = dx *. ey -. dy *. ex in
+  if Float.abs den < 1e-12 then best
+  else begin
+    let ax = s.a.px -. ox and ay = s.a.py -. oy in
+    let t = (ax *. ey -. ay *. ex) /. den in
+    let u = (ax *. dy -. ay *. dx) /. den in
+    if t >= 0. && u >= 0. && u <= 1. && t <= max && t < best then t else best
+  end [@@inline]
+
+let rec closer_in ox oy dx dy sides max best =
+  match sides with
+  | [] -> best
+  | s :: rest -> closer_in ox oy dx dy rest max (closer ox oy dx dy s max best)
+
+let ray_distance w x y angle ~max =
+  let dx = cos angle and dy = sin angle in
+  let b = w.broad in
+  let best = ref infinity in
+  for i = 0 to Array.length b.walls_a - 1 do
+    best := closer x y dx dy (Array.unsafe_get b.walls_a i) max !best
+  done;
+  for j = 0 to Array.length w.cubes - 1 do
+    let c = Array.unsafe_get w.cubes j in
+    let ddx = c.cx -. x and ddy = c.cy -. y in
+    let reach = max +. c.size in
+    if ddx *. ddx +. ddy *. ddy <= reach *. reach then
+      best := closer_in x y dx dy (Array.unsafe_get b.cube_sides j) max !best
+  done;
+  !best
+
 let orient p q r = (q.px -. p.px) *. (r.py -. p.py) -. (q.py -. p.py) *. (r.px -. p.px)
 
 let segments_cross s1 s2 =
