@@ -1,83 +1,98 @@
-(* A binary min-heap kept in three parallel arrays: the times unboxed in a
-   float array, the scheduling numbers in an int array, the events in an
-   array of their own. Nothing is allocated per event once the arrays are
-   large enough (issue 17: a record per event, moved to the major heap with
-   its array, was a tenth of a simulation's time with the collector). *)
+(* A binary min-heap of (time, scheduling number, slot), in three parallel
+   arrays of unboxed floats and ints; the events themselves stay in their
+   slot of [vals] from [add] to [take] and never move. So sifting moves
+   floats and ints only, and nothing is allocated per event once the arrays
+   are large enough (issue 17: a record per event, moved to the major heap
+   with its array, was a tenth of a simulation's time with the collector). *)
 
 type 'a t = {
   mutable times : float array;
   mutable seqs : int array;
-  mutable vs : 'a array;
+  mutable slots : int array;
+  mutable vals : 'a array;      (* by slot *)
+  mutable free : int array;     (* the free slots: free.(0 .. nfree-1) *)
+  mutable nfree : int;
   mutable n : int;
   mutable next : int;
 }
 
-let create () = { times = [||]; seqs = [||]; vs = [||]; n = 0; next = 0 }
+let create () = { times = [||]; seqs = [||]; slots = [||]; vals = [||]; free = [||]; nfree = 0; n = 0; next = 0 }
 let is_empty q = q.n = 0
 let size q = q.n
 
-(* [i] before [j]: earlier, or as early and scheduled first *)
-let before q ti si j =
-  let tj = Array.unsafe_get q.times j in
-  ti < tj || (ti = tj && si < Array.unsafe_get q.seqs j)
-
 let grow q v =
   let cap = max 16 (2 * q.n) in
-  let times = Array.make cap 0. and seqs = Array.make cap 0 and vs = Array.make cap v in
+  let times = Array.make cap 0. and seqs = Array.make cap 0 and slots = Array.make cap 0
+  and vals = Array.make cap v and free = Array.make cap 0 in
   Array.blit q.times 0 times 0 q.n;
   Array.blit q.seqs 0 seqs 0 q.n;
-  Array.blit q.vs 0 vs 0 q.n;
-  q.times <- times; q.seqs <- seqs; q.vs <- vs
-
-(* Put (t, s, v) in the hole at [i], moving parents down while it is
-   before them. *)
-let rec sift_up q i t s v =
-  let parent = (i - 1) / 2 in
-  if i > 0 && before q t s parent then begin
-    Array.unsafe_set q.times i (Array.unsafe_get q.times parent);
-    Array.unsafe_set q.seqs i (Array.unsafe_get q.seqs parent);
-    Array.unsafe_set q.vs i (Array.unsafe_get q.vs parent);
-    sift_up q parent t s v
-  end else begin
-    Array.unsafe_set q.times i t; Array.unsafe_set q.seqs i s; Array.unsafe_set q.vs i v
-  end
+  Array.blit q.slots 0 slots 0 q.n;
+  Array.blit q.vals 0 vals 0 q.n;
+  (* every slot is in use when the queue is full: the new ones are free *)
+  for k = 0 to cap - q.n - 1 do free.(k) <- cap - 1 - k done;
+  q.times <- times; q.seqs <- seqs; q.slots <- slots; q.vals <- vals; q.free <- free;
+  q.nfree <- cap - q.n
 
 let add q time v =
   if q.n = Array.length q.times then grow q v;
+  q.nfree <- q.nfree - 1;
+  let slot = Array.unsafe_get q.free q.nfree in
+  Array.unsafe_set q.vals slot v;
   let s = q.next in
   q.next <- s + 1;
-  let i = q.n in
-  q.n <- i + 1;
-  sift_up q i time s v
-
-(* Put (t, s, v) in the hole at [i], moving the earlier child up while it
-   is before it. *)
-let rec sift_down q i t s v =
-  let l = 2 * i + 1 in
-  if l >= q.n then begin
-    Array.unsafe_set q.times i t; Array.unsafe_set q.seqs i s; Array.unsafe_set q.vs i v
-  end else begin
-    let r = l + 1 in
-    let c = if r < q.n && before q (Array.unsafe_get q.times r) (Array.unsafe_get q.seqs r) l then r else l in
-    (* the sequence numbers differ: [c] is before (t, s) unless (t, s) is before [c] *)
-    if not (before q t s c) then begin
-      Array.unsafe_set q.times i (Array.unsafe_get q.times c);
-      Array.unsafe_set q.seqs i (Array.unsafe_get q.seqs c);
-      Array.unsafe_set q.vs i (Array.unsafe_get q.vs c);
-      sift_down q c t s v
-    end else begin
-      Array.unsafe_set q.times i t; Array.unsafe_set q.seqs i s; Array.unsafe_set q.vs i v
-    end
-  end
+  let times = q.times and seqs = q.seqs and slots = q.slots in
+  (* the hole goes up while (time, s) is before its parent *)
+  let i = ref q.n in
+  q.n <- q.n + 1;
+  let continue = ref true in
+  while !continue && !i > 0 do
+    let parent = (!i - 1) / 2 in
+    let tp = Array.unsafe_get times parent in
+    if time < tp || (time = tp && s < Array.unsafe_get seqs parent) then begin
+      Array.unsafe_set times !i tp;
+      Array.unsafe_set seqs !i (Array.unsafe_get seqs parent);
+      Array.unsafe_set slots !i (Array.unsafe_get slots parent);
+      i := parent
+    end else continue := false
+  done;
+  Array.unsafe_set times !i time; Array.unsafe_set seqs !i s; Array.unsafe_set slots !i slot
 
 let take q =
   if q.n = 0 then invalid_arg "Event_queue.take: empty";
-  let top = Array.unsafe_get q.vs 0 in
+  let times = q.times and seqs = q.seqs and slots = q.slots in
+  let top = Array.unsafe_get slots 0 in
+  let v = Array.unsafe_get q.vals top in
+  Array.unsafe_set q.free q.nfree top;
+  q.nfree <- q.nfree + 1;
   let last = q.n - 1 in
   q.n <- last;
-  if last > 0 then
-    sift_down q 0 (Array.unsafe_get q.times last) (Array.unsafe_get q.seqs last) (Array.unsafe_get q.vs last);
-  top
+  if last > 0 then begin
+    (* the last entry goes down from the root while a child is before it *)
+    let t = Array.unsafe_get times last and s = Array.unsafe_get seqs last
+    and sl = Array.unsafe_get slots last in
+    let i = ref 0 and continue = ref true in
+    while !continue do
+      let l = 2 * !i + 1 in
+      if l >= last then continue := false
+      else begin
+        let r = l + 1 in
+        let c =
+          if r < last then begin
+            let tl = Array.unsafe_get times l and tr = Array.unsafe_get times r in
+            if tr < tl || (tr = tl && Array.unsafe_get seqs r < Array.unsafe_get seqs l) then r else l
+          end else l in
+        let tc = Array.unsafe_get times c in
+        if tc < t || (tc = t && Array.unsafe_get seqs c < s) then begin
+          Array.unsafe_set times !i tc;
+          Array.unsafe_set seqs !i (Array.unsafe_get seqs c);
+          Array.unsafe_set slots !i (Array.unsafe_get slots c);
+          i := c
+        end else continue := false
+      end
+    done;
+    Array.unsafe_set times !i t; Array.unsafe_set seqs !i s; Array.unsafe_set slots !i sl
+  end;
+  v
 
 let next_time q = if q.n = 0 then infinity else Array.unsafe_get q.times 0
 

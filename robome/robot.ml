@@ -15,7 +15,6 @@ type t = {
   p : Params.t;
   w : World.t;
   step : float;
-  mutable time : float;
   mutable pose : Kinematics.pose;
   mutable motion : motion;
   mutable waiting : Command.t list;   (* motion commands heard during a manoeuvre, in order *)
@@ -23,12 +22,15 @@ type t = {
   mutable contact : bool;
   mutable tipping : bool;
   mutable fallen : bool;
-  mutable odometer : float;
   mutable hooks : (t -> unit) list;
   rng : Random.State.t;
   trig : Kinematics.trig;   (* the heading's sine and cosine, remembered *)
   free : free;              (* a place and the room about it, for [collides] *)
+  k : clock;                (* the time and the odometer *)
 }
+
+(* floats only: a physics step sets them without boxing a float *)
+and clock = { mutable time : float; mutable odometer : float }
 
 (* [room] is a lower bound of the distance from (ax, ay) to every wall and
    cube ({!World.clearance}); neg_infinity when there is no such place yet.
@@ -36,19 +38,19 @@ type t = {
 and free = { mutable ax : float; mutable ay : float; mutable room : float }
 
 let create ?(step = 0.01) ?(rng = Random.State.make [| 0 |]) p w pose =
-  { rng; p; w; step; time = 0.; pose; motion = Halted; waiting = []; head = Neutral;
-    contact = false; tipping = false; fallen = false; odometer = 0.; hooks = [];
-    trig = Kinematics.trig (); free = { ax = 0.; ay = 0.; room = neg_infinity } }
+  { rng; p; w; step; pose; motion = Halted; waiting = []; head = Neutral;
+    contact = false; tipping = false; fallen = false; hooks = [];
+    k = { time = 0.; odometer = 0. }; trig = Kinematics.trig (); free = { ax = 0.; ay = 0.; room = neg_infinity } }
 
 let params r = r.p
 let world r = r.w
-let time r = r.time
+let time r = r.k.time
 let pose r = r.pose
 let motion r = r.motion
 let head r = r.head
 let tipping r = r.tipping
 let fallen r = r.fallen
-let odometer r = r.odometer
+let odometer r = r.k.odometer
 let moving r = (not r.fallen) && (match r.motion with Halted -> false | Drive _ | Manoeuvre _ -> true)
 let on_step r f = r.hooks <- r.hooks @ [ f ]
 
@@ -79,7 +81,7 @@ let start r (c : Command.t) =
     let (k, _) = noise r in
     (* the firmware times the turn for the nominal rate: the angle is off by k *)
     r.motion <- Manoeuvre { omega = sign *. k *. p.angle_turn_rate;
-                            until = r.time +. Params.deg (float_of_int d) /. p.angle_turn_rate } in
+                            until = r.k.time +. Params.deg (float_of_int d) /. p.angle_turn_rate } in
   match c with
   | Stop -> r.motion <- Halted
   | Forward s -> drive (level p.forward_speeds s) 0.
@@ -153,10 +155,10 @@ let physics_step r dt events =
   end else begin
     (* the contact ends once the body is clear by a centimetre *)
     if r.contact && not (World.disc_collides r.w q.x q.y (rad +. 0.01)) then r.contact <- false;
-    r.odometer <- r.odometer +. Kinematics.arc_length ~v ~dt
+    r.k.odometer <- r.k.odometer +. Float.abs v *. dt   (* Kinematics.arc_length, unboxed *)
   end;
   r.pose <- q;
-  r.time <- r.time +. dt;
+  r.k.time <- r.k.time +. dt;
   if World.over_dropoff r.w q.x q.y then begin
     r.fallen <- true; r.motion <- Halted; r.waiting <- [];
     events := Fall q :: !events
@@ -170,22 +172,22 @@ let physics_step r dt events =
   run_hooks r r.hooks
 
 let rec advance_to r t events =
-  if r.time < t then begin
-    if not (moving r) then r.time <- t
+  if r.k.time < t then begin
+    if not (moving r) then r.k.time <- t
     else begin
       let limit = match r.motion with Manoeuvre { until; _ } -> Float.min t until | _ -> t in
-      let dt = Float.min r.step (limit -. r.time) in
+      let dt = Float.min r.step (limit -. r.k.time) in
       if dt > 0. then physics_step r dt events;
       (match r.motion with
-       | Manoeuvre { until; _ } when r.time >= until -. 1e-12 -> r.time <- Float.max r.time until; end_manoeuvre r
+       | Manoeuvre { until; _ } when r.k.time >= until -. 1e-12 -> r.k.time <- Float.max r.k.time until; end_manoeuvre r
        | _ -> ());
       advance_to r t events
     end
   end
 
 let advance r t =
-  if not (r.time < t) then []
-  else if not (moving r) then (r.time <- t; [])
+  if not (r.k.time < t) then []
+  else if not (moving r) then (r.k.time <- t; [])
   else begin
     let events = ref [] in
     advance_to r t events;
