@@ -17,7 +17,10 @@ type rect = { x_min : float; y_min : float; x_max : float; y_max : float }
    radius of the circle about its centre that holds its footprint (half its
    diagonal). *)
 type broad = { walls_a : segment array; wall_box : float array; cube_reach : float array;
-               cube_sides : segment list array (* cube_segments of each cube, for ray *) }
+               cube_sides : segment list array; (* cube_segments of each cube, for ray *)
+               cube_cos : float array; cube_sin : float array;   (* of each cube's yaw *)
+               face_c : point array array; face_n : point array array
+               (* face_centre and face_normal of each face of each cube *) }
 
 type t = {
   length : float;
@@ -38,7 +41,8 @@ let broad_of walls cubes =
       wall_box.(4 * i + 1) <- Float.min s.a.py s.b.py;
       wall_box.(4 * i + 2) <- Float.max s.a.px s.b.px;
       wall_box.(4 * i + 3) <- Float.max s.a.py s.b.py) walls_a;
-  { walls_a; wall_box; cube_reach = Array.map (fun c -> c.size *. sqrt 2. /. 2.) cubes; cube_sides = [||] }
+  { walls_a; wall_box; cube_reach = Array.map (fun c -> c.size *. sqrt 2. /. 2.) cubes; cube_sides = [||];
+    cube_cos = [||]; cube_sin = [||]; face_c = [||]; face_n = [||] }
 
 (* The cube's local axes: face i has its normal at yaw + i * 90 degrees. *)
 let face_normal c i =
@@ -66,7 +70,15 @@ let make ~length ~width ?(extra_walls = []) ~cubes ~dropoffs () =
   let outer = [ { a = c00; b = c10 }; { a = c10; b = c11 }; { a = c11; b = c01 }; { a = c01; b = c00 } ] in
   let walls = outer @ extra_walls and cubes = Array.of_list cubes in
   { length; width; walls; cubes; dropoffs;
-    broad = { (broad_of walls cubes) with cube_sides = Array.map cube_segments cubes } }
+    broad = { (broad_of walls cubes) with
+              cube_sides = Array.map cube_segments cubes;
+              cube_cos = Array.map (fun c -> cos c.yaw) cubes;
+              cube_sin = Array.map (fun c -> sin c.yaw) cubes;
+              face_c = Array.map (fun c -> Array.mapi (fun i _ -> face_centre c i) c.faces) cubes;
+              face_n = Array.map (fun c -> Array.mapi (fun i _ -> face_normal c i) c.faces) cubes } }
+
+let face_centre_of w j i = w.broad.face_c.(j).(i)
+let face_normal_of w j i = w.broad.face_n.(j).(i)
 
 let in_rect r x y = x >= r.x_min && x <= r.x_max && y >= r.y_min && y <= r.y_max
 
@@ -226,3 +238,25 @@ let segment_crosses_wall w s =
   match w.walls with
   | _ :: _ :: _ :: _ :: extra -> List.exists (segments_cross s) extra
   | _ -> false
+
+(* [in_cube c x y] for cube [j] = c, with the cosine and sine of its yaw
+   computed once ([local]'s formulas) *)
+let in_cube_at b j c x y =
+  let dx = x -. c.cx and dy = y -. c.cy in
+  let co = Array.unsafe_get b.cube_cos j and si = Array.unsafe_get b.cube_sin j in
+  let u = dx *. co +. dy *. si and v = -.dx *. si +. dy *. co in
+  let h = c.size /. 2. in
+  Float.abs u <= h && Float.abs v <= h
+
+let rec crosses_any s = function [] -> false | side :: rest -> segments_cross s side || crosses_any s rest
+
+let sight_blocked w s ~except =
+  let b = w.broad in
+  let rec go j =
+    j < Array.length w.cubes
+    && ((j <> except
+         && (let c = Array.unsafe_get w.cubes j in
+             in_cube_at b j c s.a.px s.a.py || in_cube_at b j c s.b.px s.b.py
+             || crosses_any s (Array.unsafe_get b.cube_sides j)))
+        || go (j + 1)) in
+  go 0
