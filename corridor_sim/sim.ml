@@ -57,6 +57,16 @@ type ev =
   | Sound
   | Agent_work
 
+(* The percepts notified and not yet dispatched, by sequence number: a hash
+   table on ints hashed and compared as ints (issue 17: the generic table
+   called the polymorphic hash and compare twice a percept). Only [fold]
+   sees its order, and the pending percepts are sorted by number after. *)
+module Seq_table = Hashtbl.Make (struct
+    type t = int
+    let equal (a : int) b = a = b
+    let hash (k : int) = k land max_int
+  end)
+
 (* ------------------------------------------------------------ coverage *)
 
 type grid = { nx : int; ny : int; free : bool array; seen : bool array;
@@ -132,7 +142,7 @@ module Make (A : Agent.AGENT) = struct
     let collisions = ref [] and falls = ref [] and tippings = ref [] in
     let counts = Array.make 4 0 and refused = ref 0 in
     let handled = ref [] and commands = ref [] and busy = ref [] in
-    let outstanding : (int, Agent.percept * int * string * float) Hashtbl.t = Hashtbl.create 1024 in
+    let outstanding : (Agent.percept * int * string * float) Seq_table.t = Seq_table.create 1024 in
     let events = ref 0 in
     let grid = make_grid world in
     mark grid sc.start.x sc.start.y p.body_radius;
@@ -193,7 +203,7 @@ module Make (A : Agent.AGENT) = struct
         let k = match pc with Falling -> 0 | Obstacle -> 1 | Qr_code_read _ -> 2 | Position _ -> 3 in
         counts.(k) <- counts.(k) + 1;
         let prio = match priority with Some k -> k | None -> Agent.default_priority pc in
-        Hashtbl.replace outstanding seq (pc, prio, src, clk.now);
+        Seq_table.replace outstanding seq (pc, prio, src, clk.now);
         if trace then tr "%.6f notify seq=%d %s prio=%d src=%s" clk.now seq (Agent.percept_to_string pc) prio src;
         wake ()
       | Error e ->
@@ -263,9 +273,9 @@ module Make (A : Agent.AGENT) = struct
         let t_end = clk.now +. cost in
         (match w with
          | Dispatch d ->
-           let (pc, prio, src, t0) = match Hashtbl.find_opt outstanding d.seq with
+           let (pc, prio, src, t0) = match Seq_table.find_opt outstanding d.seq with
              | Some x -> x | None -> (d.percept, d.priority, "?", clk.now) in
-           Hashtbl.remove outstanding d.seq;
+           Seq_table.remove outstanding d.seq;
            ignore pc;
            handled := { seq = d.seq; percept = d.percept; priority = prio; source = src; notified = t0;
                         dispatched = clk.now; handlers = d.handlers_run } :: !handled;
@@ -316,7 +326,7 @@ module Make (A : Agent.AGENT) = struct
     robot_events (Robot.advance robot sc.duration);
     clk.now <- sc.duration;
     let pending =
-      Hashtbl.fold (fun seq (pc, prio, _, t0) acc -> { p_seq = seq; p_percept = pc; p_priority = prio; p_notified = t0 } :: acc)
+      Seq_table.fold (fun seq (pc, prio, _, t0) acc -> { p_seq = seq; p_percept = pc; p_priority = prio; p_notified = t0 } :: acc)
         outstanding []
       |> List.sort (fun a b -> compare a.p_seq b.p_seq) in
     let q = Robot.pose robot in
