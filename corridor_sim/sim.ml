@@ -110,6 +110,7 @@ let mark g x y r =
     g.box <- (i0, i1, j0, j1);
     g.box_seen <- !all
   end
+[@@inline]   (* no float boxed to call it at every physics step *)
 
 let coverage g =
   let free = ref 0 and seen = ref 0 in

@@ -6,6 +6,7 @@ let normalise a =
   let a = Float.rem a two_pi in
   let a = if a <= -.Float.pi then a +. two_pi else a in
   if a > Float.pi then a -. two_pi else a
+[@@inline]
 
 let integrate p ~v ~omega ~dt =
   if Float.abs omega < 1e-12 then

@@ -159,24 +159,37 @@ let physics_step r dt events =
   end;
   r.pose <- q;
   r.k.time <- r.k.time +. dt;
-  if World.over_dropoff r.w q.x q.y then begin
+  (* a world without drop-offs (most) is not asked: no float boxed for it *)
+  let edges = match r.w.dropoffs with [] -> false | _ :: _ -> true in
+  if edges && World.over_dropoff r.w q.x q.y then begin
     r.fallen <- true; r.motion <- Halted; r.waiting <- [];
     events := Fall q :: !events
   end else begin
     let s = if v < 0. then -.rad else rad in
-    Kinematics.load r.trig q.theta;
-    let over = World.over_dropoff r.w (q.x +. s *. r.trig.cos_a) (q.y +. s *. r.trig.sin_a) in
+    let over = edges && (Kinematics.load r.trig q.theta;
+                         World.over_dropoff r.w (q.x +. s *. r.trig.cos_a) (q.y +. s *. r.trig.sin_a)) in
     if over && not r.tipping then (r.tipping <- true; events := Tipping_start q :: !events)
     else if (not over) && r.tipping && v <> 0. then (r.tipping <- false; events := Tipping_end q :: !events)
   end;
   run_hooks r r.hooks
 
+(* Float.min (the same float for every input but two nans), written here to
+   be inlined: no float boxed to call it *)
+let fmin (x : float) y =
+  if x < y then x
+  else if y < x then y
+  else if x <> x then x
+  else if y <> y then y
+  else if 1. /. x < 0. then x   (* -0. before 0. *)
+  else y
+[@@inline]
+
 let rec advance_to r t events =
   if r.k.time < t then begin
     if not (moving r) then r.k.time <- t
     else begin
-      let limit = match r.motion with Manoeuvre { until; _ } -> Float.min t until | _ -> t in
-      let dt = Float.min r.step (limit -. r.k.time) in
+      let limit = match r.motion with Manoeuvre { until; _ } -> fmin t until | _ -> t in
+      let dt = fmin r.step (limit -. r.k.time) in
       if dt > 0. then physics_step r dt events;
       (match r.motion with
        | Manoeuvre { until; _ } when r.k.time >= until -. 1e-12 -> r.k.time <- Float.max r.k.time until; end_manoeuvre r
