@@ -188,7 +188,7 @@ module Make (A : Agent.AGENT) = struct
     on_create agent;
     issue_commands 0.;
     invokes := 0;
-    let agent_scheduled = ref false in
+    let agent_scheduled = ref false and agent_next = ref false in
     let wake () =
       if not !agent_scheduled then begin
         agent_scheduled := true;
@@ -290,7 +290,15 @@ module Make (A : Agent.AGENT) = struct
         if clk.now < timeline_window then busy := { b_start = clk.now; b_end = t_end; b_kind = work_kind w } :: !busy;
         issue_commands t_end;
         clk.agent_free <- t_end;
-        Event_queue.add agenda t_end Agent_work in
+        (* The next unit of work starts at t_end. When the agenda has nothing
+           before or at t_end (an event already there at t_end was scheduled
+           first, so it would go first), its event would be the next taken:
+           the loop then runs it at once instead (issue 17: two thirds of the
+           events are agent work). The same events in the same order; only
+           the agenda's numbering of later events is one lower, which keeps
+           their order. *)
+        if t_end <= sc.duration && Event_queue.next_time agenda > t_end then agent_next := true
+        else Event_queue.add agenda t_end Agent_work in
     let robot_events evs =
       List.iter (fun (e : Robot.event) ->
           let t = Robot.time robot in
@@ -321,6 +329,15 @@ module Make (A : Agent.AGENT) = struct
             | None -> ());
            schedule_sound ()
          | Agent_work -> agent_work ());
+        (* the agent's units of work that follow at once, as events taken *)
+        while !agent_next do
+          agent_next := false;
+          let t = clk.agent_free in
+          incr events;
+          (match Robot.advance robot t with [] -> () | evs -> robot_events evs);
+          clk.now <- t;
+          agent_work ()
+        done;
         loop ()
       end in
     loop ();
