@@ -132,6 +132,7 @@ let collides r x y rad =
     f.ax <- x; f.ay <- y; f.room <- room;
     if room -. rad -. World.margin > 0. then false else World.disc_collides r.w x y rad
   end
+[@@inline]   (* no float boxed to call it *)
 
 let rec run_hooks r = function [] -> () | f :: rest -> f r; run_hooks r rest
 
@@ -172,6 +173,7 @@ let physics_step r dt events =
     else if (not over) && r.tipping && v <> 0. then (r.tipping <- false; events := Tipping_end q :: !events)
   end;
   run_hooks r r.hooks
+[@@inline]   (* once a step: no float boxed to call it *)
 
 (* Float.min (the same float for every input but two nans), written here to
    be inlined: no float boxed to call it *)
