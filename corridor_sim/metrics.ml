@@ -40,23 +40,41 @@ let merge (s : float array) lo mid hi (d : float array) =
     end
   done
 
-(* Bottom-up merge sort on a float array: runs of 1, 2, 4... merged from
-   one array into the other. *)
+(* A natural merge sort on a float array: the runs already in order (a
+   run's latencies come in some forty of them, issue 17) are found first,
+   then merged two by two, from one array into the other, until one is left.
+   [bounds.(0 .. runs)] holds where each run starts, and n. *)
 let sort_floats (a : float array) =
   let n = Array.length a in
-  let src = ref a and dst = ref (Array.make n 0.) and width = ref 1 in
-  while !width < n do
-    let s = !src and d = !dst and w = !width in
-    let lo = ref 0 in
-    while !lo < n do
-      let mid = if !lo + w < n then !lo + w else n in
-      let hi = if mid + w < n then mid + w else n in
-      merge s !lo mid hi d;
-      lo := hi
+  if n > 1 then begin
+    let bounds = ref (Array.make (n + 1) 0) and runs = ref 0 in
+    for i = 1 to n - 1 do
+      if Float.compare (Array.unsafe_get a (i - 1)) (Array.unsafe_get a i) > 0 then begin
+        incr runs; !bounds.(!runs) <- i
+      end
     done;
-    src := d; dst := s; width := 2 * w
-  done;
-  if !src != a then Array.blit !src 0 a 0 n
+    incr runs; !bounds.(!runs) <- n;
+    let src = ref a and dst = ref (Array.make n 0.) and spare = ref (Array.make (n + 1) 0) in
+    while !runs > 1 do
+      let b = !bounds and nb = !spare and s = !src and d = !dst in
+      let k = ref 0 and m = ref 0 in
+      (* runs 2k and 2k+1 into one; an odd last run is copied *)
+      while !k < !runs do
+        let lo = b.(!k) in
+        let mid = b.(!k + 1) in
+        let hi = if !k + 2 <= !runs then b.(!k + 2) else mid in
+        merge s lo mid hi d;
+        nb.(!m) <- lo;
+        incr m;
+        k := !k + 2
+      done;
+      nb.(!m) <- n;
+      runs := !m;
+      spare := b; bounds := nb;
+      src := d; dst := s
+    done;
+    if !src != a then Array.blit !src 0 a 0 n
+  end
 
 (* Loops over the dispatched percepts without a closure (issue 17: they
    are some 15,000 in a run). *)

@@ -154,6 +154,20 @@ let prop_sort_floats =
        Array.stable_sort Float.compare c;
        Array.for_all2 (fun x y -> Int64.equal (Int64.bits_of_float x) (Int64.bits_of_float y)) b c)
 
+(* The same on arrays made of runs already in order, as a run's latencies
+   come (some forty runs of a few values each). *)
+let prop_sort_floats_runs =
+  let run = QCheck.(map (fun l -> List.sort Float.compare (List.map (fun k -> float_of_int k /. 4.) l))
+                      (list_of_size Gen.(int_range 0 30) (int_range 0 6))) in
+  qtest ~count:500 "sort_floats on runs in order = Array.stable_sort Float.compare"
+    QCheck.(list_of_size Gen.(int_range 0 12) run)
+    (fun runs ->
+       let a = Array.of_list (List.concat runs) in
+       let b = Array.copy a and c = Array.copy a in
+       Metrics.sort_floats b;
+       Array.stable_sort Float.compare c;
+       Array.for_all2 (fun x y -> Int64.equal (Int64.bits_of_float x) (Int64.bits_of_float y)) b c)
+
 (* ------------------------------------------------------------ controller *)
 
 let quiet_host () =
@@ -399,7 +413,7 @@ let () =
         Alcotest.test_case "bad files are rejected" `Quick test_bad_files;
         Alcotest.test_case "every number in its range" `Quick test_ranges;
         Alcotest.test_case "random cubes per seed" `Quick test_random_cubes ]);
-    ("agenda", [ prop_agenda; prop_agenda_interleaved; prop_sort_floats ]);
+    ("agenda", [ prop_agenda; prop_agenda_interleaved; prop_sort_floats; prop_sort_floats_runs ]);
     ("controller", [
         Alcotest.test_case "priorities, seqs and handlers (R2b, R3b)" `Quick test_priorities;
         Alcotest.test_case "override and refusals (R2a, R2d)" `Quick test_override_and_refusals;
