@@ -50,6 +50,7 @@ let main ?(controller = "jadescript") ?program ~scenario ~seed ~out ~batch () =
        let (stats, _) = Run.batch ~agent sc ~first_seed:seed ~runs:n in
        print_string (Run.table sc ~first_seed:seed ~runs:n stats)
      | _ ->
+       Run.tune_gc ();
        let dir = match out with Some d -> d | None -> Printf.sprintf "out/sim/%s-s%d" sc.name seed in
        let o = Run.run ~agent sc ~seed ~out_dir:(Some dir) in
        Printf.printf "scenario %s, seed %d, %.0f s simulated, agent %s, %s loop\n" sc.name seed sc.duration

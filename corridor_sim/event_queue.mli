@@ -14,3 +14,13 @@ val pop : 'a t -> (float * 'a) option
 (** The earliest event (the first scheduled among equal times). *)
 
 val peek_time : 'a t -> float option
+(** The time of the earliest event, if any. *)
+
+val next_time : 'a t -> float
+(** The time of the earliest event; [infinity] if there is none (nothing
+    allocated: the simulation's loop asks this before every event). *)
+
+val take : 'a t -> 'a
+(** Remove the earliest event and return it (its time is {!next_time}
+    just before).
+    @raise Invalid_argument if the queue is empty. *)

@@ -102,21 +102,29 @@ let make_with ?program:(path = program ()) ~record () : (module Agent.AGENT) =
         c.world.outbox <- [];
         Some l
 
+    (* one rule at a time *)
+    let step_one t : Agent.work option =
+      match take t with
+      | None -> None
+      | Some l -> Some (Agent.work_of_step ~take:(fun () -> take t) ~percept:percept_of_value l)
+
     let step t : Agent.work option =
       (* a whole dispatch in one call of the derived rule when it applies (the
-         same rules, labels and work as one at a time, issue 17) *)
-      let dispatch observe =
-        match Interp.Runtime.E.dispatch ~observe t.params t.c with
-        | Some c ->
-          t.c <- c;
-          ignore (Interp.Eval.take_events c.world);
-          c.world.outbox <- [];
-          true
-        | None -> false in
-      match if t.c.phase = Mc.Dispatch_phase then Agent.dispatch_work ~dispatch ~record ~percept:percept_of_value
-        else None with
-      | Some w -> Some w
-      | None -> Option.map (Agent.work_of_step ~take:(fun () -> take t) ~percept:percept_of_value) (take t)
+         same rules, labels and work as one at a time, issue 17); the
+         closures only then *)
+      if t.c.phase = Mc.Dispatch_phase then begin
+        let dispatch observe =
+          match Interp.Runtime.E.dispatch ~observe t.params t.c with
+          | Some c ->
+            t.c <- c;
+            ignore (Interp.Eval.take_events c.world);
+            c.world.outbox <- [];
+            true
+          | None -> false in
+        match Agent.dispatch_work ~dispatch ~record ~percept:percept_of_value with
+        | Some w -> Some w
+        | None -> step_one t
+      end else step_one t
 
     let world_map t =
       match Interp.Eval.property t.c.world "worldMap" with

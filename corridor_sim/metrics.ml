@@ -28,6 +28,78 @@ let percentile sorted q =
   let n = Array.length sorted in
   if n = 0 then 0. else sorted.(min (n - 1) (int_of_float (Float.ceil (q *. float_of_int n)) - 1 |> max 0))
 
+(* Merge [s.(lo .. mid-1)] and [s.(mid .. hi-1)], both sorted, into
+   [d.(lo .. hi-1)]; on a tie the left one first (stable). *)
+let merge (s : float array) lo mid hi (d : float array) =
+  let i = ref lo and j = ref mid in
+  for k = lo to hi - 1 do
+    if !i < mid && (!j >= hi || Float.compare (Array.unsafe_get s !i) (Array.unsafe_get s !j) <= 0) then begin
+      Array.unsafe_set d k (Array.unsafe_get s !i); incr i
+    end else begin
+      Array.unsafe_set d k (Array.unsafe_get s !j); incr j
+    end
+  done
+
+(* A natural merge sort on a float array: the runs already in order (a
+   run's latencies come in some forty of them, issue 17) are found first,
+   then merged two by two, from one array into the other, until one is left.
+   [bounds.(0 .. runs)] holds where each run starts, and n. *)
+let sort_floats (a : float array) =
+  let n = Array.length a in
+  if n > 1 then begin
+    let bounds = ref (Array.make (n + 1) 0) and runs = ref 0 in
+    for i = 1 to n - 1 do
+      if Float.compare (Array.unsafe_get a (i - 1)) (Array.unsafe_get a i) > 0 then begin
+        incr runs; !bounds.(!runs) <- i
+      end
+    done;
+    incr runs; !bounds.(!runs) <- n;
+    let src = ref a and dst = ref (Array.make n 0.) and spare = ref (Array.make (n + 1) 0) in
+    while !runs > 1 do
+      let b = !bounds and nb = !spare and s = !src and d = !dst in
+      let k = ref 0 and m = ref 0 in
+      (* runs 2k and 2k+1 into one; an odd last run is copied *)
+      while !k < !runs do
+        let lo = b.(!k) in
+        let mid = b.(!k + 1) in
+        let hi = if !k + 2 <= !runs then b.(!k + 2) else mid in
+        merge s lo mid hi d;
+        nb.(!m) <- lo;
+        incr m;
+        k := !k + 2
+      done;
+      nb.(!m) <- n;
+      runs := !m;
+      spare := b; bounds := nb;
+      src := d; dst := s
+    done;
+    if !src != a then Array.blit !src 0 a 0 n
+  end
+
+(* Loops over the dispatched percepts without a closure (issue 17: they
+   are some 15,000 in a run). *)
+let rec mem_int (x : int) = function [] -> false | y :: rest -> x = y || mem_int x rest
+
+let rec priorities acc = function
+  | [] -> acc
+  | (h : Sim.handled) :: rest -> priorities (if mem_int h.priority acc then acc else h.priority :: acc) rest
+
+let rec count_prio prio n = function
+  | [] -> n
+  | (h : Sim.handled) :: rest -> count_prio prio (if h.priority = prio then n + 1 else n) rest
+
+let rec fill_prio prio (a : float array) k = function
+  | [] -> ()
+  | (h : Sim.handled) :: rest ->
+    if h.priority = prio then (Array.unsafe_set a k (h.dispatched -. h.notified); fill_prio prio a (k + 1) rest)
+    else fill_prio prio a k rest
+
+(* the sum from the first to the last, as Array.fold_left ( +. ) 0. *)
+let sum (a : float array) =
+  let s = ref 0. in
+  for i = 0 to Array.length a - 1 do s := !s +. Array.unsafe_get a i done;
+  !s
+
 let of_result (r : Sim.result) =
   let cubes = Array.to_list r.world.cubes |> List.map (fun (c : Robome.World.cube) ->
       let mine = List.filter (fun (_, _, s) -> s <> "" && Array.mem s c.faces) r.world_map in
@@ -41,15 +113,17 @@ let of_result (r : Sim.result) =
           Some (Float.hypot (mx -. c.cx) (my -. c.cy)) in
       { cube = c.id; entries = n; error }) in
   let errors = List.filter_map (fun c -> c.error) cubes in
-  let prios = List.sort_uniq (fun a b -> Int.compare b a) (List.rev_map (fun (h : Sim.handled) -> h.priority) r.handled) in
+  let prios = List.sort (fun a b -> Int.compare b a) (priorities [] r.handled) in
   let latency = List.map (fun prio ->
-      let ls = List.filter_map (fun (h : Sim.handled) ->
-          if h.priority = prio then Some (h.dispatched -. h.notified) else None) r.handled in
-      let a = Array.of_list ls in
-      Array.stable_sort Float.compare a;   (* the order of compare on floats, faster (issue 17) *)
-      let n = Array.length a in
+      let n = count_prio prio 0 r.handled in
+      let a = Array.make n 0. in
+      fill_prio prio a 0 r.handled;
+      (* sorted, for the mean is summed in increasing order (issue 17: the
+         order of Array.stable_sort Float.compare, without boxing a float
+         per comparison) *)
+      sort_floats a;
       { priority = prio; count = n;
-        mean = Array.fold_left ( +. ) 0. a /. float_of_int (max 1 n);
+        mean = sum a /. float_of_int (max 1 n);
         p95 = percentile a 0.95; max = (if n = 0 then 0. else a.(n - 1)) }) prios in
   let falls = List.length r.falls in
   { duration = r.end_time;

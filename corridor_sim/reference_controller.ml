@@ -91,17 +91,25 @@ let take t =
   | [] -> None
   | (l, c) :: _ -> t.c <- c; record t l; Some l
 
+(* one rule at a time *)
+let step_one t : Agent.work option =
+  match take t with
+  | None -> None
+  | Some l -> Some (Agent.work_of_step ~take:(fun () -> take t) ~percept:Fun.id l)
+
 let step t : Agent.work option =
   (* a whole dispatch in one call of the derived rule when it applies (the
-     same rules, labels and work as one at a time, issue 17) *)
-  let dispatch observe =
-    match E.dispatch ~observe t.params t.c with
-    | Some c -> t.c <- c; true
-    | None -> false in
-  match if t.c.phase = Machine.Dispatch_phase then Agent.dispatch_work ~dispatch ~record:(record t) ~percept:Fun.id
-    else None with
-  | Some w -> Some w
-  | None -> Option.map (Agent.work_of_step ~take:(fun () -> take t) ~percept:Fun.id) (take t)
+     same rules, labels and work as one at a time, issue 17); the closures
+     only then *)
+  if t.c.phase = Machine.Dispatch_phase then begin
+    let dispatch observe =
+      match E.dispatch ~observe t.params t.c with
+      | Some c -> t.c <- c; true
+      | None -> false in
+    match Agent.dispatch_work ~dispatch ~record:(record t) ~percept:Fun.id with
+    | Some w -> Some w
+    | None -> step_one t
+  end else step_one t
 
 let world_map t = List.map (fun ((x, y), s) -> (x, y, s)) t.c.world.map
 let current_position t = t.c.world.current

@@ -26,6 +26,14 @@ val bench : ?agent:(module Agent.AGENT) -> ?scenario:string -> ?position_rate:fl
     reference controller);
     return (simulated seconds, wall-clock seconds). *)
 
+val tune_gc : unit -> unit
+(** The garbage collector's settings for single runs ([jadescript-ref sim]
+    without [--batch], and [bench.exe sim]): a space overhead of 1000 and
+    the default minor heap of 256k words, whatever was set before in the
+    process. A run's results do not depend on them. Not for [--batch], which
+    keeps every run's outcome: there the heap could grow to ten times what
+    it keeps. *)
+
 val find_scenario : string -> string
 (** [find_scenario "paper"]: the path of [scenarios/paper.json] from the
     current directory or one of its parents; a path that exists is returned

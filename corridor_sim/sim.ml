@@ -40,6 +40,15 @@ type result = {
 
 let coverage_cell = 0.2
 
+type clock = {
+  mutable now : float;
+  mutable last_traj : float;     (* time of the last trajectory point *)
+  mutable agent_free : float;    (* when the agent's current unit of work ends *)
+  mutable busy_total : float;
+  mutable last_alert : float;    (* the last obstacle alert *)
+  mutable last_falling : float;  (* the last falling percept *)
+}
+
 type source = Uwb | Proximity | Camera | Imu | Flood
 
 type ev =
@@ -48,9 +57,21 @@ type ev =
   | Sound
   | Agent_work
 
+(* The percepts notified and not yet dispatched, by sequence number: a hash
+   table on ints hashed and compared as ints (issue 17: the generic table
+   called the polymorphic hash and compare twice a percept). Only [fold]
+   sees its order, and the pending percepts are sorted by number after. *)
+module Seq_table = Hashtbl.Make (struct
+    type t = int
+    let equal (a : int) b = a = b
+    let hash (k : int) = k land max_int
+  end)
+
 (* ------------------------------------------------------------ coverage *)
 
-type grid = { nx : int; ny : int; free : bool array; seen : bool array }
+type grid = { nx : int; ny : int; free : bool array; seen : bool array;
+              mutable box : int * int * int * int;   (* the cells the last [mark] looked at *)
+              mutable box_seen : bool }              (* all of them seen after it *)
 
 let make_grid (w : World.t) =
   let nx = max 1 (int_of_float (Float.ceil (w.length /. coverage_cell)))
@@ -59,7 +80,7 @@ let make_grid (w : World.t) =
       let i = k mod nx and j = k / nx in
       let x = (float_of_int i +. 0.5) *. coverage_cell and y = (float_of_int j +. 0.5) *. coverage_cell in
       not (World.over_dropoff w x y || Array.exists (fun c -> World.in_cube c x y) w.cubes)) in
-  { nx; ny; free; seen = Array.make (nx * ny) false }
+  { nx; ny; free; seen = Array.make (nx * ny) false; box = (-1, -1, -1, -1); box_seen = false }
 
 (* on ints: Stdlib's max and min are polymorphic, some 90 instructions a call *)
 let imax (a : int) b = if a >= b then a else b
@@ -71,16 +92,25 @@ let mark g x y r =
   and j0 = imax 0 (int_of_float ((y -. r) /. coverage_cell))
   and j1 = imin (g.ny - 1) (int_of_float ((y +. r) /. coverage_cell)) in
   (* a cell already seen stays seen: only the others are measured (issue 17:
-     the robot moves 2 mm a step, so nearly every cell under it is seen) *)
-  for i = i0 to i1 do
-    for j = j0 to j1 do
-      if not (Array.unsafe_get g.seen (j * g.nx + i)) then begin
-        let cx = Float.max (float_of_int i *. coverage_cell) (Float.min (float_of_int (i + 1) *. coverage_cell) x)
-        and cy = Float.max (float_of_int j *. coverage_cell) (Float.min (float_of_int (j + 1) *. coverage_cell) y) in
-        if (cx -. x) *. (cx -. x) +. (cy -. y) *. (cy -. y) < r *. r then g.seen.(j * g.nx + i) <- true
-      end
-    done
-  done
+     the robot moves 2 mm a step, so nearly every cell under it is seen);
+     and when the cells are those of the last call, all seen, nothing is *)
+  let (a0, a1, b0, b1) = g.box in
+  if not (g.box_seen && i0 = a0 && i1 = a1 && j0 = b0 && j1 = b1) then begin
+    let all = ref true in
+    for i = i0 to i1 do
+      for j = j0 to j1 do
+        if not (Array.unsafe_get g.seen (j * g.nx + i)) then begin
+          let cx = Float.max (float_of_int i *. coverage_cell) (Float.min (float_of_int (i + 1) *. coverage_cell) x)
+          and cy = Float.max (float_of_int j *. coverage_cell) (Float.min (float_of_int (j + 1) *. coverage_cell) y) in
+          if (cx -. x) *. (cx -. x) +. (cy -. y) *. (cy -. y) < r *. r then g.seen.(j * g.nx + i) <- true
+          else all := false
+        end
+      done
+    done;
+    g.box <- (i0, i1, j0, j1);
+    g.box_seen <- !all
+  end
+[@@inline]   (* no float boxed to call it at every physics step *)
 
 let coverage g =
   let free = ref 0 and seen = ref 0 in
@@ -103,13 +133,17 @@ module Make (A : Agent.AGENT) = struct
     let tr fmt =
       if trace then Printf.ksprintf (fun l -> Buffer.add_string buf l; Buffer.add_char buf '\n') fmt
       else Printf.ifprintf () fmt in
-    let now = ref 0. in
+    (* the floats that change as the run goes, in one record of floats only:
+       setting them allocates nothing (issue 17; [ref]s of floats box a
+       float at every assignment) *)
+    let clk = { now = 0.; last_traj = 0.; agent_free = 0.; busy_total = 0.; last_alert = neg_infinity;
+              last_falling = neg_infinity } in
     (* records *)
-    let trajectory = ref [ (0., sc.start) ] and last_traj = ref 0. in
+    let trajectory = ref [ (0., sc.start) ] in
     let collisions = ref [] and falls = ref [] and tippings = ref [] in
     let counts = Array.make 4 0 and refused = ref 0 in
-    let handled = ref [] and commands = ref [] and busy = ref [] and busy_total = ref 0. in
-    let outstanding : (int, Agent.percept * int * string * float) Hashtbl.t = Hashtbl.create 1024 in
+    let handled = ref [] and commands = ref [] and busy = ref [] in
+    let outstanding : (Agent.percept * int * string * float) Seq_table.t = Seq_table.create 1024 in
     let events = ref 0 in
     let grid = make_grid world in
     mark grid sc.start.x sc.start.y p.body_radius;
@@ -117,7 +151,7 @@ module Make (A : Agent.AGENT) = struct
         let q = Robot.pose r in
         mark grid q.x q.y p.body_radius;
         let t = Robot.time r in
-        if t -. !last_traj >= sc.trajectory_step then (trajectory := (t, q) :: !trajectory; last_traj := t));
+        if t -. clk.last_traj >= sc.trajectory_step then (trajectory := (t, q) :: !trajectory; clk.last_traj <- t));
     (* the sound channel *)
     let sound_scheduled = ref false in
     let schedule_sound () =
@@ -129,21 +163,24 @@ module Make (A : Agent.AGENT) = struct
     let pending_cmds = ref [] and invokes = ref 0 in
     let listening = ref false in
     let start_sources () =
-      let start src rate = if rate > 0. then Event_queue.add agenda !now (Sample (src, 0)) in
+      let start src rate = if rate > 0. then Event_queue.add agenda clk.now (Sample (src, 0)) in
       start Uwb s.position_rate; start Proximity s.proximity_rate; start Camera s.camera_rate;
       start Imu s.imu_rate;
       match sc.flood with
-      | Some f -> Event_queue.add agenda (Float.max !now f.start_time) (Sample (Flood, 0))
+      | Some f -> Event_queue.add agenda (Float.max clk.now f.start_time) (Sample (Flood, 0))
       | None -> () in
     let host = Host.make sc.mapping
         ~enqueue:(fun c -> incr invokes; pending_cmds := c :: !pending_cmds)
         ~start_listening:(fun () ->
             incr invokes;
-            if not !listening then (listening := true; tr "%.6f startListening" !now; start_sources ())) in
+            if not !listening then (listening := true; tr "%.6f startListening" clk.now; start_sources ())) in
     let issue_commands at =
-      List.iter (fun c ->
-          Sound_queue.enqueue sound ~now:at c;
-          tr "%.6f issue %s" at (Command.to_string c)) (List.rev !pending_cmds);
+      (match !pending_cmds with
+       | [] -> ()
+       | cmds ->
+         List.iter (fun c ->
+             Sound_queue.enqueue sound ~now:at c;
+             if trace then tr "%.6f issue %s" at (Command.to_string c)) (List.rev cmds));
       pending_cmds := [];
       schedule_sound () in
     (* the agent *)
@@ -151,11 +188,11 @@ module Make (A : Agent.AGENT) = struct
     on_create agent;
     issue_commands 0.;
     invokes := 0;
-    let agent_scheduled = ref false and agent_free = ref 0. in
+    let agent_scheduled = ref false and agent_next = ref false in
     let wake () =
       if not !agent_scheduled then begin
         agent_scheduled := true;
-        Event_queue.add agenda (Float.max !now !agent_free) Agent_work
+        Event_queue.add agenda (Float.max clk.now clk.agent_free) Agent_work
       end in
     wake ();   (* the first iteration runs HandlePercepts' first step (R5g) *)
     let override name = List.assoc_opt name s.overrides in
@@ -167,16 +204,16 @@ module Make (A : Agent.AGENT) = struct
         let k = match pc with Falling -> 0 | Obstacle -> 1 | Qr_code_read _ -> 2 | Position _ -> 3 in
         counts.(k) <- counts.(k) + 1;
         let prio = match priority with Some k -> k | None -> Agent.default_priority pc in
-        Hashtbl.replace outstanding seq (pc, prio, src, !now);
-        if trace then tr "%.6f notify seq=%d %s prio=%d src=%s" !now seq (Agent.percept_to_string pc) prio src;
+        Seq_table.replace outstanding seq (pc, prio, src, clk.now);
+        if trace then tr "%.6f notify seq=%d %s prio=%d src=%s" clk.now seq (Agent.percept_to_string pc) prio src;
         wake ()
       | Error e ->
         incr refused;
-        if trace then tr "%.6f refused %s src=%s: %s" !now (Agent.percept_to_string pc) src e in
+        if trace then tr "%.6f refused %s src=%s: %s" clk.now (Agent.percept_to_string pc) src e in
     (* sensor state *)
-    let alert_on = ref false and last_alert = ref neg_infinity in
+    let alert_on = ref false in
     let last_qr : (string, float) Hashtbl.t = Hashtbl.create 16 in
-    let last_falling = ref neg_infinity and fell_unreported = ref false in
+    let fell_unreported = ref false in
     let period = function
       | Uwb -> 1. /. s.position_rate | Proximity -> 1. /. s.proximity_rate
       | Camera -> 1. /. s.camera_rate | Imu -> 1. /. s.imu_rate
@@ -194,24 +231,24 @@ module Make (A : Agent.AGENT) = struct
          let near = match band with Some b -> b <= s.obstacle_band +. 1e-9 | None -> false in
          let edge = s.edge_detector && Sensors.edge_ahead robot in
          let on = near || edge in
-         if on && ((not !alert_on) || !now -. !last_alert >= s.obstacle_repeat -. 1e-9) then begin
-           last_alert := !now;
-           Event_queue.add agenda (!now +. p.alert_latency)
+         if on && ((not !alert_on) || clk.now -. clk.last_alert >= s.obstacle_repeat -. 1e-9) then begin
+           clk.last_alert <- clk.now;
+           Event_queue.add agenda (clk.now +. p.alert_latency)
              (Deliver (Obstacle, if near then "proximity" else "edge"))
          end;
          alert_on := on
        | Camera ->
          List.iter (fun (sg : Sensors.sighting) ->
              let fresh = match Hashtbl.find_opt last_qr sg.text with
-               | None -> true | Some t -> !now -. t >= s.qr_repeat -. 1e-9 in
+               | None -> true | Some t -> clk.now -. t >= s.qr_repeat -. 1e-9 in
              if fresh then begin
-               Hashtbl.replace last_qr sg.text !now;
-               Event_queue.add agenda (!now +. p.camera_latency) (Deliver (Qr_code_read sg.text, "camera"))
+               Hashtbl.replace last_qr sg.text clk.now;
+               Event_queue.add agenda (clk.now +. p.camera_latency) (Deliver (Qr_code_read sg.text, "camera"))
              end) (Sensors.readable robot)
        | Imu ->
          if (Robot.tipping robot || !fell_unreported)
-         && !now -. !last_falling >= s.falling_repeat -. 1e-9 then begin
-           last_falling := !now; fell_unreported := false;
+         && clk.now -. clk.last_falling >= s.falling_repeat -. 1e-9 then begin
+           clk.last_falling <- clk.now; fell_unreported := false;
            notify Falling "imu"
          end
        | Flood ->
@@ -231,29 +268,37 @@ module Make (A : Agent.AGENT) = struct
     let agent_work () =
       pending_cmds := []; invokes := 0;
       match A.step agent with
-      | None -> agent_scheduled := false; tr "%.6f idle" !now
+      | None -> agent_scheduled := false; if trace then tr "%.6f idle" clk.now
       | Some w ->
         let cost = Agent.cost_of sc.cost w ~invokes:!invokes in
-        let t_end = !now +. cost in
+        let t_end = clk.now +. cost in
         (match w with
          | Dispatch d ->
-           let (pc, prio, src, t0) = match Hashtbl.find_opt outstanding d.seq with
-             | Some x -> x | None -> (d.percept, d.priority, "?", !now) in
-           Hashtbl.remove outstanding d.seq;
+           let (pc, prio, src, t0) = match Seq_table.find_opt outstanding d.seq with
+             | Some x -> x | None -> (d.percept, d.priority, "?", clk.now) in
+           Seq_table.remove outstanding d.seq;
            ignore pc;
            handled := { seq = d.seq; percept = d.percept; priority = prio; source = src; notified = t0;
-                        dispatched = !now; handlers = d.handlers_run } :: !handled;
+                        dispatched = clk.now; handlers = d.handlers_run } :: !handled;
            if trace then
-             tr "%.6f dispatch seq=%d %s prio=%d latency=%.6f handlers=%d" !now d.seq
-               (Agent.percept_to_string d.percept) prio (!now -. t0) d.handlers_run
-         | Transfer { moved; _ } -> if moved > 0 then tr "%.6f transfer moved=%d" !now moved
-         | Behaviour_step -> tr "%.6f behaviour-step" !now
+             tr "%.6f dispatch seq=%d %s prio=%d latency=%.6f handlers=%d" clk.now d.seq
+               (Agent.percept_to_string d.percept) prio (clk.now -. t0) d.handlers_run
+         | Transfer { moved; _ } -> if trace && moved > 0 then tr "%.6f transfer moved=%d" clk.now moved
+         | Behaviour_step -> if trace then tr "%.6f behaviour-step" clk.now
          | Loop _ -> ());
-        busy_total := !busy_total +. cost;
-        if !now < timeline_window then busy := { b_start = !now; b_end = t_end; b_kind = work_kind w } :: !busy;
+        clk.busy_total <- clk.busy_total +. cost;
+        if clk.now < timeline_window then busy := { b_start = clk.now; b_end = t_end; b_kind = work_kind w } :: !busy;
         issue_commands t_end;
-        agent_free := t_end;
-        Event_queue.add agenda t_end Agent_work in
+        clk.agent_free <- t_end;
+        (* The next unit of work starts at t_end. When the agenda has nothing
+           before or at t_end (an event already there at t_end was scheduled
+           first, so it would go first), its event would be the next taken:
+           the loop then runs it at once instead (issue 17: two thirds of the
+           events are agent work). The same events in the same order; only
+           the agenda's numbering of later events is one lower, which keeps
+           their order. *)
+        if t_end <= sc.duration && Event_queue.next_time agenda > t_end then agent_next := true
+        else Event_queue.add agenda t_end Agent_work in
     let robot_events evs =
       List.iter (fun (e : Robot.event) ->
           let t = Robot.time robot in
@@ -264,34 +309,42 @@ module Make (A : Agent.AGENT) = struct
           | Fall q -> falls := (t, q) :: !falls; fell_unreported := true; tr "%.6f fall x=%.4f y=%.4f" t q.x q.y)
         evs in
     let rec loop () =
-      match Event_queue.peek_time agenda with
-      | Some t when t <= sc.duration ->
-        (match Event_queue.pop agenda with
-         | None -> ()
-         | Some (t, ev) ->
-           incr events;
-           robot_events (Robot.advance robot t);
-           now := t;
-           (match ev with
-            | Sample (src, k) -> sample src k
-            | Deliver (pc, src) -> notify pc src
-            | Sound ->
-              sound_scheduled := false;
-              (match Sound_queue.pop sound with
-               | Some (c, issued, _) ->
-                 Robot.apply robot c;
-                 commands := (issued, t, c) :: !commands;
-                 tr "%.6f play %s" t (Command.to_string c)
-               | None -> ());
-              schedule_sound ()
-            | Agent_work -> agent_work ()));
+      let t = Event_queue.next_time agenda in
+      if (not (Event_queue.is_empty agenda)) && t <= sc.duration then begin
+        let ev = Event_queue.take agenda in
+        incr events;
+        (* most events find nothing happened to the robot: no closure then *)
+        (match Robot.advance robot t with [] -> () | evs -> robot_events evs);
+        clk.now <- t;
+        (match ev with
+         | Sample (src, k) -> sample src k
+         | Deliver (pc, src) -> notify pc src
+         | Sound ->
+           sound_scheduled := false;
+           (match Sound_queue.pop sound with
+            | Some (c, issued, _) ->
+              Robot.apply robot c;
+              commands := (issued, t, c) :: !commands;
+              if trace then tr "%.6f play %s" t (Command.to_string c)
+            | None -> ());
+           schedule_sound ()
+         | Agent_work -> agent_work ());
+        (* the agent's units of work that follow at once, as events taken *)
+        while !agent_next do
+          agent_next := false;
+          let t = clk.agent_free in
+          incr events;
+          (match Robot.advance robot t with [] -> () | evs -> robot_events evs);
+          clk.now <- t;
+          agent_work ()
+        done;
         loop ()
-      | _ -> () in
+      end in
     loop ();
     robot_events (Robot.advance robot sc.duration);
-    now := sc.duration;
+    clk.now <- sc.duration;
     let pending =
-      Hashtbl.fold (fun seq (pc, prio, _, t0) acc -> { p_seq = seq; p_percept = pc; p_priority = prio; p_notified = t0 } :: acc)
+      Seq_table.fold (fun seq (pc, prio, _, t0) acc -> { p_seq = seq; p_percept = pc; p_priority = prio; p_notified = t0 } :: acc)
         outstanding []
       |> List.sort (fun a b -> compare a.p_seq b.p_seq) in
     let q = Robot.pose robot in
@@ -305,7 +358,7 @@ module Make (A : Agent.AGENT) = struct
                    ("position", counts.(3)) ];
       refused = !refused; handled = List.rev !handled; pending;
       world_map = A.world_map agent; commands = List.rev !commands; busy = List.rev !busy;
-      busy_total = !busy_total; odometer = Robot.odometer robot; coverage = coverage grid;
+      busy_total = clk.busy_total; odometer = Robot.odometer robot; coverage = coverage grid;
       events = !events; trace = Buffer.contents buf } in
     (result, agent)
 end

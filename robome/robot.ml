@@ -15,7 +15,6 @@ type t = {
   p : Params.t;
   w : World.t;
   step : float;
-  mutable time : float;
   mutable pose : Kinematics.pose;
   mutable motion : motion;
   mutable waiting : Command.t list;   (* motion commands heard during a manoeuvre, in order *)
@@ -23,41 +22,40 @@ type t = {
   mutable contact : bool;
   mutable tipping : bool;
   mutable fallen : bool;
-  mutable odometer : float;
   mutable hooks : (t -> unit) list;
   rng : Random.State.t;
+  trig : Kinematics.trig;   (* the heading's sine and cosine, remembered *)
+  free : free;              (* a place and the room about it, for [collides] *)
+  k : clock;                (* the time and the odometer *)
 }
 
+(* floats only: a physics step sets them without boxing a float *)
+and clock = { mutable time : float; mutable odometer : float }
+
+(* [room] is a lower bound of the distance from (ax, ay) to every wall and
+   cube ({!World.clearance}); neg_infinity when there is no such place yet.
+   All floats, so that setting them allocates nothing. *)
+and free = { mutable ax : float; mutable ay : float; mutable room : float }
+
 let create ?(step = 0.01) ?(rng = Random.State.make [| 0 |]) p w pose =
-  { rng; p; w; step; time = 0.; pose; motion = Halted; waiting = []; head = Neutral;
-    contact = false; tipping = false; fallen = false; odometer = 0.; hooks = [] }
+  { rng; p; w; step; pose; motion = Halted; waiting = []; head = Neutral;
+    contact = false; tipping = false; fallen = false; hooks = [];
+    k = { time = 0.; odometer = 0. }; trig = Kinematics.trig (); free = { ax = 0.; ay = 0.; room = neg_infinity } }
 
 let params r = r.p
 let world r = r.w
-let time r = r.time
+let time r = r.k.time
 let pose r = r.pose
 let motion r = r.motion
 let head r = r.head
 let tipping r = r.tipping
 let fallen r = r.fallen
-let odometer r = r.odometer
-let moving r = (not r.fallen) && r.motion <> Halted
+let odometer r = r.k.odometer
+let moving r = (not r.fallen) && (match r.motion with Halted -> false | Drive _ | Manoeuvre _ -> true)
 let on_step r f = r.hooks <- r.hooks @ [ f ]
 
 let head_pitch r =
   match r.head with Neutral -> 0. | Up -> r.p.head_up_angle | Down -> r.p.head_down_angle
-
-let velocity r =
-  match r.motion with
-  | Halted -> (0., 0.)
-  | Drive { v; omega } -> (v, omega)
-  | Manoeuvre { omega; _ } -> (0., omega)
-
-(* The point of the body that leads the motion. *)
-let leading_point r (q : Kinematics.pose) =
-  let (v, _) = velocity r in
-  let s = if v < 0. then -.r.p.body_radius else r.p.body_radius in
-  (q.x +. s *. cos q.theta, q.y +. s *. sin q.theta)
 
 let level a s = a.(s - 1)
 
@@ -83,7 +81,7 @@ let start r (c : Command.t) =
     let (k, _) = noise r in
     (* the firmware times the turn for the nominal rate: the angle is off by k *)
     r.motion <- Manoeuvre { omega = sign *. k *. p.angle_turn_rate;
-                            until = r.time +. Params.deg (float_of_int d) /. p.angle_turn_rate } in
+                            until = r.k.time +. Params.deg (float_of_int d) /. p.angle_turn_rate } in
   match c with
   | Stop -> r.motion <- Halted
   | Forward s -> drive (level p.forward_speeds s) 0.
@@ -119,12 +117,38 @@ let apply r (c : Command.t) =
        | Manoeuvre _ -> r.waiting <- r.waiting @ [ c ]
        | _ -> start r c)
 
-(* One physics step of length dt (the motion is constant over it). *)
+(* [World.disc_collides r.w x y rad], without computing it while the disc
+   stays within the room known about the last place where the clearance was
+   measured: a disc centred less than [room - rad - margin] from that place
+   is more than [rad + margin] from every wall and cube, so the exact test
+   would say no (issue 17: the robot moves 2 mm a step in a corridor 2 m
+   wide, so the clearance is measured about once in a hundred steps). *)
+let collides r x y rad =
+  let f = r.free in
+  let dx = x -. f.ax and dy = y -. f.ay in
+  if sqrt (dx *. dx +. dy *. dy) < f.room -. rad -. World.margin then false
+  else begin
+    let room = World.clearance r.w x y in
+    f.ax <- x; f.ay <- y; f.room <- room;
+    if room -. rad -. World.margin > 0. then false else World.disc_collides r.w x y rad
+  end
+[@@inline]   (* no float boxed to call it *)
+
+let rec run_hooks r = function [] -> () | f :: rest -> f r; run_hooks r rest
+
+(* One physics step of length dt (the motion is constant over it). The
+   speeds are those of the motion (a manoeuvre turns on the spot), the pose that of [Kinematics.integrate]
+   and the contact test that of [World.disc_collides], each computed without
+   allocating a tuple or calling sin and cos again for the same heading
+   (issue 17); the same floats bit for bit. The leading point is the point
+   of the body that leads the motion: its front, or its back when the robot
+   backs. *)
 let physics_step r dt events =
-  let (v, omega) = velocity r in
-  let q = Kinematics.integrate r.pose ~v ~omega ~dt in
+  let v = match r.motion with Drive d -> d.v | Halted | Manoeuvre _ -> 0. in
+  let omega = match r.motion with Drive d -> d.omega | Manoeuvre m -> m.omega | Halted -> 0. in
+  let q = Kinematics.integrate_cached r.trig r.pose ~v ~omega ~dt in
   let rad = r.p.body_radius in
-  let blocked = (v <> 0.) && World.disc_collides r.w q.x q.y rad in
+  let blocked = (v <> 0.) && collides r q.x q.y rad in
   let q = if blocked then { r.pose with theta = q.theta } else q in
   if blocked then begin
     if not r.contact then events := Collision q :: !events;
@@ -132,35 +156,55 @@ let physics_step r dt events =
   end else begin
     (* the contact ends once the body is clear by a centimetre *)
     if r.contact && not (World.disc_collides r.w q.x q.y (rad +. 0.01)) then r.contact <- false;
-    r.odometer <- r.odometer +. Kinematics.arc_length ~v ~dt
+    r.k.odometer <- r.k.odometer +. Float.abs v *. dt   (* Kinematics.arc_length, unboxed *)
   end;
   r.pose <- q;
-  r.time <- r.time +. dt;
-  if World.over_dropoff r.w q.x q.y then begin
+  r.k.time <- r.k.time +. dt;
+  (* a world without drop-offs (most) is not asked: no float boxed for it *)
+  let edges = match r.w.dropoffs with [] -> false | _ :: _ -> true in
+  if edges && World.over_dropoff r.w q.x q.y then begin
     r.fallen <- true; r.motion <- Halted; r.waiting <- [];
     events := Fall q :: !events
   end else begin
-    let (lx, ly) = leading_point r q in
-    let over = World.over_dropoff r.w lx ly in
+    let s = if v < 0. then -.rad else rad in
+    let over = edges && (Kinematics.load r.trig q.theta;
+                         World.over_dropoff r.w (q.x +. s *. r.trig.cos_a) (q.y +. s *. r.trig.sin_a)) in
     if over && not r.tipping then (r.tipping <- true; events := Tipping_start q :: !events)
     else if (not over) && r.tipping && v <> 0. then (r.tipping <- false; events := Tipping_end q :: !events)
   end;
-  List.iter (fun f -> f r) r.hooks
+  run_hooks r r.hooks
+[@@inline]   (* once a step: no float boxed to call it *)
+
+(* Float.min (the same float for every input but two nans), written here to
+   be inlined: no float boxed to call it *)
+let fmin (x : float) y =
+  if x < y then x
+  else if y < x then y
+  else if x <> x then x
+  else if y <> y then y
+  else if 1. /. x < 0. then x   (* -0. before 0. *)
+  else y
+[@@inline]
+
+let rec advance_to r t events =
+  if r.k.time < t then begin
+    if not (moving r) then r.k.time <- t
+    else begin
+      let limit = match r.motion with Manoeuvre { until; _ } -> fmin t until | _ -> t in
+      let dt = fmin r.step (limit -. r.k.time) in
+      if dt > 0. then physics_step r dt events;
+      (match r.motion with
+       | Manoeuvre { until; _ } when r.k.time >= until -. 1e-12 -> r.k.time <- Float.max r.k.time until; end_manoeuvre r
+       | _ -> ());
+      advance_to r t events
+    end
+  end
 
 let advance r t =
-  let events = ref [] in
-  let rec go () =
-    if r.time < t then begin
-      if not (moving r) then r.time <- t
-      else begin
-        let limit = match r.motion with Manoeuvre { until; _ } -> Float.min t until | _ -> t in
-        let dt = Float.min r.step (limit -. r.time) in
-        if dt > 0. then physics_step r dt events;
-        (match r.motion with
-         | Manoeuvre { until; _ } when r.time >= until -. 1e-12 -> r.time <- Float.max r.time until; end_manoeuvre r
-         | _ -> ());
-        go ()
-      end
-    end in
-  go ();
-  List.rev !events
+  if not (r.k.time < t) then []
+  else if not (moving r) then (r.k.time <- t; [])
+  else begin
+    let events = ref [] in
+    advance_to r t events;
+    List.rev !events
+  end

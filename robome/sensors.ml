@@ -3,14 +3,13 @@ let nearest_ahead r =
   let nb = Array.length p.proximity_bands in
   let max = p.proximity_bands.(nb - 1) in
   let fx = q.x +. p.body_radius *. cos q.theta and fy = q.y +. p.body_radius *. sin q.theta in
-  let best = ref None in
+  let best = ref infinity in
   for i = -2 to 2 do
     let a = q.theta +. float_of_int i *. p.proximity_half_angle /. 2. in
-    match World.ray (Robot.world r) fx fy a ~max with
-    | Some d -> (match !best with Some b when b <= d -> () | _ -> best := Some d)
-    | None -> ()
+    let d = World.ray_distance (Robot.world r) fx fy a ~max in
+    if d < !best then best := d
   done;
-  !best
+  if !best = infinity then None else Some !best
 
 let proximity_band (p : Params.t) = function
   | None -> None
@@ -37,29 +36,35 @@ let readable r =
     let pitch = Robot.head_pitch r in
     let cam = { World.px = q.x; py = q.y } in
     let out = ref [] in
-    Array.iteri (fun ci (c : World.cube) ->
-        let dcx = c.cx -. q.x and dcy = c.cy -. q.y in
-        let reach = p.qr_range_factor *. c.size *. p.qr_fraction +. c.size in
-        if dcx *. dcx +. dcy *. dcy <= reach *. reach then
-          Array.iteri (fun fi text ->
-              if text <> "" then begin
-                let f = World.face_centre c fi and n = World.face_normal c fi in
-                let dx = f.px -. q.x and dy = f.py -. q.y in
-                let d = sqrt (dx *. dx +. dy *. dy) in
-                let qr_side = c.size *. p.qr_fraction in
-                let bearing = Kinematics.normalise (atan2 dy dx -. q.theta) in
-                let elevation = atan2 (c.size /. 2. -. p.camera_height) d in
-                (* the face looks at the camera: cos of the angle between its
-                   normal and the direction from the face to the camera *)
-                let facing = if d = 0. then -1. else (-.dx *. n.px -. dy *. n.py) /. d in
-                let sight = { World.a = cam; b = f } in
-                if d >= p.camera_min_range && d <= p.qr_range_factor *. qr_side
-                   && Float.abs bearing <= p.camera_hfov /. 2.
-                   && Float.abs (elevation -. pitch) <= p.camera_vfov /. 2.
-                   && facing >= cos p.qr_max_view_angle
-                   && not (World.segment_crosses_wall w sight)
-                   && not (Array.exists (fun (o : World.cube) -> o != c && World.segment_hits_cube sight o) w.cubes)
-                then out := { cube = ci; face = fi; text; distance = d } :: !out
-              end) c.faces) w.cubes;
+    (* loops over the indices, the faces' centres and normals and the cubes'
+       sides computed once by World.make (issue 17) *)
+    for ci = 0 to Array.length w.cubes - 1 do
+      let c = w.cubes.(ci) in
+      let dcx = c.cx -. q.x and dcy = c.cy -. q.y in
+      let reach = p.qr_range_factor *. c.size *. p.qr_fraction +. c.size in
+      if dcx *. dcx +. dcy *. dcy <= reach *. reach then
+        for fi = 0 to Array.length c.faces - 1 do
+          let text = c.faces.(fi) in
+          if text <> "" then begin
+            let f = World.face_centre_of w ci fi and n = World.face_normal_of w ci fi in
+            let dx = f.px -. q.x and dy = f.py -. q.y in
+            let d = sqrt (dx *. dx +. dy *. dy) in
+            let qr_side = c.size *. p.qr_fraction in
+            let bearing = Kinematics.normalise (atan2 dy dx -. q.theta) in
+            let elevation = atan2 (c.size /. 2. -. p.camera_height) d in
+            (* the face looks at the camera: cos of the angle between its
+               normal and the direction from the face to the camera *)
+            let facing = if d = 0. then -1. else (-.dx *. n.px -. dy *. n.py) /. d in
+            let sight = { World.a = cam; b = f } in
+            if d >= p.camera_min_range && d <= p.qr_range_factor *. qr_side
+               && Float.abs bearing <= p.camera_hfov /. 2.
+               && Float.abs (elevation -. pitch) <= p.camera_vfov /. 2.
+               && facing >= cos p.qr_max_view_angle
+               && not (World.segment_crosses_wall w sight)
+               && not (World.sight_blocked w sight ~except:ci)
+            then out := { cube = ci; face = fi; text; distance = d } :: !out
+          end
+        done
+    done;
     List.rev !out
   end

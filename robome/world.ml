@@ -17,7 +17,10 @@ type rect = { x_min : float; y_min : float; x_max : float; y_max : float }
    radius of the circle about its centre that holds its footprint (half its
    diagonal). *)
 type broad = { walls_a : segment array; wall_box : float array; cube_reach : float array;
-               cube_sides : segment list array (* cube_segments of each cube, for ray *) }
+               cube_sides : segment list array; (* cube_segments of each cube, for ray *)
+               cube_cos : float array; cube_sin : float array;   (* of each cube's yaw *)
+               face_c : point array array; face_n : point array array
+               (* face_centre and face_normal of each face of each cube *) }
 
 type t = {
   length : float;
@@ -38,7 +41,8 @@ let broad_of walls cubes =
       wall_box.(4 * i + 1) <- Float.min s.a.py s.b.py;
       wall_box.(4 * i + 2) <- Float.max s.a.px s.b.px;
       wall_box.(4 * i + 3) <- Float.max s.a.py s.b.py) walls_a;
-  { walls_a; wall_box; cube_reach = Array.map (fun c -> c.size *. sqrt 2. /. 2.) cubes; cube_sides = [||] }
+  { walls_a; wall_box; cube_reach = Array.map (fun c -> c.size *. sqrt 2. /. 2.) cubes; cube_sides = [||];
+    cube_cos = [||]; cube_sin = [||]; face_c = [||]; face_n = [||] }
 
 (* The cube's local axes: face i has its normal at yaw + i * 90 degrees. *)
 let face_normal c i =
@@ -66,11 +70,22 @@ let make ~length ~width ?(extra_walls = []) ~cubes ~dropoffs () =
   let outer = [ { a = c00; b = c10 }; { a = c10; b = c11 }; { a = c11; b = c01 }; { a = c01; b = c00 } ] in
   let walls = outer @ extra_walls and cubes = Array.of_list cubes in
   { length; width; walls; cubes; dropoffs;
-    broad = { (broad_of walls cubes) with cube_sides = Array.map cube_segments cubes } }
+    broad = { (broad_of walls cubes) with
+              cube_sides = Array.map cube_segments cubes;
+              cube_cos = Array.map (fun c -> cos c.yaw) cubes;
+              cube_sin = Array.map (fun c -> sin c.yaw) cubes;
+              face_c = Array.map (fun c -> Array.mapi (fun i _ -> face_centre c i) c.faces) cubes;
+              face_n = Array.map (fun c -> Array.mapi (fun i _ -> face_normal c i) c.faces) cubes } }
+
+let face_centre_of w j i = w.broad.face_c.(j).(i)
+let face_normal_of w j i = w.broad.face_n.(j).(i)
 
 let in_rect r x y = x >= r.x_min && x <= r.x_max && y >= r.y_min && y <= r.y_max
 
-let over_dropoff w x y = List.exists (fun r -> in_rect r x y) w.dropoffs
+(* a loop rather than List.exists: no closure over x and y at every physics step *)
+let rec over_any rs x y = match rs with [] -> false | r :: rest -> in_rect r x y || over_any rest x y
+
+let over_dropoff w x y = over_any w.dropoffs x y
 
 (* Coordinates of a point in the cube's frame. *)
 let local c x y =
@@ -129,6 +144,24 @@ let disc_collides w x y r =
   done;
   !hit
 
+(* A lower bound of the distance from (x, y) to every wall and cube: the
+   exact distance to each wall, and to each cube the distance to its centre
+   less half its diagonal. *)
+let clearance w x y =
+  let b = w.broad in
+  let d = ref infinity in
+  for i = 0 to Array.length b.walls_a - 1 do
+    let e = dist_point_segment x y (Array.unsafe_get b.walls_a i) in
+    if e < !d then d := e
+  done;
+  for j = 0 to Array.length w.cubes - 1 do
+    let c = Array.unsafe_get w.cubes j in
+    let dx = x -. c.cx and dy = y -. c.cy in
+    let e = sqrt (dx *. dx +. dy *. dy) -. Array.unsafe_get b.cube_reach j in
+    if e < !d then d := e
+  done;
+  !d
+
 (* Intersection of the ray (o + t d, t >= 0) with a segment: the t, if any. *)
 let ray_segment ox oy dx dy s =
   let ex = s.b.px -. s.a.px and ey = s.b.py -. s.a.py in
@@ -156,6 +189,40 @@ let ray w x y angle ~max =
     w.cubes;
   !best
 
+(* The earlier of [best] and the hit of the ray on [s] if it is at most
+   [max]: the test of [ray_segment], without an option. *)
+let closer ox oy dx dy s max best =
+  let ex = s.b.px -. s.a.px and ey = s.b.py -. s.a.py in
+  let den = dx *. ey -. dy *. ex in
+  if Float.abs den < 1e-12 then best
+  else begin
+    let ax = s.a.px -. ox and ay = s.a.py -. oy in
+    let t = (ax *. ey -. ay *. ex) /. den in
+    let u = (ax *. dy -. ay *. dx) /. den in
+    if t >= 0. && u >= 0. && u <= 1. && t <= max && t < best then t else best
+  end [@@inline]
+
+let rec closer_in ox oy dx dy sides max best =
+  match sides with
+  | [] -> best
+  | s :: rest -> closer_in ox oy dx dy rest max (closer ox oy dx dy s max best)
+
+let ray_distance w x y angle ~max =
+  let dx = cos angle and dy = sin angle in
+  let b = w.broad in
+  let best = ref infinity in
+  for i = 0 to Array.length b.walls_a - 1 do
+    best := closer x y dx dy (Array.unsafe_get b.walls_a i) max !best
+  done;
+  for j = 0 to Array.length w.cubes - 1 do
+    let c = Array.unsafe_get w.cubes j in
+    let ddx = c.cx -. x and ddy = c.cy -. y in
+    let reach = max +. c.size in
+    if ddx *. ddx +. ddy *. ddy <= reach *. reach then
+      best := closer_in x y dx dy (Array.unsafe_get b.cube_sides j) max !best
+  done;
+  !best
+
 let orient p q r = (q.px -. p.px) *. (r.py -. p.py) -. (q.py -. p.py) *. (r.px -. p.px)
 
 let segments_cross s1 s2 =
@@ -171,3 +238,25 @@ let segment_crosses_wall w s =
   match w.walls with
   | _ :: _ :: _ :: _ :: extra -> List.exists (segments_cross s) extra
   | _ -> false
+
+(* [in_cube c x y] for cube [j] = c, with the cosine and sine of its yaw
+   computed once ([local]'s formulas) *)
+let in_cube_at b j c x y =
+  let dx = x -. c.cx and dy = y -. c.cy in
+  let co = Array.unsafe_get b.cube_cos j and si = Array.unsafe_get b.cube_sin j in
+  let u = dx *. co +. dy *. si and v = -.dx *. si +. dy *. co in
+  let h = c.size /. 2. in
+  Float.abs u <= h && Float.abs v <= h
+
+let rec crosses_any s = function [] -> false | side :: rest -> segments_cross s side || crosses_any s rest
+
+let sight_blocked w s ~except =
+  let b = w.broad in
+  let rec go j =
+    j < Array.length w.cubes
+    && ((j <> except
+         && (let c = Array.unsafe_get w.cubes j in
+             in_cube_at b j c s.a.px s.a.py || in_cube_at b j c s.b.px s.b.py
+             || crosses_any s (Array.unsafe_get b.cube_sides j)))
+        || go (j + 1)) in
+  go 0

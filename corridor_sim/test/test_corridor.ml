@@ -112,6 +112,62 @@ let prop_agenda =
        let expected = List.stable_sort (fun (a, _) (b, _) -> compare a b) (List.mapi (fun i t -> (float_of_int t, i)) times) in
        got = expected)
 
+(* Adds and takes interleaved, as the simulation does, against a list kept
+   sorted by (time, scheduling number); times from a few values, so that
+   ties are many; next_time and size checked at every step. *)
+let prop_agenda_interleaved =
+  qtest ~count:300 "the agenda, adds and takes interleaved = a sorted list"
+    QCheck.(list (pair bool (int_range 0 6)))
+    (fun ops ->
+       let q = Event_queue.create () and model = ref [] and n = ref 0 in
+       List.for_all (fun (take, t) ->
+           if take && !model <> [] then begin
+             let expected_t = Event_queue.next_time q in
+             let v = Event_queue.take q in
+             match !model with
+             | (t0, v0) :: rest -> model := rest; expected_t = t0 && v = v0
+             | [] -> false
+           end else begin
+             let t = float_of_int t /. 2. in
+             Event_queue.add q t !n;
+             (* after every entry of equal or earlier time *)
+             let rec ins = function
+               | (t', v') :: rest when t' <= t -> (t', v') :: ins rest
+               | l -> (t, !n) :: l in
+             model := ins !model;
+             incr n;
+             true
+           end
+           && Event_queue.size q = List.length !model
+           && Event_queue.next_time q = (match !model with (t, _) :: _ -> t | [] -> infinity)) ops)
+
+(* Metrics.sort_floats against Array.stable_sort Float.compare, bit for bit:
+   arrays with many equal values, both zeros, nan and infinities. *)
+let prop_sort_floats =
+  let value = QCheck.(oneof [ map float_of_int (int_range 0 5); always 0.; always (-0.); always nan;
+                              always infinity; always neg_infinity; float ]) in
+  qtest ~count:500 "sort_floats = Array.stable_sort Float.compare, bit for bit"
+    QCheck.(array value)
+    (fun a ->
+       let b = Array.copy a and c = Array.copy a in
+       Metrics.sort_floats b;
+       Array.stable_sort Float.compare c;
+       Array.for_all2 (fun x y -> Int64.equal (Int64.bits_of_float x) (Int64.bits_of_float y)) b c)
+
+(* The same on arrays made of runs already in order, as a run's latencies
+   come (some forty runs of a few values each). *)
+let prop_sort_floats_runs =
+  let run = QCheck.(map (fun l -> List.sort Float.compare (List.map (fun k -> float_of_int k /. 4.) l))
+                      (list_of_size Gen.(int_range 0 30) (int_range 0 6))) in
+  qtest ~count:500 "sort_floats on runs in order = Array.stable_sort Float.compare"
+    QCheck.(list_of_size Gen.(int_range 0 12) run)
+    (fun runs ->
+       let a = Array.of_list (List.concat runs) in
+       let b = Array.copy a and c = Array.copy a in
+       Metrics.sort_floats b;
+       Array.stable_sort Float.compare c;
+       Array.for_all2 (fun x y -> Int64.equal (Int64.bits_of_float x) (Int64.bits_of_float y)) b c)
+
 (* ------------------------------------------------------------ controller *)
 
 let quiet_host () =
@@ -357,7 +413,7 @@ let () =
         Alcotest.test_case "bad files are rejected" `Quick test_bad_files;
         Alcotest.test_case "every number in its range" `Quick test_ranges;
         Alcotest.test_case "random cubes per seed" `Quick test_random_cubes ]);
-    ("agenda", [ prop_agenda ]);
+    ("agenda", [ prop_agenda; prop_agenda_interleaved; prop_sort_floats; prop_sort_floats_runs ]);
     ("controller", [
         Alcotest.test_case "priorities, seqs and handlers (R2b, R3b)" `Quick test_priorities;
         Alcotest.test_case "override and refusals (R2a, R2d)" `Quick test_override_and_refusals;

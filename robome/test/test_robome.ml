@@ -304,6 +304,150 @@ let test_broad_phase_touching () =
         List.iter (fun d -> check (fc.px +. (r +. d) *. n.px) (fc.py +. (r +. d) *. n.py) r) shifts
       done) w.cubes
 
+(* ------------------------------------------- faster paths = the formulas *)
+
+(* The same float, bit for bit. *)
+let same_bits a b = Int64.equal (Int64.bits_of_float a) (Int64.bits_of_float b)
+
+(* Kinematics.integrate_cached against Kinematics.integrate, bit for bit, on
+   runs of steps that share one cache as the robot's do (the heading of one
+   step is the next step's), with headings at zero of both signs, at +-pi
+   (where normalise wraps), and straight steps between arcs. *)
+let test_integrate_cached () =
+  let rng = Random.State.make [| 23 |] in
+  let pick l = List.nth l (Random.State.int rng (List.length l)) in
+  for _ = 1 to 2_000 do
+    let t = Kinematics.trig () in
+    let start = pick [ 0.; -0.; Float.pi; -.Float.pi; Random.State.float rng 7. -. 3.5 ] in
+    let p = ref (pose (Random.State.float rng 10.) (Random.State.float rng 2.) start) in
+    for _ = 1 to 50 do
+      let v = pick [ 0.; -0.; 0.3; -0.2; Random.State.float rng 1. -. 0.5 ] in
+      let omega = pick [ 0.; -0.; 1e-13; 0.8; -1.5; Random.State.float rng 4. -. 2. ] in
+      let dt = pick [ 0.01; 0.004; Random.State.float rng 0.02 ] in
+      let a = Kinematics.integrate !p ~v ~omega ~dt and b = Kinematics.integrate_cached t !p ~v ~omega ~dt in
+      if not (same_bits a.x b.x && same_bits a.y b.y && same_bits a.theta b.theta) then
+        Alcotest.failf "pose (%h, %h, %h), v %h, omega %h, dt %h: (%h, %h, %h) cached, (%h, %h, %h) not"
+          !p.x !p.y !p.theta v omega dt b.x b.y b.theta a.x a.y a.theta;
+      (* sometimes a heading of the other zero, as a blocked step may keep *)
+      p := if Random.State.int rng 10 = 0 then { a with theta = pick [ 0.; -0. ] } else a;
+      if not (same_bits (Kinematics.sin_of t !p.theta) (sin !p.theta)
+              && same_bits (Kinematics.cos_of t !p.theta) (cos !p.theta)) then
+        Alcotest.failf "sin/cos of %h from the cache differ" !p.theta
+    done
+  done
+
+(* World.clearance, as Robot uses it to skip disc_collides: a disc of radius
+   r whose centre is less than clearance - r - margin from the place where
+   the clearance was measured collides with nothing. Random places, and
+   discs placed at the edge of that room, in the world of the broad-phase
+   tests (walls inside the corridor, turned cubes, a wall of length 0). *)
+let test_clearance () =
+  let w = broad_world () in
+  let rng = Random.State.make [| 29 |] in
+  let skipped = ref 0 in
+  for _ = 1 to 100_000 do
+    let ax = Random.State.float rng 11. -. 0.5 and ay = Random.State.float rng 3. -. 0.5 in
+    let room = World.clearance w ax ay in
+    let r = Random.State.float rng 0.3 in
+    let reach = room -. r -. World.margin in
+    if reach > 0. then begin
+      (* a point strictly inside the room, close to its edge most times *)
+      let a = Random.State.float rng (2. *. Float.pi) in
+      let d = reach *. (if Random.State.bool rng then 1. -. Random.State.float rng 1e-6 else Random.State.float rng 1.) in
+      let x = ax +. d *. cos a and y = ay +. d *. sin a in
+      if sqrt ((x -. ax) *. (x -. ax) +. (y -. ay) *. (y -. ay)) < reach then begin
+        incr skipped;
+        if brute_collides w x y r then
+          Alcotest.failf "room %h at (%h, %h): the disc (%h, %h) radius %h collides" room ax ay x y r
+      end
+    end
+  done;
+  Alcotest.(check bool) "many discs skipped" true (!skipped > 10_000)
+
+(* The robot's run against the formulas its fast physics step replaced:
+   after every step, the pose is Kinematics.integrate of the last one, or
+   that pose turned only when World.disc_collides says the end overlaps (the
+   wheels spin). Drives with drift (every step an arc) into the walls and
+   cubes of the broad-phase world, bit for bit. *)
+let test_robot_as_formulas () =
+  let w = broad_world () in
+  let p = { Params.default with speed_noise = 0.1; drift = 0.3 } in
+  let blocked = ref 0 and steps = ref 0 in
+  List.iter (fun (seed, x, y, th) ->
+      let r = Robot.create ~rng:(Random.State.make [| seed |]) p w (pose x y th) in
+      let last = ref (Robot.pose r) and last_t = ref 0. and target = ref 0. in
+      Robot.on_step r (fun r ->
+          let (v, omega) = match Robot.motion r with
+            | Drive { v; omega } -> (v, omega) | Manoeuvre { omega; _ } -> (0., omega) | Halted -> (0., 0.) in
+          (* the step Robot.advance takes: the physics step, or what is left *)
+          let dt = Float.min 0.01 (!target -. !last_t) in
+          let q = Kinematics.integrate !last ~v ~omega ~dt in
+          let hit = v <> 0. && World.disc_collides w q.x q.y p.body_radius in
+          let expected = if hit then { !last with theta = q.theta } else q in
+          let got = Robot.pose r in
+          incr steps; if hit then incr blocked;
+          if not (same_bits got.x expected.x && same_bits got.y expected.y && same_bits got.theta expected.theta) then
+            Alcotest.failf "seed %d, t = %h: (%h, %h, %h), the formulas (%h, %h, %h)" seed (Robot.time r)
+              got.x got.y got.theta expected.x expected.y expected.theta;
+          last := got; last_t := Robot.time r);
+      List.iteri (fun i c ->
+          Robot.apply r c;
+          (* a step shorter than the physics step now and then *)
+          target := float_of_int (i + 1) *. 6. +. 0.0037;
+          ignore (Robot.advance r !target))
+        [ Command.Forward 3; Command.Backward 2; Command.Forward 3; Command.Turn_left (Command.Speed 1);
+          Command.Forward 3; Command.Backward 3; Command.Forward 2 ])
+    [ (1, 1., 1., 0.3); (2, 2.5, 1.6, -0.4); (3, 5.6, 0.4, 2.9); (4, 9.2, 1.7, 0.) ];
+  Alcotest.(check bool) (Printf.sprintf "blocked steps (%d of %d)" !blocked !steps) true (!blocked > 100)
+
+let test_ray_distance () =
+  let w = broad_world () in
+  let rng = Random.State.make [| 31 |] in
+  let hits = ref 0 in
+  for _ = 1 to 100_000 do
+    let x = Random.State.float rng 10. and y = Random.State.float rng 2. in
+    let a = Random.State.float rng 7. -. 3.5 and max = Random.State.float rng 3. in
+    let d = World.ray_distance w x y a ~max in
+    match World.ray w x y a ~max with
+    | Some e -> incr hits; if not (same_bits d e) then Alcotest.failf "ray (%h, %h, %h) max %h: %h, not %h" x y a max d e
+    | None -> if d <> infinity then Alcotest.failf "ray (%h, %h, %h) max %h: %h, not none" x y a max d
+  done;
+  Alcotest.(check bool) "many hits" true (!hits > 10_000)
+
+let test_sight_blocked () =
+  let w = broad_world () in
+  let rng = Random.State.make [| 37 |] in
+  let blocked = ref 0 in
+  let pt () = { World.px = Random.State.float rng 8. +. 1.; py = Random.State.float rng 2. } in
+  (* a point inside a cube's footprint *)
+  let inside () =
+    let c = w.cubes.(Random.State.int rng (Array.length w.cubes)) in
+    let u = (Random.State.float rng 0.9 -. 0.45) *. c.size and v = (Random.State.float rng 0.9 -. 0.45) *. c.size in
+    { World.px = c.cx +. u *. cos c.yaw -. v *. sin c.yaw; py = c.cy +. u *. sin c.yaw +. v *. cos c.yaw } in
+  for _ = 1 to 100_000 do
+    (* ends anywhere, inside a cube, or at a cube's face centre as the
+       camera's are *)
+    let j = Random.State.int rng (Array.length w.cubes) in
+    let b = match Random.State.int rng 3 with
+      | 0 -> pt () | 1 -> inside () | _ -> World.face_centre w.cubes.(j) (Random.State.int rng 4) in
+    let a = if Random.State.int rng 4 = 0 then inside () else pt () in
+    (* sometimes both ends in the same cube: no side crossed *)
+    let a = if Random.State.int rng 8 = 0 then { World.px = b.px +. 0.001; py = b.py } else a in
+    let s = { World.a; b } in
+    let expected = Array.exists (fun (o : World.cube) -> o != w.cubes.(j) && World.segment_hits_cube s o) w.cubes in
+    if expected then incr blocked;
+    if World.sight_blocked w s ~except:j <> expected then
+      Alcotest.failf "segment (%h, %h)-(%h, %h) but cube %d: %b" s.a.px s.a.py s.b.px s.b.py j (not expected)
+  done;
+  Array.iteri (fun j (c : World.cube) ->
+      for i = 0 to 3 do
+        let f = World.face_centre c i and f' = World.face_centre_of w j i in
+        let n = World.face_normal c i and n' = World.face_normal_of w j i in
+        if not (same_bits f.px f'.px && same_bits f.py f'.py && same_bits n.px n'.px && same_bits n.py n'.py) then
+          Alcotest.failf "face %d of cube %d computed once differs" i j
+      done) w.cubes;
+  Alcotest.(check bool) "many blocked" true (!blocked > 5_000)
+
 let () =
   Alcotest.run "robome" [
     ("kinematics", [
@@ -330,4 +474,10 @@ let () =
     ("broad phase", [
         Alcotest.test_case "random discs: as testing every wall and cube" `Quick test_broad_phase_random;
         Alcotest.test_case "touching discs: as testing every wall and cube" `Quick test_broad_phase_touching ]);
+    ("faster paths", [
+        Alcotest.test_case "integrate with sin/cos remembered = integrate, bit for bit" `Quick test_integrate_cached;
+        Alcotest.test_case "discs within the clearance collide with nothing" `Quick test_clearance;
+        Alcotest.test_case "the robot's steps = integrate and disc_collides, bit for bit" `Quick test_robot_as_formulas;
+        Alcotest.test_case "ray_distance = ray" `Quick test_ray_distance;
+        Alcotest.test_case "sight_blocked and the faces computed once = the formulas" `Quick test_sight_blocked ]);
   ]
