@@ -1,0 +1,312 @@
+(* The packed agent: the engine's agent loop with its waiting percepts as
+   ints in rings (Ring), beside the reference rules of
+   lib/semantics/machine.ml. See packed.mli for the layout; every function
+   here computes what a rule of the reference computes, and test/fastpath
+   holds [to_config] equal to the reference after every step. *)
+
+open Semantics.Machine
+module Pqueue = Semantics.Pqueue
+module Fqueue = Semantics.Fqueue
+
+module type CODEC = sig
+  type percept
+  type t
+  val create : unit -> t
+  val tag : t -> percept -> int
+  val width : t -> int -> int
+  val boxed : t -> int -> bool
+  val write : t -> int -> percept -> percept Ring.t -> unit
+  val read : t -> int -> percept Ring.t -> pos:int -> box:int -> percept
+end
+
+(* A record's header: a priority (O2A ring) or a seq (bucket) and the tag,
+   in one int. Priorities are Java ints and seqs count notifies: both fit
+   in the 42 bits left (arithmetic shift: a negative one too). *)
+let tag_bits = 20
+let tag_mask = (1 lsl tag_bits) - 1
+let header x tag = (x lsl tag_bits) lor tag
+let high h = h asr tag_bits
+let tag_of h = h land tag_mask
+
+module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
+  module F = Fast.Make (B)
+  module M = F.M
+
+  (* One priority's waiting percepts, oldest first (R3b, stable ties). *)
+  type bucket = { bprio : int; ring : B.percept Ring.t }
+
+  type t = {
+    p : params;
+    is_packed : bool;
+    mutable c : M.t;
+      (* packed: [c.o2a] holds the objects only (R2c), [c.pq] is empty *)
+    codec : C.t;
+    o2a : B.percept Ring.t;            (* records [prio_tag; slots...] *)
+    mutable o2a_n : int;               (* records in the O2A ring *)
+    mutable after : int Fqueue.t;
+      (* beside each object of [c.o2a], in order: [next_seq] when it was
+         put (it stands after the percept of that seq, before the next) *)
+    mutable buckets : bucket array;    (* highest priority first *)
+    mutable pq_n : int;                (* records in the buckets *)
+    mutable hint : int;                (* the bucket the last record went to *)
+  }
+
+  let packable p =
+    (p.variant = Reference || p.variant = Budgeted) && p.tie = Stable && not p.flood && not p.ghosts
+
+  let params t = t.p
+  let packed t = t.is_packed
+  let phase t = t.c.phase
+  let last t = t.c.last
+  let world t = t.c.world
+
+  (* ---------------------------------------------------------- buckets *)
+
+  (* The bucket of priority [prio], made (in its place, priorities
+     descending) if there is none. A transfer's records mostly go where the
+     previous one went. *)
+  let bucket_for t prio =
+    let bs = t.buckets in
+    if t.hint < Array.length bs && bs.(t.hint).bprio = prio then bs.(t.hint)
+    else begin
+      let n = Array.length bs in
+      let rec find i = if i < n && bs.(i).bprio > prio then find (i + 1) else i in
+      let i = find 0 in
+      if i < n && bs.(i).bprio = prio then (t.hint <- i; bs.(i))
+      else begin
+        let b = { bprio = prio; ring = Ring.create () } in
+        t.buckets <- Array.init (n + 1) (fun j -> if j < i then bs.(j) else if j = i then b else bs.(j - 1));
+        t.hint <- i;
+        b
+      end
+    end
+
+  (* The highest non-empty bucket; there is one when [pq_n > 0]. *)
+  let top_bucket t =
+    let bs = t.buckets in
+    let rec go i = if Ring.length bs.(i).ring > 0 then bs.(i) else go (i + 1) in
+    go 0
+
+  (* The front record of a bucket, decoded into its entry (not removed). *)
+  let front_entry t b =
+    let h = Ring.get b.ring 0 in
+    { p = C.read t.codec (tag_of h) b.ring ~pos:1 ~box:0; prio = b.bprio; seq = high h }
+
+  (* Dequeue's pop (R3b): the highest bucket's oldest record, decoded. *)
+  let pop t =
+    let b = top_bucket t in
+    let e = front_entry t b in
+    let tag = tag_of (Ring.get b.ring 0) in
+    Ring.drop b.ring (1 + C.width t.codec tag);
+    if C.boxed t.codec tag then Ring.drop_box b.ring;
+    Ring.shrink b.ring;
+    t.pq_n <- t.pq_n - 1;
+    e
+
+  (* A record of [ring]: the header [h], its ints from [pos], its box (if
+     any) the front one; pushed onto bucket [b] with header [h'], and
+     removed from [ring]. *)
+  let move t ring b h' =
+    let tag = tag_of h' in
+    Ring.push b.ring h';
+    let w = C.width t.codec tag in
+    for k = 1 to w do Ring.push b.ring (Ring.get ring k) done;
+    Ring.drop ring (1 + w);
+    if C.boxed t.codec tag then begin Ring.push_box b.ring (Ring.get_box ring 0); Ring.drop_box ring end
+
+  (* ------------------------------------------------ packing, projecting *)
+
+  let empty_state p c is_packed =
+    { p; is_packed; c; codec = C.create (); o2a = Ring.create (); o2a_n = 0; after = Fqueue.empty;
+      buckets = [||]; pq_n = 0; hint = 0 }
+
+  let push_o2a t (e : B.percept entry) =
+    let tag = C.tag t.codec e.p in
+    Ring.push t.o2a (header e.prio tag);
+    C.write t.codec tag e.p t.o2a;
+    t.o2a_n <- t.o2a_n + 1
+
+  let of_config p (c : M.t) =
+    if not (packable p) then empty_state p c false
+    else begin
+      let t = empty_state p c true in
+      (* the percepts in O2A are the last notified: their seqs run to next_seq *)
+      let items = Fqueue.to_list c.o2a in
+      let percepts = List.filter_map (function O_percept e -> Some e | O_object _ -> None) items in
+      let first = c.next_seq - List.length percepts + 1 in
+      List.iteri (fun i (e : B.percept entry) ->
+          if e.seq <> first + i then invalid_arg "Packed.of_config: O2A's seqs are not the last notified")
+        percepts;
+      let seen = ref (first - 1) and objects = ref [] and after = ref [] in
+      List.iter (function
+          | O_percept e -> push_o2a t e; seen := e.seq
+          | O_object _ as o -> objects := o :: !objects; after := !seen :: !after) items;
+      t.after <- Fqueue.of_list (List.rev !after);
+      List.iter (fun (e : B.percept entry) ->
+          let b = bucket_for t e.prio in
+          let tag = C.tag t.codec e.p in
+          Ring.push b.ring (header e.seq tag);
+          C.write t.codec tag e.p b.ring;
+          t.pq_n <- t.pq_n + 1)
+        (Pqueue.to_sorted_list c.pq);
+      t.c <- { c with o2a = Fqueue.of_list (List.rev !objects); pq = Pqueue.empty };
+      t
+    end
+
+  (* The records of a ring, decoded in order: [header -> percept -> 'a]. *)
+  let decode_all t ring n f =
+    let pos = ref 0 and box = ref 0 in
+    List.init n (fun _ ->
+        let h = Ring.get ring !pos in
+        let tag = tag_of h in
+        let x = f h (C.read t.codec tag ring ~pos:(!pos + 1) ~box:!box) in
+        pos := !pos + 1 + C.width t.codec tag;
+        if C.boxed t.codec tag then incr box;
+        x)
+
+  let to_config t : M.t =
+    if not t.is_packed then t.c
+    else begin
+      let c = t.c in
+      let first = c.next_seq - t.o2a_n + 1 in
+      let seq = ref (first - 1) in
+      let percepts = decode_all t t.o2a t.o2a_n (fun h p ->
+          incr seq; { p; prio = high h; seq = !seq }) in
+      (* objects go before the first percept notified after them *)
+      let rec merge (ps : B.percept entry list) objs = match ps, objs with
+        | e :: ps', (a, o) :: objs' ->
+          if a < e.seq then o :: merge ps objs' else O_percept e :: merge ps' objs
+        | _, [] -> List.map (fun e -> O_percept e) ps
+        | [], _ -> List.map snd objs in
+      let objs = List.combine (Fqueue.to_list t.after) (Fqueue.to_list c.o2a) in
+      let pq = Array.fold_left (fun pq b ->
+          let n = ref 0 and pos = ref 0 in
+          while !pos < Ring.length b.ring do
+            let w = C.width t.codec (tag_of (Ring.get b.ring !pos)) in
+            pos := !pos + 1 + w; incr n
+          done;
+          List.fold_left (fun pq e -> Pqueue.insert e pq) pq
+            (decode_all t b.ring !n (fun h p -> { p; prio = b.bprio; seq = high h })))
+          Pqueue.empty t.buckets in
+      { c with o2a = Fqueue.of_list (merge percepts objs); pq }
+    end
+
+  let waiting t =
+    if t.is_packed then t.o2a_n + t.pq_n
+    else Fqueue.fold (fun n x -> match x with O_percept _ -> n + 1 | O_object _ -> n) 0 t.c.o2a
+         + Pqueue.size t.c.pq
+
+  let live_words t =
+    Array.fold_left (fun n b -> n + Ring.capacity_words b.ring + 3) (Ring.capacity_words t.o2a
+                                                                    + Array.length t.buckets + 1) t.buckets
+
+  (* -------------------------------------------------------- host rules *)
+
+  (* R2d: the O2A ring's percepts and the objects. *)
+  let o2a_has_room t =
+    if not t.is_packed then M.o2a_has_room t.p t.c
+    else match t.p.o2a_capacity with
+      | None -> true
+      | Some cap -> t.o2a_n + Fqueue.length t.c.o2a < cap
+
+  (* NotifyEffect: as the reference's, the percept into the O2A ring. *)
+  let notify_effect t percept prio mk_label =
+    let c = t.c in
+    let seq = c.next_seq + 1 in
+    let tag = C.tag t.codec percept in
+    Ring.push t.o2a (header prio tag);
+    C.write t.codec tag percept t.o2a;
+    t.o2a_n <- t.o2a_n + 1;
+    t.c <- { c with next_seq = seq; phase = (if c.phase = Idle_phase then Transfer_phase else c.phase);
+                    last = mk_label { p = percept; prio; seq } }
+
+  let notify t percept prio =
+    if t.is_packed then notify_effect t percept prio (fun e -> Notify e)
+    else t.c <- M.notify t.p t.c percept prio
+
+  let notify_with t percept prio =
+    if t.is_packed then notify_effect t percept prio (fun e -> Notify_with e)
+    else t.c <- M.notify_with t.p t.c percept prio
+
+  let notify_event t percept ~default ~priority =
+    match priority with
+    | Some k when k < 0 -> Error (Negative_priority k)                      (* R2a *)
+    | _ when not (o2a_has_room t) -> Error O2a_full                          (* R2d *)
+    | None -> notify t percept default; Ok ()
+    | Some k -> notify_with t percept k; Ok ()
+
+  let put t o =
+    if t.is_packed then t.after <- Fqueue.push t.c.next_seq t.after;
+    t.c <- M.put t.p t.c o
+
+  let send t m = t.c <- M.send t.p t.c m
+
+  (* -------------------------------------------------------- agent rules *)
+
+  (* Transfer (R3a): every record of the O2A ring to its priority's bucket,
+     in order (so each bucket stays oldest first); the objects stay. *)
+  let transfer t =
+    let n = t.o2a_n in
+    let first = t.c.next_seq - n + 1 in
+    for i = 0 to n - 1 do
+      let h = Ring.get t.o2a 0 in
+      move t t.o2a (bucket_for t (high h)) (header (first + i) (tag_of h))
+    done;
+    t.o2a_n <- 0;
+    Ring.shrink t.o2a;
+    t.pq_n <- t.pq_n + n;
+    let l = Transfer n in
+    t.c <- { t.c with phase = Dispatch_phase; dispatched = 0; last = l };
+    l
+
+  (* DispatchOver, with the buckets for the priority queue. *)
+  let dispatch_over t = t.pq_n = 0 || M.budget_spent t.p t.c
+
+  (* The configuration a rule other than Transfer and Dequeue sees: those
+     rules ask of O2A and of the priority queue only whether they hold a
+     percept (IdleCondition, DispatchOver), so O2A gets its first percept
+     beside the objects and the priority queue its top; they change
+     neither (packed mode has no Native or Printed variant, no ghosts). *)
+  let view t : M.t =
+    let c = t.c in
+    let o2a =
+      if t.o2a_n = 0 then c.o2a
+      else
+        let h = Ring.get t.o2a 0 in
+        let p = C.read t.codec (tag_of h) t.o2a ~pos:1 ~box:0 in
+        Fqueue.push (O_percept { p; prio = high h; seq = c.next_seq - t.o2a_n + 1 }) c.o2a in
+    let pq = if t.pq_n = 0 then Pqueue.empty else Pqueue.insert (front_entry t (top_bucket t)) Pqueue.empty in
+    { c with o2a; pq }
+
+  let step t =
+    if not t.is_packed then
+      match F.step t.p t.c with
+      | [] -> None
+      | (l, c) :: _ -> t.c <- c; Some l
+    else
+      match t.c.phase with
+      | Transfer_phase -> Some (transfer t)
+      | Dispatch_phase when not (dispatch_over t) ->
+        let (l, c) = F.dequeue_entry t.p t.c (pop t) ~pq:Pqueue.empty in
+        t.c <- c; Some l
+      | _ ->
+        match F.step t.p (view t) with
+        | [] -> None
+        | (l, c) :: _ -> t.c <- { c with o2a = t.c.o2a; pq = Pqueue.empty }; Some l
+
+  let dispatch ?observe t =
+    if not t.is_packed then
+      match F.dispatch ?observe t.p t.c with
+      | Some c -> t.c <- c; true
+      | None -> false
+    else
+      match t.c.phase with
+      | Handle_phase ->
+        (* the rest of a dispatch: the priority queue is not read *)
+        (match F.dispatch ?observe t.p t.c with
+         | Some c -> t.c <- c; true
+         | None -> false)
+      | Dispatch_phase when not (dispatch_over t) ->
+        t.c <- F.dispatch_entry ?observe t.p t.c (pop t) ~pq:Pqueue.empty; true
+      | _ -> false
+end

@@ -1,0 +1,145 @@
+(** The packed agent: one agent's loop, as {!Fast}, with its waiting
+    percepts kept as ints instead of a queue of boxed entries.
+
+    The reference configuration ({!Semantics.Machine.config}) keeps every
+    notified percept as an entry [{p; prio; seq}] in a cell of the O2A queue,
+    then in a bucket of the priority queue: in a flood of millions of
+    percepts, every one of them is a few small blocks on the heap, which the
+    collector promotes and marks again and again. The packed agent keeps
+    them in rings of ints ({!Ring}):
+    - the O2A ring: one record per notified percept, [prio_tag; slots...]
+      (the priority and the codec's tag in one int). Their seqs need no
+      place: the percepts in O2A are the last ones notified, in order, so
+      their seqs are consecutive and end at [next_seq];
+    - the priority buckets, one per priority present, highest first (there
+      are few): one record per waiting percept, [seq_tag; slots...], oldest
+      first (R3b, stable ties);
+    - objects put into O2A (R2c) stay in the configuration's [o2a], each with
+      the seq of the last percept notified before it, so that the reference's
+      O2A queue can be rebuilt in its order.
+
+    How a percept becomes ints is the {!CODEC}'s business. What the packed
+    agent does itself: the host's notify and put (R2a-R2d, capacity counting
+    the ring and the objects), Transfer (R3a: records copied from the O2A
+    ring to the buckets, nothing allocated per percept) and Dequeue (R3b: the
+    highest non-empty bucket's oldest record, decoded into the entry the
+    handlers see), and the derived rule Dispatch through
+    {!Fast.Make.dispatch_entry}. Every other rule (Handle, Skip,
+    EndDispatch, BehaviourStep, NextIteration, Idle) reads of O2A and the
+    priority queue only whether they hold a percept: it is taken by
+    {!Fast.Make.step} on a view of the configuration where the O2A queue
+    holds the objects and at most the first waiting percept, and the
+    priority queue at most its top (one record decoded), and it changes
+    neither.
+
+    Packed mode is used only where it is simple: the [Reference] and
+    [Budgeted] variants, stable ties, no flood abstraction, no ghosts
+    ({!packable}). Elsewhere the agent keeps the plain configuration and
+    every rule is {!Fast}'s.
+
+    Seqs, [next_seq], [dispatched] and [last] are exactly the reference's;
+    {!to_config} gives the reference's configuration (test/fastpath holds
+    it equal, after every host operation and every rule, on random
+    programs). docs/semantics.md, "The fast engine". *)
+
+(** How a percept is written as ints. A percept is given a {e tag} (an
+    int from 0 to 2^20 - 1), then written as [width tag] ints, and, when
+    [boxed tag], as one boxed value in the side ring. Reading it back must
+    give a percept equal to the one written (a fresh one is fine when
+    nothing can tell them apart: see {!Percept_codec}). *)
+module type CODEC = sig
+  type percept
+
+  type t
+  (** The codec's own state (e.g. the tags it has given, per agent). *)
+
+  val create : unit -> t
+
+  val tag : t -> percept -> int
+  (** The percept's tag, given once per kind of percept (e.g. per schema
+      whose slots are all integers). *)
+
+  val width : t -> int -> int
+  (** How many ints a percept of this tag takes (after the header). *)
+
+  val boxed : t -> int -> bool
+  (** Whether a percept of this tag is kept boxed in the side ring. *)
+
+  val write : t -> int -> percept -> percept Ring.t -> unit
+  (** [write c tag p r]: push the percept's [width tag] ints, or its box. *)
+
+  val read : t -> int -> percept Ring.t -> pos:int -> box:int -> percept
+  (** [read c tag r ~pos ~box]: the percept of this tag whose ints start at
+      [pos] in [r] (its box, if boxed, is the [box]th boxed value). *)
+end
+
+module Make (B : Fast.BODIES) (_ : CODEC with type percept = B.percept) : sig
+  module F : module type of Fast.Make (B)
+  module M = F.M
+
+  type t
+  (** A mutable agent, owned by the one loop that runs it. *)
+
+  val packable : Semantics.Machine.params -> bool
+  (** Variant [Reference] or [Budgeted], stable ties, no flood abstraction,
+      no ghosts. *)
+
+  val of_config : Semantics.Machine.params -> M.t -> t
+  (** The agent, its percepts packed when {!packable} (O2A's percepts into
+      the O2A ring, the priority queue into the buckets). *)
+
+  val to_config : t -> M.t
+  (** The reference's configuration: the rings decoded into [o2a] and [pq]
+      in the reference's order (objects among percepts where they were put).
+      O(waiting percepts). *)
+
+  val params : t -> Semantics.Machine.params
+  val packed : t -> bool
+  (** Whether the percepts are packed ({!packable} of the params). *)
+
+  val waiting : t -> int
+  (** Percepts in O2A and in the priority queue. *)
+
+  val phase : t -> Semantics.Machine.phase
+  val last : t -> M.lbl
+  val world : t -> B.world
+
+  val live_words : t -> int
+  (** Words the rings' arrays take (with their growth slack), boxed values
+      not included: the bench adds what the collector counts. *)
+
+  (** {2 Host rules} *)
+
+  val o2a_has_room : t -> bool
+  (** R2d: percepts in the O2A ring and objects count. *)
+
+  val notify_event : t -> B.percept -> default:int -> priority:int option ->
+    (unit, Semantics.Machine.refusal) result
+  (** {!Semantics.Machine.Make.notify_event}: refused (nothing changes) with
+      a negative priority (R2a) or a full O2A queue (R2d). *)
+
+  val notify : t -> B.percept -> int -> unit
+  (** Notify with the type's default priority; the caller checked
+      {!o2a_has_room}. *)
+
+  val notify_with : t -> B.percept -> int -> unit
+  (** NotifyWith: the priority given (a natural number, R2a). *)
+
+  val put : t -> B.obj -> unit
+  (** Put (R2c); the caller checked {!o2a_has_room}. *)
+
+  val send : t -> B.message -> unit
+  (** Send (R5e). *)
+
+  (** {2 Agent rules} *)
+
+  val step : t -> M.lbl option
+  (** Takes the first rule {!Semantics.Machine.Make.step} lists (under
+      stable ties there is one), as that rule does; [None] (nothing
+      changes) when no rule is enabled. *)
+
+  val dispatch : ?observe:(M.lbl -> unit) -> t -> bool
+  (** The derived rule Dispatch ({!Fast.Make.dispatch}): [true] when it
+      was taken, [false] (nothing changes) where {!Fast.Make.dispatch}
+      answers [None]. *)
+end
