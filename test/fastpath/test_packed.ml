@@ -201,7 +201,7 @@ let packed_equals_reference_exn (prog, seed) =
         Notify (v, default, prio)
       | 4 -> Put (V.list_of [ V.Int (Random.State.int rand 5) ])
       | 5 -> Send (fst (percept ()))
-      | 6 | 7 -> Steps (1 + Random.State.int rand 8)
+      | 6 | 7 -> Steps (1 + Random.State.int rand 25)
       | _ -> Dispatches (1 + Random.State.int rand 3)) in
   let args_for () =
     let rand = Random.State.make [| seed; 1 |] in
@@ -364,6 +364,27 @@ let packed_agent_unit () =
   Alcotest.(check bool) "negative" true
     (Pk.notify_event t (pv "position(2)") ~default:2 ~priority:(Some (-1)) = Error (Mc.Negative_priority (-1)));
   Alcotest.(check string) "refusals change nothing" before (show_config (Pk.to_config t));
+  (* Budgeted, budget 1, every behaviour blocked while percepts wait: the
+     rules the packed agent leaves to Fast (BehaviourStep, NextIteration)
+     see that the priority queue is not empty *)
+  let p = { Mc.default_params with variant = Mc.Budgeted; budget = 1 } in
+  let t = agent p in
+  let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
+  let c = ref (RM.init p ~world:a behs) in
+  for k = 1 to 6 do
+    let v = pv (Printf.sprintf "position(%d)" k) in
+    ignore (Pk.notify_event t v ~default:2 ~priority:None);
+    c := RM.notify p !c v 2
+  done;
+  let rec run n acc_r acc_k =
+    if n = 0 then (List.rev acc_r, List.rev acc_k) else
+    let lr = match RM.step p !c with [] -> "none" | (l, c') :: _ -> c := c'; show_label l in
+    let lk = match Pk.step t with None -> "none" | Some l -> show_label l in
+    run (n - 1) (lr :: acc_r) (lk :: acc_k) in
+  let (lr, lk) = run 80 [] [] in
+  Alcotest.(check bool) "NextIteration taken with percepts waiting" true (List.mem "NextIteration" lr);
+  Alcotest.(check (list string)) "budgeted: the same rules" lr lk;
+  Alcotest.(check string) "budgeted: the same configuration" (show_config !c) (show_config (Pk.to_config t));
   (* not packable: the plain configuration *)
   let t = agent { Mc.default_params with tie = Mc.Unstable } in
   Alcotest.(check bool) "unstable ties: not packed" false (Pk.packed t)
