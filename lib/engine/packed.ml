@@ -49,15 +49,31 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     mutable buckets : bucket array;    (* highest priority first *)
     mutable pq_n : int;                (* records in the buckets *)
     mutable hint : int;                (* the bucket the last record went to *)
+    mutable pend : int;
+      (* notifies not yet written into [c]: [c.next_seq] is short of them,
+         [c.phase] may still be Idle, [c.last] is [pend_last]'s to be *)
+    mutable pend_last : M.lbl;
   }
 
   let packable p =
     (p.variant = Reference || p.variant = Budgeted) && p.tie = Stable && not p.flood && not p.ghosts
 
+  (* The notifies not yet written into [c], written: what the reference's
+     Notify does to the configuration's fields other than O2A (next_seq, an
+     idle agent woken, last), once for a run of notifies. *)
+  let sync t =
+    if t.pend > 0 then begin
+      let c = t.c in
+      t.c <- { c with next_seq = c.next_seq + t.pend;
+                      phase = (if c.phase = Idle_phase then Transfer_phase else c.phase);
+                      last = t.pend_last };
+      t.pend <- 0
+    end
+
   let params t = t.p
   let packed t = t.is_packed
-  let phase t = t.c.phase
-  let last t = t.c.last
+  let phase t = sync t; t.c.phase
+  let last t = sync t; t.c.last
   let world t = t.c.world
 
   (* ---------------------------------------------------------- buckets *)
@@ -118,7 +134,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
 
   let empty_state p c is_packed =
     { p; is_packed; c; codec = C.create (); o2a = Ring.create (); o2a_n = 0; after = Fqueue.empty;
-      buckets = [||]; pq_n = 0; hint = 0 }
+      buckets = [||]; pq_n = 0; hint = 0; pend = 0; pend_last = c.last }
 
   let push_o2a t (e : B.percept entry) =
     let tag = C.tag t.codec e.p in
@@ -165,6 +181,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
         x)
 
   let to_config t : M.t =
+    sync t;
     if not t.is_packed then t.c
     else begin
       let c = t.c in
@@ -209,16 +226,17 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
       | None -> true
       | Some cap -> t.o2a_n + Fqueue.length t.c.o2a < cap
 
-  (* NotifyEffect: as the reference's, the percept into the O2A ring. *)
+  (* NotifyEffect: as the reference's, the percept into the O2A ring; the
+     rest of the configuration is written by [sync] before anything reads
+     it (a host's run of notifies copies no configuration). *)
   let notify_effect t percept prio mk_label =
-    let c = t.c in
-    let seq = c.next_seq + 1 in
+    let seq = t.c.next_seq + t.pend + 1 in
     let tag = C.tag t.codec percept in
     Ring.push t.o2a (header prio tag);
     C.write t.codec tag percept t.o2a;
     t.o2a_n <- t.o2a_n + 1;
-    t.c <- { c with next_seq = seq; phase = (if c.phase = Idle_phase then Transfer_phase else c.phase);
-                    last = mk_label { p = percept; prio; seq } }
+    t.pend <- t.pend + 1;
+    t.pend_last <- mk_label { p = percept; prio; seq }
 
   let notify t percept prio =
     if t.is_packed then notify_effect t percept prio (fun e -> Notify e)
@@ -236,10 +254,11 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     | Some k -> notify_with t percept k; Ok ()
 
   let put t o =
+    sync t;
     if t.is_packed then t.after <- Fqueue.push t.c.next_seq t.after;
     t.c <- M.put t.p t.c o
 
-  let send t m = t.c <- M.send t.p t.c m
+  let send t m = sync t; t.c <- M.send t.p t.c m
 
   (* -------------------------------------------------------- agent rules *)
 
@@ -279,6 +298,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     { c with o2a; pq }
 
   let step t =
+    sync t;
     if not t.is_packed then
       match F.step t.p t.c with
       | [] -> None
@@ -295,6 +315,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
         | (l, c) :: _ -> t.c <- { c with o2a = t.c.o2a; pq = Pqueue.empty }; Some l
 
   let dispatch ?observe t =
+    sync t;
     if not t.is_packed then
       match F.dispatch ?observe t.p t.c with
       | Some c -> t.c <- c; true
