@@ -13,8 +13,6 @@ module type CODEC = sig
   type t
   val create : unit -> t
   val tag : t -> percept -> int
-  val width : t -> int -> int
-  val boxed : t -> int -> bool
   val write : t -> int -> percept -> percept Ring.t -> unit
   val read : t -> int -> percept Ring.t -> pos:int -> box:int -> percept
 end
@@ -27,6 +25,14 @@ let tag_mask = (1 lsl tag_bits) - 1
 let header x tag = (x lsl tag_bits) lor tag
 let high h = h asr tag_bits
 let tag_of h = h land tag_mask
+
+(* A tag: [kind] (11 bits), [width] (8 bits), [boxed] (1 bit). *)
+let make_tag ~kind ~width ~boxed =
+  if kind < 0 || kind >= 2048 || width < 0 || width > 255 then invalid_arg "Packed.make_tag";
+  (kind lsl 9) lor (width lsl 1) lor (if boxed then 1 else 0)
+let tag_kind tag = tag lsr 9
+let tag_width tag = (tag lsr 1) land 255
+let tag_boxed tag = tag land 1 = 1
 
 module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
   module F = Fast.Make (B)
@@ -48,7 +54,9 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
          put (it stands after the percept of that seq, before the next) *)
     mutable buckets : bucket array;    (* highest priority first *)
     mutable pq_n : int;                (* records in the buckets *)
-    mutable hint : int;                (* the bucket the last record went to *)
+    by_prio : bucket array;
+      (* the bucket of each priority below [small_prios], or [no_bucket] *)
+    mutable top : int;                 (* the buckets before it are empty *)
     mutable pend : int;
       (* notifies not yet written into [c]: [c.next_seq] is short of them,
          [c.phase] may still be Idle, [c.last] is [pend_last]'s to be *)
@@ -78,30 +86,38 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
 
   (* ---------------------------------------------------------- buckets *)
 
-  (* The bucket of priority [prio], made (in its place, priorities
-     descending) if there is none. A transfer's records mostly go where the
-     previous one went. *)
-  let bucket_for t prio =
+  (* Priorities below this one find their bucket in [by_prio], at once. *)
+  let small_prios = 64
+  let no_bucket = { bprio = min_int; ring = Ring.create () }
+
+  (* The bucket of priority [prio] found in [buckets], or made in its place
+     (priorities descending). *)
+  let find_or_add t prio =
     let bs = t.buckets in
-    if t.hint < Array.length bs && bs.(t.hint).bprio = prio then bs.(t.hint)
+    let n = Array.length bs in
+    let rec find i = if i < n && bs.(i).bprio > prio then find (i + 1) else i in
+    let i = find 0 in
+    if i < n && bs.(i).bprio = prio then bs.(i)
     else begin
-      let n = Array.length bs in
-      let rec find i = if i < n && bs.(i).bprio > prio then find (i + 1) else i in
-      let i = find 0 in
-      if i < n && bs.(i).bprio = prio then (t.hint <- i; bs.(i))
-      else begin
-        let b = { bprio = prio; ring = Ring.create () } in
-        t.buckets <- Array.init (n + 1) (fun j -> if j < i then bs.(j) else if j = i then b else bs.(j - 1));
-        t.hint <- i;
-        b
-      end
+      let b = { bprio = prio; ring = Ring.create () } in
+      t.buckets <- Array.init (n + 1) (fun j -> if j < i then bs.(j) else if j = i then b else bs.(j - 1));
+      t.top <- 0;
+      if prio >= 0 && prio < small_prios then t.by_prio.(prio) <- b;
+      b
     end
 
-  (* The highest non-empty bucket; there is one when [pq_n > 0]. *)
+  let bucket_for t prio =
+    if prio >= 0 && prio < small_prios then
+      let b = Array.unsafe_get t.by_prio prio in
+      if b.bprio = prio then b else find_or_add t prio
+    else find_or_add t prio
+
+  (* The highest non-empty bucket; there is one when [pq_n > 0]. The scan
+     starts at [top]: the buckets before it are empty. *)
   let top_bucket t =
     let bs = t.buckets in
-    let rec go i = if Ring.length bs.(i).ring > 0 then bs.(i) else go (i + 1) in
-    go 0
+    let rec go i = if Ring.length bs.(i).ring > 0 then (t.top <- i; bs.(i)) else go (i + 1) in
+    go t.top
 
   (* The front record of a bucket, decoded into its entry (not removed). *)
   let front_entry t b =
@@ -113,8 +129,8 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     let b = top_bucket t in
     let e = front_entry t b in
     let tag = tag_of (Ring.get b.ring 0) in
-    Ring.drop b.ring (1 + C.width t.codec tag);
-    if C.boxed t.codec tag then Ring.drop_box b.ring;
+    Ring.drop b.ring (1 + tag_width tag);
+    if tag_boxed tag then Ring.drop_box b.ring;
     Ring.shrink b.ring;
     t.pq_n <- t.pq_n - 1;
     e
@@ -122,19 +138,20 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
   (* A record of [ring]: the header [h], its ints from [pos], its box (if
      any) the front one; pushed onto bucket [b] with header [h'], and
      removed from [ring]. *)
-  let move t ring b h' =
+  let move ring b h' =
     let tag = tag_of h' in
     Ring.push b.ring h';
-    let w = C.width t.codec tag in
+    let w = tag_width tag in
     for k = 1 to w do Ring.push b.ring (Ring.get ring k) done;
     Ring.drop ring (1 + w);
-    if C.boxed t.codec tag then begin Ring.push_box b.ring (Ring.get_box ring 0); Ring.drop_box ring end
+    if tag_boxed tag then begin Ring.push_box b.ring (Ring.get_box ring 0); Ring.drop_box ring end
 
   (* ------------------------------------------------ packing, projecting *)
 
   let empty_state p c is_packed =
     { p; is_packed; c; codec = C.create (); o2a = Ring.create (); o2a_n = 0; after = Fqueue.empty;
-      buckets = [||]; pq_n = 0; hint = 0; pend = 0; pend_last = c.last }
+      buckets = [||]; pq_n = 0; by_prio = Array.make small_prios no_bucket; top = 0;
+      pend = 0; pend_last = c.last }
 
   let push_o2a t (e : B.percept entry) =
     let tag = C.tag t.codec e.p in
@@ -176,8 +193,8 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
         let h = Ring.get ring !pos in
         let tag = tag_of h in
         let x = f h (C.read t.codec tag ring ~pos:(!pos + 1) ~box:!box) in
-        pos := !pos + 1 + C.width t.codec tag;
-        if C.boxed t.codec tag then incr box;
+        pos := !pos + 1 + tag_width tag;
+        if tag_boxed tag then incr box;
         x)
 
   let to_config t : M.t =
@@ -199,7 +216,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
       let pq = Array.fold_left (fun pq b ->
           let n = ref 0 and pos = ref 0 in
           while !pos < Ring.length b.ring do
-            let w = C.width t.codec (tag_of (Ring.get b.ring !pos)) in
+            let w = tag_width (tag_of (Ring.get b.ring !pos)) in
             pos := !pos + 1 + w; incr n
           done;
           List.fold_left (fun pq e -> Pqueue.insert e pq) pq
@@ -269,11 +286,12 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     let first = t.c.next_seq - n + 1 in
     for i = 0 to n - 1 do
       let h = Ring.get t.o2a 0 in
-      move t t.o2a (bucket_for t (high h)) (header (first + i) (tag_of h))
+      move t.o2a (bucket_for t (high h)) (header (first + i) (tag_of h))
     done;
     t.o2a_n <- 0;
     Ring.shrink t.o2a;
     t.pq_n <- t.pq_n + n;
+    t.top <- 0;
     let l = Transfer n in
     t.c <- { t.c with phase = Dispatch_phase; dispatched = 0; last = l };
     l

@@ -42,11 +42,26 @@
     it equal, after every host operation and every rule, on random
     programs). docs/semantics.md, "The fast engine". *)
 
-(** How a percept is written as ints. A percept is given a {e tag} (an
-    int from 0 to 2^20 - 1), then written as [width tag] ints, and, when
-    [boxed tag], as one boxed value in the side ring. Reading it back must
-    give a percept equal to the one written (a fresh one is fine when
-    nothing can tell them apart: see {!Percept_codec}). *)
+(** {1 Tags}
+
+    A percept's {e tag} says how it is written: the codec's own number for
+    its kind (0 to 2,047), how many ints it takes after the record's header
+    (its width, 0 to 255) and whether it also has a boxed value in the side
+    ring. It is one int of 20 bits, made by {!make_tag}; the packed agent
+    reads the width and the box from it without asking the codec. *)
+
+val make_tag : kind:int -> width:int -> boxed:bool -> int
+(** @raise Invalid_argument outside the ranges above. *)
+
+val tag_kind : int -> int
+val tag_width : int -> int
+val tag_boxed : int -> bool
+
+(** How a percept is written as ints. A percept is given a tag, then
+    written as [tag_width tag] ints and, when [tag_boxed tag], one boxed
+    value in the side ring. Reading it back must give a percept equal to
+    the one written (a fresh one is fine when nothing can tell them apart:
+    see {!Percept_codec}). *)
 module type CODEC = sig
   type percept
 
@@ -56,17 +71,12 @@ module type CODEC = sig
   val create : unit -> t
 
   val tag : t -> percept -> int
-  (** The percept's tag, given once per kind of percept (e.g. per schema
-      whose slots are all integers). *)
-
-  val width : t -> int -> int
-  (** How many ints a percept of this tag takes (after the header). *)
-
-  val boxed : t -> int -> bool
-  (** Whether a percept of this tag is kept boxed in the side ring. *)
+  (** The percept's tag ({!make_tag}), its kind given once per kind of
+      percept (e.g. per schema whose slots are all integers). *)
 
   val write : t -> int -> percept -> percept Ring.t -> unit
-  (** [write c tag p r]: push the percept's [width tag] ints, or its box. *)
+  (** [write c tag p r]: push the percept's [tag_width tag] ints, and its
+      box when [tag_boxed tag]. *)
 
   val read : t -> int -> percept Ring.t -> pos:int -> box:int -> percept
   (** [read c tag r ~pos ~box]: the percept of this tag whose ints start at

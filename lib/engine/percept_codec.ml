@@ -11,7 +11,9 @@ type kind = { sname : string; names : string array; bools : bool array }
 
 type t = { mutable kinds : kind array; mutable n : int }
 
-let max_kinds = 4096
+(* Kind 0 is "boxed"; packed kinds are 1 .. max_kinds. *)
+let max_kinds = 2047
+let boxed_tag = Packed.make_tag ~kind:0 ~width:0 ~boxed:true
 
 let create () = { kinds = [||]; n = 0 }
 let kinds c = c.n
@@ -19,41 +21,46 @@ let kinds c = c.n
 (* Names are interned by the lexer: usually the same string. *)
 let same (x : string) y = x == y || String.equal x y
 
-let rec simple_slots (s : V.schema_v) i =
-  i >= Array.length s.slots
-  || (match !(snd s.slots.(i)) with V.Int _ | V.Bool _ -> simple_slots s (i + 1) | _ -> false)
-
+(* The slots of [s] are those of kind [k]: the same names, an [Int] where
+   [k] has an integer, a [Bool] where it has a boolean. *)
 let rec fits_slots (k : kind) (s : V.schema_v) i =
-  i >= Array.length s.slots
-  || (same k.names.(i) (fst s.slots.(i))
-      && (match !(snd s.slots.(i)) with V.Bool _ -> k.bools.(i) | _ -> not k.bools.(i))
-      && fits_slots k s (i + 1))
+  i < 0
+  || (let (name, v) = Array.unsafe_get s.slots i in
+      same k.names.(i) name
+      && (match !v with V.Int _ -> not k.bools.(i) | V.Bool _ -> k.bools.(i) | _ -> false)
+      && fits_slots k s (i - 1))
 
-let fits (k : kind) (s : V.schema_v) =
-  same k.sname s.sname && Array.length k.names = Array.length s.slots && fits_slots k s 0
+let rec simple_slots (s : V.schema_v) i =
+  i < 0 || (match !(snd s.slots.(i)) with V.Int _ | V.Bool _ -> simple_slots s (i - 1) | _ -> false)
+
+let add c (s : V.schema_v) =
+  let k = { sname = s.sname; names = Array.map fst s.slots;
+            bools = Array.map (fun (_, v) -> match !v with V.Bool _ -> true | _ -> false) s.slots } in
+  if c.n = Array.length c.kinds then
+    c.kinds <- Array.init (max 4 (2 * c.n)) (fun i -> if i < c.n then c.kinds.(i) else k);
+  c.kinds.(c.n) <- k;
+  c.n <- c.n + 1;
+  Packed.make_tag ~kind:c.n ~width:(Array.length s.slots) ~boxed:false
 
 let tag c (p : V.t) =
   match p with
-  | V.Schema s when simple_slots s 0 ->
-    let rec find i = if i >= c.n then -1 else if fits c.kinds.(i) s then i + 1 else find (i + 1) in
-    (match find 0 with
-     | -1 when c.n >= max_kinds -> 0
-     | -1 ->
-       let k = { sname = s.sname; names = Array.map fst s.slots;
-                 bools = Array.map (fun (_, v) -> match !v with V.Bool _ -> true | _ -> false) s.slots } in
-       if c.n = Array.length c.kinds then
-         c.kinds <- Array.init (max 4 (2 * c.n)) (fun i -> if i < c.n then c.kinds.(i) else k);
-       c.kinds.(c.n) <- k;
-       c.n <- c.n + 1;
-       c.n
-     | i -> i)
-  | _ -> 0
-
-let width c tag = if tag = 0 then 0 else Array.length c.kinds.(tag - 1).names
-let boxed _ tag = tag = 0
+  | V.Schema s ->
+    let last = Array.length s.slots - 1 in
+    (* the kinds of the same schema name (compared by address first) *)
+    let rec find i =
+      if i >= c.n then
+        if last < 255 && c.n < max_kinds && simple_slots s last then add c s else boxed_tag
+      else
+        let k = Array.unsafe_get c.kinds i in
+        if (k.sname == s.sname || String.equal k.sname s.sname)
+        && Array.length k.names = last + 1 && fits_slots k s last
+        then Packed.make_tag ~kind:(i + 1) ~width:(last + 1) ~boxed:false
+        else find (i + 1) in
+    find 0
+  | _ -> boxed_tag
 
 let write _ tag (p : V.t) r =
-  if tag = 0 then Ring.push_box r p
+  if Packed.tag_boxed tag then Ring.push_box r p
   else match p with
     | V.Schema s ->
       for i = 0 to Array.length s.slots - 1 do
@@ -67,16 +74,19 @@ let write _ tag (p : V.t) r =
 (* Booleans are immutable values: the two can be shared. *)
 let v_true = V.Bool true and v_false = V.Bool false
 
+let value (k : kind) i x = if k.bools.(i) then (if x <> 0 then v_true else v_false) else V.Int x
+
+(* Slot [i] of a percept of kind [k] whose ints start at [pos]: a fresh
+   cell each time (a handler may set a slot of its content). *)
+let slot (k : kind) r pos i = (k.names.(i), ref (value k i (Ring.get r (pos + i))))
+
 let read c tag r ~pos ~box =
-  if tag = 0 then Ring.get_box r box
+  if Packed.tag_boxed tag then Ring.get_box r box
   else
-    let k = c.kinds.(tag - 1) in
-    let n = Array.length k.names in
-    if n = 0 then V.Schema { sname = k.sname; slots = [||] }
-    else
-      let slot i =
-        let x = Ring.get r (pos + i) in
-        (k.names.(i), ref (if k.bools.(i) then (if x <> 0 then v_true else v_false) else V.Int x)) in
-      let slots = Array.make n (slot 0) in
-      for i = 1 to n - 1 do slots.(i) <- slot i done;
-      V.Schema { sname = k.sname; slots }
+    let k = c.kinds.(Packed.tag_kind tag - 1) in
+    let slots = match Array.length k.names with
+      | 0 -> [||]
+      | 1 -> [| slot k r pos 0 |]
+      | 2 -> let a = slot k r pos 0 in [| a; slot k r pos 1 |]
+      | n -> let a = Array.make n (slot k r pos 0) in for i = 1 to n - 1 do a.(i) <- slot k r pos i done; a in
+    V.Schema { sname = k.sname; slots }

@@ -24,14 +24,14 @@ let grow r =
   r.ints <- a;
   r.head <- 0
 
-let push r x =
+let[@inline] push r x =
   if r.len = Array.length r.ints then grow r;
   r.ints.((r.head + r.len) land (Array.length r.ints - 1)) <- x;
   r.len <- r.len + 1
 
-let get r i = Array.unsafe_get r.ints ((r.head + i) land (Array.length r.ints - 1))
+let[@inline] get r i = Array.unsafe_get r.ints ((r.head + i) land (Array.length r.ints - 1))
 
-let drop r n =
+let[@inline] drop r n =
   r.head <- (r.head + n) land (Array.length r.ints - 1);
   r.len <- r.len - n
 
@@ -60,7 +60,7 @@ let drop_box r =
   r.blen <- r.blen - 1
 
 (* Above this many places, a drained ring's array is given back. *)
-let large = 1024
+let large = 1 lsl 16
 
 let shrink r =
   if r.len = 0 && r.blen = 0 then begin

@@ -44,8 +44,9 @@ val drop_box : 'b t -> unit
     overwritten by a value still in the ring, or by the last one pushed). *)
 
 val shrink : 'b t -> unit
-(** When the ring is empty, give back an array of more than 1,024 places
-    (the ring starts again small). Does nothing to a ring that is not
+(** When the ring is empty, give back an array of more than 65,536 places
+    (the ring starts again small; a smaller one is kept, so that a steady
+    run does not grow its rings again after every batch). Does nothing to a ring that is not
     empty. *)
 
 val capacity_words : 'b t -> int

@@ -94,7 +94,7 @@ let codec_round_trip () =
   let all = values @ values in
   let tags = List.map (fun (v, packed) ->
       let tag = Codec.tag c v in
-      Alcotest.(check bool) (V.to_literal v ^ " packed") packed (tag > 0 && not (Codec.boxed c tag));
+      Alcotest.(check bool) (V.to_literal v ^ " packed") packed (not (Engine.Packed.tag_boxed tag));
       Ring.push r tag; Codec.write c tag v r; tag) all in
   (* position, falling, and three kinds of at *)
   Alcotest.(check int) "kinds interned once each" 5 (Codec.kinds c);
@@ -104,8 +104,8 @@ let codec_round_trip () =
       let v' = Codec.read c tag r ~pos:(!pos + 1) ~box:!box in
       if not (same_value v v') then Alcotest.failf "%s read back as %s" (V.to_literal v) (V.to_literal v');
       if packed && v == v' then Alcotest.failf "%s: not a fresh value" (V.to_literal v);
-      pos := !pos + 1 + Codec.width c tag;
-      if Codec.boxed c tag then incr box)
+      pos := !pos + 1 + Engine.Packed.tag_width tag;
+      if Engine.Packed.tag_boxed tag then incr box)
     all tags;
   Alcotest.(check int) "every int read" (Ring.length r) !pos;
   (* a decoded value's slots are its own: setting one changes no other *)
