@@ -8,6 +8,94 @@ open Semantics.Machine
 module Pqueue = Semantics.Pqueue
 module Fqueue = Semantics.Fqueue
 
+(* Growable circular buffers of ints and of boxed values; see packed.mli.
+   Here, in the same unit as the agent, so that its loops inline them. *)
+module Ring = struct
+  type 'b t = {
+    mutable ints : int array;     (* length a power of two *)
+    mutable head : int;
+    mutable len : int;
+    mutable bx : 'b array;        (* [||] or a power of two *)
+    mutable bhead : int;
+    mutable blen : int;
+  }
+
+  let small = 16
+
+  let create () = { ints = Array.make small 0; head = 0; len = 0; bx = [||]; bhead = 0; blen = 0 }
+
+  let length r = r.len
+  let boxes r = r.blen
+  let is_empty r = r.len = 0 && r.blen = 0
+
+  let grow r =
+    let n = Array.length r.ints in
+    let a = Array.make (2 * n) 0 in
+    for i = 0 to r.len - 1 do a.(i) <- r.ints.((r.head + i) land (n - 1)) done;
+    r.ints <- a;
+    r.head <- 0
+
+  let[@inline] push r x =
+    if r.len = Array.length r.ints then grow r;
+    r.ints.((r.head + r.len) land (Array.length r.ints - 1)) <- x;
+    r.len <- r.len + 1
+
+  let[@inline] get r i = Array.unsafe_get r.ints ((r.head + i) land (Array.length r.ints - 1))
+
+  let[@inline] drop r n =
+    r.head <- (r.head + n) land (Array.length r.ints - 1);
+    r.len <- r.len - n
+
+  let move_front src dst n ~skip =
+    while dst.len + n > Array.length dst.ints do grow dst done;
+    let a = dst.ints and m = Array.length dst.ints - 1 and b = src.ints
+    and ms = Array.length src.ints - 1 in
+    let at = dst.head + dst.len and from = src.head + skip in
+    for k = 0 to n - 1 do
+      Array.unsafe_set a ((at + k) land m) (Array.unsafe_get b ((from + k) land ms))
+    done;
+    dst.len <- dst.len + n;
+    src.head <- (from + n) land ms;
+    src.len <- src.len - n - skip
+
+  (* The side ring is made with its first value as the filler of its empty
+     places. *)
+  let grow_boxes r v =
+    let n = Array.length r.bx in
+    let a = Array.make (max 8 (2 * n)) v in
+    for j = 0 to r.blen - 1 do a.(j) <- r.bx.((r.bhead + j) land (n - 1)) done;
+    r.bx <- a;
+    r.bhead <- 0
+
+  let push_box r v =
+    if r.blen = Array.length r.bx then grow_boxes r v;
+    r.bx.((r.bhead + r.blen) land (Array.length r.bx - 1)) <- v;
+    r.blen <- r.blen + 1
+
+  let get_box r j = r.bx.((r.bhead + j) land (Array.length r.bx - 1))
+
+  let drop_box r =
+    let m = Array.length r.bx - 1 in
+    (* the place of the value leaving gets the newest one, still in the ring
+       (or the value itself when it was the last) *)
+    r.bx.(r.bhead) <- r.bx.((r.bhead + r.blen - 1) land m);
+    r.bhead <- (r.bhead + 1) land m;
+    r.blen <- r.blen - 1
+
+  (* Above this many places, a drained ring's array is given back. *)
+  let large = 1 lsl 16
+
+  let shrink r =
+    if r.len = 0 && r.blen = 0 then begin
+      if Array.length r.ints > large then begin r.ints <- Array.make small 0; r.head <- 0 end;
+      if Array.length r.bx > large then begin r.bx <- [||]; r.bhead <- 0 end
+    end
+
+  let capacity_words r =
+    (* each array: its elements and a header word; the record: 6 + 1 *)
+    Array.length r.ints + 1 + (if Array.length r.bx = 0 then 0 else Array.length r.bx + 1) + 7
+end
+
 module type CODEC = sig
   type percept
   type t
@@ -114,10 +202,11 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
 
   (* The highest non-empty bucket; there is one when [pq_n > 0]. The scan
      starts at [top]: the buckets before it are empty. *)
-  let top_bucket t =
-    let bs = t.buckets in
-    let rec go i = if Ring.length bs.(i).ring > 0 then (t.top <- i; bs.(i)) else go (i + 1) in
-    go t.top
+  let rec first_non_empty t (bs : bucket array) i =
+    if Ring.length bs.(i).ring > 0 then begin t.top <- i; bs.(i) end
+    else first_non_empty t bs (i + 1)
+
+  let top_bucket t = first_non_empty t t.buckets t.top
 
   (* The front record of a bucket, decoded into its entry (not removed). *)
   let front_entry t b =
@@ -127,8 +216,9 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
   (* Dequeue's pop (R3b): the highest bucket's oldest record, decoded. *)
   let pop t =
     let b = top_bucket t in
-    let e = front_entry t b in
-    let tag = tag_of (Ring.get b.ring 0) in
+    let h = Ring.get b.ring 0 in
+    let tag = tag_of h in
+    let e = { p = C.read t.codec tag b.ring ~pos:1 ~box:0; prio = b.bprio; seq = high h } in
     Ring.drop b.ring (1 + tag_width tag);
     if tag_boxed tag then Ring.drop_box b.ring;
     Ring.shrink b.ring;
@@ -141,9 +231,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
   let move ring b h' =
     let tag = tag_of h' in
     Ring.push b.ring h';
-    let w = tag_width tag in
-    for k = 1 to w do Ring.push b.ring (Ring.get ring k) done;
-    Ring.drop ring (1 + w);
+    Ring.move_front ring b.ring (tag_width tag) ~skip:1;
     if tag_boxed tag then begin Ring.push_box b.ring (Ring.get_box ring 0); Ring.drop_box ring end
 
   (* ------------------------------------------------ packing, projecting *)

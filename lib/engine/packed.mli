@@ -6,7 +6,7 @@
     then in a bucket of the priority queue: in a flood of millions of
     percepts, every one of them is a few small blocks on the heap, which the
     collector promotes and marks again and again. The packed agent keeps
-    them in rings of ints ({!Ring}):
+    them in rings of ints ({!Ring}, below):
     - the O2A ring: one record per notified percept, [prio_tag; slots...]
       (the priority and the codec's tag in one int). Their seqs need no
       place: the percepts in O2A are the last ones notified, in order, so
@@ -41,6 +41,66 @@
     {!to_config} gives the reference's configuration (test/fastpath holds
     it equal, after every host operation and every rule, on random
     programs). docs/semantics.md, "The fast engine". *)
+
+(** A growable first-in first-out ring of ints, with a second ring beside it
+    for boxed values: the store of the packed agent's waiting percepts
+    ({!Packed}). A percept is a record of a few ints (its header and its
+    slots) and, when it cannot be written as ints, one boxed value in the
+    side ring. Both rings are first in, first out, so the [j]th boxed value
+    belongs to the [j]th record that has one.
+
+    Each ring is an array whose length is a power of two, used circularly
+    from [head]; it doubles when full (the elements are copied once). A
+    ring that has drained can be given back its small array ({!shrink}), so
+    that a flood's memory does not stay with the agent once it is idle.
+
+    Nothing is allocated per element except when a ring grows. *)
+module Ring : sig
+  type 'b t
+
+  val create : unit -> 'b t
+
+  val length : 'b t -> int
+  (** Ints in the ring. *)
+
+  val boxes : 'b t -> int
+  (** Boxed values in the side ring. *)
+
+  val is_empty : 'b t -> bool
+  (** No int and no boxed value. *)
+
+  val push : 'b t -> int -> unit
+  (** Add an int at the back. *)
+
+  val get : 'b t -> int -> int
+  (** [get r i]: the [i]th int from the front (0 is the front). Unchecked
+      beyond [length]: the caller reads only what it wrote. *)
+
+  val drop : 'b t -> int -> unit
+  (** Remove [n] ints from the front ([n <= length]). *)
+
+  val move_front : 'b t -> 'b t -> int -> skip:int -> unit
+  (** [move_front src dst n ~skip]: drop [skip] ints from the front of
+      [src], then move its next [n] ints to the back of [dst], in order. *)
+
+  val push_box : 'b t -> 'b -> unit
+  val get_box : 'b t -> int -> 'b
+  (** The [j]th boxed value from the front. *)
+
+  val drop_box : 'b t -> unit
+  (** Remove the front boxed value. The ring no longer holds it (its place is
+      overwritten by a value still in the ring, or by the last one pushed). *)
+
+  val shrink : 'b t -> unit
+  (** When the ring is empty, give back an array of more than 65,536 places
+      (the ring starts again small; a smaller one is kept, so that a steady
+      run does not grow its rings again after every batch). Does nothing to a ring that is not
+      empty. *)
+
+  val capacity_words : 'b t -> int
+  (** Words the ring's two arrays take on the heap, headers included: the
+      growth slack counted (the bench's live memory per waiting percept). *)
+end
 
 (** {1 Tags}
 

@@ -7,7 +7,7 @@ type percept = V.t
 
 (* A kind of packed percept: the schema name and slot names as the first
    percept of the kind spelled them, and which slots are booleans. *)
-type kind = { sname : string; names : string array; bools : bool array }
+type kind = { sname : string; names : string array; bools : bool array; ktag : int }
 
 type t = { mutable kinds : kind array; mutable n : int }
 
@@ -35,36 +35,49 @@ let rec simple_slots (s : V.schema_v) i =
 
 let add c (s : V.schema_v) =
   let k = { sname = s.sname; names = Array.map fst s.slots;
-            bools = Array.map (fun (_, v) -> match !v with V.Bool _ -> true | _ -> false) s.slots } in
+            bools = Array.map (fun (_, v) -> match !v with V.Bool _ -> true | _ -> false) s.slots;
+            ktag = Packed.make_tag ~kind:(c.n + 1) ~width:(Array.length s.slots) ~boxed:false } in
   if c.n = Array.length c.kinds then
     c.kinds <- Array.init (max 4 (2 * c.n)) (fun i -> if i < c.n then c.kinds.(i) else k);
   c.kinds.(c.n) <- k;
   c.n <- c.n + 1;
-  Packed.make_tag ~kind:c.n ~width:(Array.length s.slots) ~boxed:false
+  k.ktag
+
+let fits (k : kind) (s : V.schema_v) last = Array.length k.names = last + 1 && fits_slots k s last
+
+(* The kind of [s] among the kinds from [i] on: by the schema name's
+   address (the lexer interns names)... *)
+let rec by_address c (s : V.schema_v) last i =
+  if i >= c.n then -1
+  else
+    let k = Array.unsafe_get c.kinds i in
+    if k.sname == s.sname && fits k s last then k.ktag else by_address c s last (i + 1)
+
+(* ... or, for a name spelled by another string, by its text. *)
+let rec by_text c (s : V.schema_v) last i =
+  if i >= c.n then -1
+  else
+    let k = Array.unsafe_get c.kinds i in
+    if String.equal k.sname s.sname && fits k s last then k.ktag else by_text c s last (i + 1)
 
 let tag c (p : V.t) =
   match p with
   | V.Schema s ->
     let last = Array.length s.slots - 1 in
-    (* the kinds of the same schema name (compared by address first) *)
-    let rec find i =
-      if i >= c.n then
-        if last < 255 && c.n < max_kinds && simple_slots s last then add c s else boxed_tag
-      else
-        let k = Array.unsafe_get c.kinds i in
-        if (k.sname == s.sname || String.equal k.sname s.sname)
-        && Array.length k.names = last + 1 && fits_slots k s last
-        then Packed.make_tag ~kind:(i + 1) ~width:(last + 1) ~boxed:false
-        else find (i + 1) in
-    find 0
+    let t = by_address c s last 0 in
+    if t >= 0 then t
+    else if last < 255 && simple_slots s last then
+      let t = by_text c s last 0 in
+      if t >= 0 then t else if c.n < max_kinds then add c s else boxed_tag
+    else boxed_tag
   | _ -> boxed_tag
 
 let write _ tag (p : V.t) r =
-  if Packed.tag_boxed tag then Ring.push_box r p
+  if tag = boxed_tag then Packed.Ring.push_box r p
   else match p with
     | V.Schema s ->
       for i = 0 to Array.length s.slots - 1 do
-        Ring.push r (match !(snd s.slots.(i)) with
+        Packed.Ring.push r (match !(snd s.slots.(i)) with
             | V.Int n -> n
             | V.Bool b -> if b then 1 else 0
             | _ -> invalid_arg "Percept_codec.write: not the tag's kind")
@@ -78,15 +91,15 @@ let value (k : kind) i x = if k.bools.(i) then (if x <> 0 then v_true else v_fal
 
 (* Slot [i] of a percept of kind [k] whose ints start at [pos]: a fresh
    cell each time (a handler may set a slot of its content). *)
-let slot (k : kind) r pos i = (k.names.(i), ref (value k i (Ring.get r (pos + i))))
+let slot (k : kind) r pos i = (k.names.(i), ref (value k i (Packed.Ring.get r (pos + i))))
 
 let read c tag r ~pos ~box =
-  if Packed.tag_boxed tag then Ring.get_box r box
+  if tag = boxed_tag then Packed.Ring.get_box r box
   else
     let k = c.kinds.(Packed.tag_kind tag - 1) in
     let slots = match Array.length k.names with
       | 0 -> [||]
-      | 1 -> [| slot k r pos 0 |]
+      | 1 -> [| (k.names.(0), ref (value k 0 (Packed.Ring.get r pos))) |]
       | 2 -> let a = slot k r pos 0 in [| a; slot k r pos 1 |]
       | n -> let a = Array.make n (slot k r pos 0) in for i = 1 to n - 1 do a.(i) <- slot k r pos i done; a in
     V.Schema { sname = k.sname; slots }

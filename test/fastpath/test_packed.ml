@@ -8,7 +8,7 @@ open Test_support
 open Support
 module V = Interp.Value
 module Mc = Semantics.Machine
-module Ring = Engine.Ring
+module Ring = Engine.Packed.Ring
 module Codec = Engine.Percept_codec
 module Pk = Engine.Packed.Make (Engine.Interp_bodies) (Engine.Percept_codec)
 module RM = Pk.M
