@@ -11,8 +11,16 @@ module Fqueue = Semantics.Fqueue
 (* Growable circular buffers of ints and of boxed values; see packed.mli.
    Here, in the same unit as the agent, so that its loops inline them. *)
 module Ring = struct
+  module A = Bigarray.Array1
+
+  (* The ints live outside the OCaml heap: the collector neither copies
+     nor scans them (a flood's millions of waiting percepts cost it
+     nothing to mark). *)
+  type ints = (int, Bigarray.int_elt, Bigarray.c_layout) A.t
+
   type 'b t = {
-    mutable ints : int array;     (* length a power of two *)
+    mutable ints : ints;          (* length a power of two *)
+    mutable mask : int;           (* its length - 1 *)
     mutable head : int;
     mutable len : int;
     mutable bx : 'b array;        (* [||] or a power of two *)
@@ -22,37 +30,44 @@ module Ring = struct
 
   let small = 16
 
-  let create () = { ints = Array.make small 0; head = 0; len = 0; bx = [||]; bhead = 0; blen = 0 }
+  let make_ints n : ints = A.create Bigarray.int Bigarray.c_layout n
+
+  let create () =
+    { ints = make_ints small; mask = small - 1; head = 0; len = 0; bx = [||]; bhead = 0; blen = 0 }
 
   let length r = r.len
   let boxes r = r.blen
   let is_empty r = r.len = 0 && r.blen = 0
 
+  (* Twice the places, the ints copied in order to the front (in at most two
+     pieces: from [head] to the end of the array, then from its start). *)
   let grow r =
-    let n = Array.length r.ints in
-    let a = Array.make (2 * n) 0 in
-    for i = 0 to r.len - 1 do a.(i) <- r.ints.((r.head + i) land (n - 1)) done;
+    let n = r.mask + 1 in
+    let a = make_ints (2 * n) in
+    let first = min r.len (n - r.head) in
+    A.blit (A.sub r.ints r.head first) (A.sub a 0 first);
+    if first < r.len then A.blit (A.sub r.ints 0 (r.len - first)) (A.sub a first (r.len - first));
     r.ints <- a;
+    r.mask <- 2 * n - 1;
     r.head <- 0
 
   let[@inline] push r x =
-    if r.len = Array.length r.ints then grow r;
-    r.ints.((r.head + r.len) land (Array.length r.ints - 1)) <- x;
+    if r.len > r.mask then grow r;
+    A.unsafe_set r.ints ((r.head + r.len) land r.mask) x;
     r.len <- r.len + 1
 
-  let[@inline] get r i = Array.unsafe_get r.ints ((r.head + i) land (Array.length r.ints - 1))
+  let[@inline] get r i = A.unsafe_get r.ints ((r.head + i) land r.mask)
 
   let[@inline] drop r n =
-    r.head <- (r.head + n) land (Array.length r.ints - 1);
+    r.head <- (r.head + n) land r.mask;
     r.len <- r.len - n
 
   let move_front src dst n ~skip =
-    while dst.len + n > Array.length dst.ints do grow dst done;
-    let a = dst.ints and m = Array.length dst.ints - 1 and b = src.ints
-    and ms = Array.length src.ints - 1 in
+    while dst.len + n > dst.mask + 1 do grow dst done;
+    let a = dst.ints and m = dst.mask and b = src.ints and ms = src.mask in
     let at = dst.head + dst.len and from = src.head + skip in
     for k = 0 to n - 1 do
-      Array.unsafe_set a ((at + k) land m) (Array.unsafe_get b ((from + k) land ms))
+      A.unsafe_set a ((at + k) land m) (A.unsafe_get b ((from + k) land ms))
     done;
     dst.len <- dst.len + n;
     src.head <- (from + n) land ms;
@@ -87,13 +102,14 @@ module Ring = struct
 
   let shrink r =
     if r.len = 0 && r.blen = 0 then begin
-      if Array.length r.ints > large then begin r.ints <- Array.make small 0; r.head <- 0 end;
+      if r.mask + 1 > large then begin r.ints <- make_ints small; r.mask <- small - 1; r.head <- 0 end;
       if Array.length r.bx > large then begin r.bx <- [||]; r.bhead <- 0 end
     end
 
-  let capacity_words r =
-    (* each array: its elements and a header word; the record: 6 + 1 *)
-    Array.length r.ints + 1 + (if Array.length r.bx = 0 then 0 else Array.length r.bx + 1) + 7
+  (* The record (7 fields and a header), the bigarray's block (a custom
+     block of 6 words with its header), the side array. *)
+  let heap_words r = 8 + 6 + (if Array.length r.bx = 0 then 0 else Array.length r.bx + 1)
+  let offheap_words r = r.mask + 1
 end
 
 module type CODEC = sig
@@ -318,9 +334,8 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     else Fqueue.fold (fun n x -> match x with O_percept _ -> n + 1 | O_object _ -> n) 0 t.c.o2a
          + Pqueue.size t.c.pq
 
-  let live_words t =
-    Array.fold_left (fun n b -> n + Ring.capacity_words b.ring + 3) (Ring.capacity_words t.o2a
-                                                                    + Array.length t.buckets + 1) t.buckets
+  let offheap_words t =
+    Array.fold_left (fun n b -> n + Ring.offheap_words b.ring) (Ring.offheap_words t.o2a) t.buckets
 
   (* -------------------------------------------------------- host rules *)
 

@@ -50,7 +50,9 @@
     belongs to the [j]th record that has one.
 
     Each ring is an array whose length is a power of two, used circularly
-    from [head]; it doubles when full (the elements are copied once). A
+    from its head; it doubles when full (the elements are copied once). The
+    ints are a [Bigarray] outside the OCaml heap, the boxed values an
+    ordinary array. A
     ring that has drained can be given back its small array ({!shrink}), so
     that a flood's memory does not stay with the agent once it is idle.
 
@@ -97,9 +99,11 @@ module Ring : sig
       run does not grow its rings again after every batch). Does nothing to a ring that is not
       empty. *)
 
-  val capacity_words : 'b t -> int
-  (** Words the ring's two arrays take on the heap, headers included: the
-      growth slack counted (the bench's live memory per waiting percept). *)
+  val heap_words : 'b t -> int
+  val offheap_words : 'b t -> int
+  (** Words the ring takes on the OCaml heap (its record, the block of its
+      ints, its side array), and outside it (the ints: a [Bigarray], which
+      the collector neither copies nor scans), growth slack included. *)
 end
 
 (** {1 Tags}
@@ -174,9 +178,10 @@ module Make (B : Fast.BODIES) (_ : CODEC with type percept = B.percept) : sig
   val last : t -> M.lbl
   val world : t -> B.world
 
-  val live_words : t -> int
-  (** Words the rings' arrays take (with their growth slack), boxed values
-      not included: the bench adds what the collector counts. *)
+  val offheap_words : t -> int
+  (** Words the rings' ints take outside the OCaml heap (growth slack
+      included), which [Gc] does not count: the bench adds them to the live
+      words it sees. *)
 
   (** {2 Host rules} *)
 
