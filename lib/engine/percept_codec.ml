@@ -9,13 +9,18 @@ type percept = V.t
    percept of the kind spelled them, and which slots are booleans. *)
 type kind = { sname : string; names : string array; bools : bool array; ktag : int }
 
-type t = { mutable kinds : kind array; mutable n : int }
+type t = {
+  mutable kinds : kind array;
+  mutable n : int;
+  mutable hot : kind;          (* the kind last found: asked first *)
+}
 
 (* Kind 0 is "boxed"; packed kinds are 1 .. max_kinds. *)
 let max_kinds = 2047
 let boxed_tag = Packed.make_tag ~kind:0 ~width:0 ~boxed:true
 
-let create () = { kinds = [||]; n = 0 }
+let none = { sname = ""; names = [||]; bools = [||]; ktag = -1 }
+let create () = { kinds = [||]; n = 0; hot = none }
 let kinds c = c.n
 
 (* Names are interned by the lexer: usually the same string. *)
@@ -51,7 +56,8 @@ let rec by_address c (s : V.schema_v) last i =
   if i >= c.n then -1
   else
     let k = Array.unsafe_get c.kinds i in
-    if k.sname == s.sname && fits k s last then k.ktag else by_address c s last (i + 1)
+    if k.sname == s.sname && fits k s last then begin c.hot <- k; k.ktag end
+    else by_address c s last (i + 1)
 
 (* ... or, for a name spelled by another string, by its text. *)
 let rec by_text c (s : V.schema_v) last i =
@@ -64,7 +70,8 @@ let tag c (p : V.t) =
   match p with
   | V.Schema s ->
     let last = Array.length s.slots - 1 in
-    let t = by_address c s last 0 in
+    let h = c.hot in
+    let t = if h.sname == s.sname && fits h s last then h.ktag else by_address c s last 0 in
     if t >= 0 then t
     else if last < 255 && simple_slots s last then
       let t = by_text c s last 0 in
