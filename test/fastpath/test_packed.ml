@@ -426,10 +426,10 @@ let () =
         Alcotest.test_case "ring = a list, through growth and wrap-around" `Quick ring_model;
         Alcotest.test_case "move_front = drops and pushes" `Quick ring_move_front;
         Alcotest.test_case "a drained ring gives its array back" `Quick ring_shrink ]);
-    ("codec", [ Alcotest.test_case "every kind of value round-trips" `Quick codec_round_trip ]);
+    ("codec", [ Alcotest.test_case "D32 every kind of value round-trips" `Quick codec_round_trip ]);
     ("agent", [
         Alcotest.test_case "objects, growth, order, refusals" `Quick packed_agent_unit;
         Alcotest.test_case "= reference, the bench's program, 60 hosts" `Quick packed_bench_program;
-        qcheck ~count:150 ~long_factor:10 "= reference after every operation, random programs"
+        qcheck ~count:150 ~long_factor:10 "D32 packed = reference after every operation"
           (QCheck.pair Typed_gen.arb_program QCheck.small_nat) packed_equals_reference ]);
   ]
