@@ -58,9 +58,25 @@ module Ring = struct
 
   let[@inline] get r i = A.unsafe_get r.ints ((r.head + i) land r.mask)
 
+  let[@inline] set r i x = A.unsafe_set r.ints ((r.head + i) land r.mask) x
+
   let[@inline] drop r n =
     r.head <- (r.head + n) land r.mask;
     r.len <- r.len - n
+
+  (* The front record of [src], a header and [w] ints, moved to the back of
+     [dst] with the header [h] instead: Transfer's inner loop, in one piece. *)
+  let[@inline] move_record src dst h w =
+    while dst.len + 1 + w > dst.mask + 1 do grow dst done;
+    let a = dst.ints and m = dst.mask and b = src.ints and ms = src.mask in
+    let at = dst.head + dst.len and from = src.head + 1 in
+    A.unsafe_set a (at land m) h;
+    for k = 0 to w - 1 do
+      A.unsafe_set a ((at + 1 + k) land m) (A.unsafe_get b ((from + k) land ms))
+    done;
+    dst.len <- dst.len + 1 + w;
+    src.head <- (from + w) land ms;
+    src.len <- src.len - 1 - w
 
   let move_front src dst n ~skip =
     while dst.len + n > dst.mask + 1 do grow dst done;
@@ -116,8 +132,7 @@ module type CODEC = sig
   type percept
   type t
   val create : unit -> t
-  val tag : t -> percept -> int
-  val write : t -> int -> percept -> percept Ring.t -> unit
+  val encode : t -> percept -> percept Ring.t -> int
   val read : t -> int -> percept Ring.t -> pos:int -> box:int -> percept
 end
 
@@ -163,8 +178,11 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     mutable top : int;                 (* the buckets before it are empty *)
     mutable pend : int;
       (* notifies not yet written into [c]: [c.next_seq] is short of them,
-         [c.phase] may still be Idle, [c.last] is [pend_last]'s to be *)
-    mutable pend_last : M.lbl;
+         [c.phase] may still be Idle, [c.last] is to be the last one's label:
+         its percept [pend_p.(0)], its priority, whether it was NotifyWith *)
+    mutable pend_p : B.percept array;   (* [||] until the first notify *)
+    mutable pend_prio : int;
+    mutable pend_with : bool;
   }
 
   let packable p =
@@ -176,9 +194,11 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
   let sync t =
     if t.pend > 0 then begin
       let c = t.c in
-      t.c <- { c with next_seq = c.next_seq + t.pend;
+      let seq = c.next_seq + t.pend in
+      let e = { p = t.pend_p.(0); prio = t.pend_prio; seq } in
+      t.c <- { c with next_seq = seq;
                       phase = (if c.phase = Idle_phase then Transfer_phase else c.phase);
-                      last = t.pend_last };
+                      last = (if t.pend_with then Notify_with e else Notify e) };
       t.pend <- 0
     end
 
@@ -246,8 +266,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
      removed from [ring]. *)
   let move ring b h' =
     let tag = tag_of h' in
-    Ring.push b.ring h';
-    Ring.move_front ring b.ring (tag_width tag) ~skip:1;
+    Ring.move_record ring b.ring h' (tag_width tag);
     if tag_boxed tag then begin Ring.push_box b.ring (Ring.get_box ring 0); Ring.drop_box ring end
 
   (* ------------------------------------------------ packing, projecting *)
@@ -255,12 +274,18 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
   let empty_state p c is_packed =
     { p; is_packed; c; codec = C.create (); o2a = Ring.create (); o2a_n = 0; after = Fqueue.empty;
       buckets = [||]; pq_n = 0; by_prio = Array.make small_prios no_bucket; top = 0;
-      pend = 0; pend_last = c.last }
+      pend = 0; pend_p = [||]; pend_prio = 0; pend_with = false }
+
+  (* A record pushed onto [ring]: its header ([x], a priority or a seq, with
+     the tag the codec answers), then what the codec writes. *)
+  let push_record t ring x percept =
+    let at = Ring.length ring in
+    Ring.push ring 0;
+    let tag = C.encode t.codec percept ring in
+    Ring.set ring at (header x tag)
 
   let push_o2a t (e : B.percept entry) =
-    let tag = C.tag t.codec e.p in
-    Ring.push t.o2a (header e.prio tag);
-    C.write t.codec tag e.p t.o2a;
+    push_record t t.o2a e.prio e.p;
     t.o2a_n <- t.o2a_n + 1
 
   let of_config p (c : M.t) =
@@ -280,10 +305,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
           | O_object _ as o -> objects := o :: !objects; after := !seen :: !after) items;
       t.after <- Fqueue.of_list (List.rev !after);
       List.iter (fun (e : B.percept entry) ->
-          let b = bucket_for t e.prio in
-          let tag = C.tag t.codec e.p in
-          Ring.push b.ring (header e.seq tag);
-          C.write t.codec tag e.p b.ring;
+          push_record t (bucket_for t e.prio).ring e.seq e.p;
           t.pq_n <- t.pq_n + 1)
         (Pqueue.to_sorted_list c.pq);
       t.c <- { c with o2a = Fqueue.of_list (List.rev !objects); pq = Pqueue.empty };
@@ -349,21 +371,20 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
   (* NotifyEffect: as the reference's, the percept into the O2A ring; the
      rest of the configuration is written by [sync] before anything reads
      it (a host's run of notifies copies no configuration). *)
-  let notify_effect t percept prio mk_label =
-    let seq = t.c.next_seq + t.pend + 1 in
-    let tag = C.tag t.codec percept in
-    Ring.push t.o2a (header prio tag);
-    C.write t.codec tag percept t.o2a;
+  let notify_effect t percept prio ~with_ =
+    push_record t t.o2a prio percept;
     t.o2a_n <- t.o2a_n + 1;
     t.pend <- t.pend + 1;
-    t.pend_last <- mk_label { p = percept; prio; seq }
+    if Array.length t.pend_p = 0 then t.pend_p <- [| percept |] else t.pend_p.(0) <- percept;
+    t.pend_prio <- prio;
+    t.pend_with <- with_
 
   let notify t percept prio =
-    if t.is_packed then notify_effect t percept prio (fun e -> Notify e)
+    if t.is_packed then notify_effect t percept prio ~with_:false
     else t.c <- M.notify t.p t.c percept prio
 
   let notify_with t percept prio =
-    if t.is_packed then notify_effect t percept prio (fun e -> Notify_with e)
+    if t.is_packed then notify_effect t percept prio ~with_:true
     else t.c <- M.notify_with t.p t.c percept prio
 
   let notify_event t percept ~default ~priority =

@@ -78,6 +78,9 @@ module Ring : sig
   (** [get r i]: the [i]th int from the front (0 is the front). Unchecked
       beyond [length]: the caller reads only what it wrote. *)
 
+  val set : 'b t -> int -> int -> unit
+  (** [set r i x]: the [i]th int from the front becomes [x] ([i < length]). *)
+
   val drop : 'b t -> int -> unit
   (** Remove [n] ints from the front ([n <= length]). *)
 
@@ -134,13 +137,11 @@ module type CODEC = sig
 
   val create : unit -> t
 
-  val tag : t -> percept -> int
-  (** The percept's tag ({!make_tag}), its kind given once per kind of
-      percept (e.g. per schema whose slots are all integers). *)
-
-  val write : t -> int -> percept -> percept Ring.t -> unit
-  (** [write c tag p r]: push the percept's [tag_width tag] ints, and its
-      box when [tag_boxed tag]. *)
+  val encode : t -> percept -> percept Ring.t -> int
+  (** [encode c p r]: push the percept's ints onto [r] (and its box, if it
+      has one) and answer its tag ({!make_tag}: [tag_width tag] ints were
+      pushed, a box when [tag_boxed tag]); the kind is given once per kind
+      of percept (e.g. per schema whose slots are all integers). *)
 
   val read : t -> int -> percept Ring.t -> pos:int -> box:int -> percept
   (** [read c tag r ~pos ~box]: the percept of this tag whose ints start at

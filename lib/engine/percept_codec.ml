@@ -66,30 +66,31 @@ let rec by_text c (s : V.schema_v) last i =
     let k = Array.unsafe_get c.kinds i in
     if String.equal k.sname s.sname && fits k s last then k.ktag else by_text c s last (i + 1)
 
-let tag c (p : V.t) =
+let tag c (s : V.schema_v) =
+  let last = Array.length s.slots - 1 in
+  let h = c.hot in
+  let t = if h.sname == s.sname && fits h s last then h.ktag else by_address c s last 0 in
+  if t >= 0 then t
+  else if last < 255 && simple_slots s last then
+    let t = by_text c s last 0 in
+    if t >= 0 then t else if c.n < max_kinds then add c s else boxed_tag
+  else boxed_tag
+
+let encode c (p : V.t) r =
   match p with
   | V.Schema s ->
-    let last = Array.length s.slots - 1 in
-    let h = c.hot in
-    let t = if h.sname == s.sname && fits h s last then h.ktag else by_address c s last 0 in
-    if t >= 0 then t
-    else if last < 255 && simple_slots s last then
-      let t = by_text c s last 0 in
-      if t >= 0 then t else if c.n < max_kinds then add c s else boxed_tag
-    else boxed_tag
-  | _ -> boxed_tag
-
-let write _ tag (p : V.t) r =
-  if tag = boxed_tag then Packed.Ring.push_box r p
-  else match p with
-    | V.Schema s ->
+    let t = tag c s in
+    if t = boxed_tag then Packed.Ring.push_box r p
+    else
       for i = 0 to Array.length s.slots - 1 do
+        (* the kind fits: each slot an Int or a Bool *)
         Packed.Ring.push r (match !(snd s.slots.(i)) with
             | V.Int n -> n
-            | V.Bool b -> if b then 1 else 0
-            | _ -> invalid_arg "Percept_codec.write: not the tag's kind")
-      done
-    | _ -> invalid_arg "Percept_codec.write: not the tag's kind"
+            | V.Bool true -> 1
+            | _ -> 0)
+      done;
+    t
+  | _ -> Packed.Ring.push_box r p; boxed_tag
 
 (* Booleans are immutable values: the two can be shared. *)
 let v_true = V.Bool true and v_false = V.Bool false
