@@ -4,8 +4,9 @@
     A percept that is a schema value whose slots all hold an [integer] or a
     [boolean] (e.g. [position(3)], [falling], [at(1, true)]) is written as
     one int per slot; its tag stands for its schema name, its slot names and
-    which slots are booleans, interned per agent (tag 1 for the first such
-    kind seen, 2 for the next, ... at most 4,096 kinds; after that, boxed).
+    which slots are booleans, interned per agent (kind 1 for the first such
+    kind seen, 2 for the next, ... at most 2,047 kinds, of at most 255
+    slots; after that, boxed).
     Reading it back builds a fresh schema value, equal to the one notified
     (same schema name string, same slot names, [Int] and [Bool] as they
     were). Any other percept (a text, a float or a double, a nested value,
