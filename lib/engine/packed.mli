@@ -40,7 +40,10 @@
     Seqs, [next_seq], [dispatched] and [last] are exactly the reference's;
     {!to_config} gives the reference's configuration (test/fastpath holds
     it equal, after every host operation and every rule, on random
-    programs). docs/semantics.md, "The fast engine". *)
+    programs). A run of notifies writes no configuration: the fields they
+    change ([next_seq], an idle agent's phase, [last]) are written when
+    the configuration is next read. The handlers get a fresh percept equal
+    to the notified one (D32). docs/semantics.md, "The packed agent". *)
 
 (** A growable first-in first-out ring of ints, with a second ring beside it
     for boxed values: the store of the packed agent's waiting percepts
@@ -161,7 +164,10 @@ module Make (B : Fast.BODIES) (_ : CODEC with type percept = B.percept) : sig
 
   val of_config : Semantics.Machine.params -> M.t -> t
   (** The agent, its percepts packed when {!packable} (O2A's percepts into
-      the O2A ring, the priority queue into the buckets). *)
+      the O2A ring, the priority queue into the buckets).
+      @raise Invalid_argument when packable and O2A's percepts are not the
+      last ones notified, in order (no run of these variants reaches such
+      a configuration). *)
 
   val to_config : t -> M.t
   (** The reference's configuration: the rings decoded into [o2a] and [pq]
