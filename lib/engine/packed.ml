@@ -145,13 +145,14 @@ let header x tag = (x lsl tag_bits) lor tag
 let high h = h asr tag_bits
 let tag_of h = h land tag_mask
 
-(* A tag: [kind] (11 bits), [width] (8 bits), [boxed] (1 bit). *)
-let make_tag ~kind ~width ~boxed =
-  if kind < 0 || kind >= 2048 || width < 0 || width > 255 then invalid_arg "Packed.make_tag";
-  (kind lsl 9) lor (width lsl 1) lor (if boxed then 1 else 0)
-let tag_kind tag = tag lsr 9
-let tag_width tag = (tag lsr 1) land 255
-let tag_boxed tag = tag land 1 = 1
+(* A tag: [kind] (10 bits), [width] (8 bits), [boxes] (2 bits). *)
+let make_tag ~kind ~width ~boxes =
+  if kind < 0 || kind >= 1024 || width < 0 || width > 255 || boxes < 0 || boxes > 3 then
+    invalid_arg "Packed.make_tag";
+  (kind lsl 10) lor (width lsl 2) lor boxes
+let tag_kind tag = tag lsr 10
+let tag_width tag = (tag lsr 2) land 255
+let tag_boxes tag = tag land 3
 
 module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
   module F = Fast.Make (B)
@@ -256,7 +257,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     let tag = tag_of h in
     let e = { p = C.read t.codec tag b.ring ~pos:1 ~box:0; prio = b.bprio; seq = high h } in
     Ring.drop b.ring (1 + tag_width tag);
-    if tag_boxed tag then Ring.drop_box b.ring;
+    for _ = 1 to tag_boxes tag do Ring.drop_box b.ring done;
     Ring.shrink b.ring;
     t.pq_n <- t.pq_n - 1;
     e
@@ -267,7 +268,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
   let move ring b h' =
     let tag = tag_of h' in
     Ring.move_record ring b.ring h' (tag_width tag);
-    if tag_boxed tag then begin Ring.push_box b.ring (Ring.get_box ring 0); Ring.drop_box ring end
+    for _ = 1 to tag_boxes tag do Ring.push_box b.ring (Ring.get_box ring 0); Ring.drop_box ring done
 
   (* ------------------------------------------------ packing, projecting *)
 
@@ -320,7 +321,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
         let tag = tag_of h in
         let x = f h (C.read t.codec tag ring ~pos:(!pos + 1) ~box:!box) in
         pos := !pos + 1 + tag_width tag;
-        if tag_boxed tag then incr box;
+        box := !box + tag_boxes tag;
         x)
 
   let to_config t : M.t =

@@ -48,9 +48,9 @@
 (** A growable first-in first-out ring of ints, with a second ring beside it
     for boxed values: the store of the packed agent's waiting percepts
     ({!Packed}). A percept is a record of a few ints (its header and its
-    slots) and, when it cannot be written as ints, one boxed value in the
-    side ring. Both rings are first in, first out, so the [j]th boxed value
-    belongs to the [j]th record that has one.
+    slots) and, for what cannot be written as ints, boxed values in the
+    side ring. Both rings are first in, first out, so a record's boxes
+    follow those of the records before it.
 
     Each ring is an array whose length is a power of two, used circularly
     from its head; it doubles when full (the elements are copied once). The
@@ -115,21 +115,21 @@ end
 (** {1 Tags}
 
     A percept's {e tag} says how it is written: the codec's own number for
-    its kind (0 to 2,047), how many ints it takes after the record's header
-    (its width, 0 to 255) and whether it also has a boxed value in the side
-    ring. It is one int of 20 bits, made by {!make_tag}; the packed agent
-    reads the width and the box from it without asking the codec. *)
+    its kind (0 to 1,023), how many ints it takes after the record's header
+    (its width, 0 to 255) and how many boxed values it has in the side ring
+    (0 to 3). It is one int of 20 bits, made by {!make_tag}; the packed
+    agent reads the width and the boxes from it without asking the codec. *)
 
-val make_tag : kind:int -> width:int -> boxed:bool -> int
+val make_tag : kind:int -> width:int -> boxes:int -> int
 (** @raise Invalid_argument outside the ranges above. *)
 
 val tag_kind : int -> int
 val tag_width : int -> int
-val tag_boxed : int -> bool
+val tag_boxes : int -> int
 
 (** How a percept is written as ints. A percept is given a tag, then
-    written as [tag_width tag] ints and, when [tag_boxed tag], one boxed
-    value in the side ring. Reading it back must give a percept equal to
+    written as [tag_width tag] ints and [tag_boxes tag] boxed values in the
+    side ring. Reading it back must give a percept equal to
     the one written (a fresh one is fine when nothing can tell them apart:
     see {!Percept_codec}). *)
 module type CODEC = sig
@@ -141,14 +141,15 @@ module type CODEC = sig
   val create : unit -> t
 
   val encode : t -> percept -> percept Ring.t -> int
-  (** [encode c p r]: push the percept's ints onto [r] (and its box, if it
-      has one) and answer its tag ({!make_tag}: [tag_width tag] ints were
-      pushed, a box when [tag_boxed tag]); the kind is given once per kind
-      of percept (e.g. per schema whose slots are all integers). *)
+  (** [encode c p r]: push the percept's ints and boxes onto [r] and
+      answer its tag ({!make_tag}: [tag_width tag] ints and [tag_boxes tag]
+      boxes were pushed); the kind is given once per kind of percept (e.g.
+      per schema whose slots are all integers). *)
 
   val read : t -> int -> percept Ring.t -> pos:int -> box:int -> percept
   (** [read c tag r ~pos ~box]: the percept of this tag whose ints start at
-      [pos] in [r] (its box, if boxed, is the [box]th boxed value). *)
+      [pos] in [r] and whose boxes (if any) start at the [box]th boxed
+      value. *)
 end
 
 module Make (B : Fast.BODIES) (_ : CODEC with type percept = B.percept) : sig

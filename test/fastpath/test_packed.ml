@@ -107,7 +107,9 @@ let codec_round_trip () =
     (sch "at" [ ("x", V.Int 1); ("ok", V.Bool false); ("y", V.Int (-5)) ], true);
     (sch "at" [ ("x", V.Bool false); ("ok", V.Int 1); ("y", V.Int 0) ], true);  (* other kinds: another tag *)
     (sch "at" [ ("a", V.Int 1); ("ok", V.Bool false); ("y", V.Int 0) ], true);  (* other slot names *)
-    (sch "seen" [ ("t", V.Text "x y"); ("b", V.Bool true) ], false);
+    (sch "seen" [ ("t", V.Text "x y"); ("b", V.Bool true) ], true);        (* a text: a box *)
+    (sch "msg" [ ("a", V.Text "p"); ("n", V.Int 2); ("b", V.Text ""); ("ok", V.Bool false) ], true);
+    (sch "four" [ ("a", V.Text "1"); ("b", V.Text "2"); ("c", V.Text "3"); ("d", V.Text "4") ], false);
     (sch "reading" [ ("v", V.Double 1.5); ("f", V.Float 0.5) ], false);
     (sch "box" [ ("p", sch "point" [ ("x", V.Int 1) ]) ], false);
     (sch "tags" [ ("l", V.list_of [ V.Int 1; V.Int 2 ]) ], false);
@@ -120,15 +122,16 @@ let codec_round_trip () =
   (* twice over, so that the second time every tag is already given *)
   let all = values @ values in
   let tags = List.map (fun (v, packed) ->
-      let at = Ring.length r in
+      let at = Ring.length r and boxes = Ring.boxes r in
       Ring.push r 0;
       let tag = Codec.encode c v r in
       Ring.set r at tag;
-      Alcotest.(check bool) (V.to_literal v ^ " packed") packed (not (Engine.Packed.tag_boxed tag));
+      Alcotest.(check bool) (V.to_literal v ^ " packed") packed (Engine.Packed.tag_kind tag > 0);
       Alcotest.(check int) (V.to_literal v ^ " width") (at + 1 + Engine.Packed.tag_width tag) (Ring.length r);
+      Alcotest.(check int) (V.to_literal v ^ " boxes") (boxes + Engine.Packed.tag_boxes tag) (Ring.boxes r);
       tag) all in
-  (* position, falling, and three kinds of at *)
-  Alcotest.(check int) "kinds interned once each" 5 (Codec.kinds c);
+  (* position, falling, three kinds of at, seen, msg *)
+  Alcotest.(check int) "kinds interned once each" 7 (Codec.kinds c);
   let pos = ref 0 and box = ref 0 in
   List.iter2 (fun (v, packed) tag ->
       Alcotest.(check int) "tag" tag (Ring.get r !pos);
@@ -136,7 +139,7 @@ let codec_round_trip () =
       if not (same_value v v') then Alcotest.failf "%s read back as %s" (V.to_literal v) (V.to_literal v');
       if packed && v == v' then Alcotest.failf "%s: not a fresh value" (V.to_literal v);
       pos := !pos + 1 + Engine.Packed.tag_width tag;
-      if Engine.Packed.tag_boxed tag then incr box)
+      box := !box + Engine.Packed.tag_boxes tag)
     all tags;
   Alcotest.(check int) "every int read" (Ring.length r) !pos;
   (* a decoded value's slots are its own: setting one changes no other *)
@@ -307,12 +310,15 @@ let packed_equals_reference x =
   | e -> QCheck.Test.fail_reportf "exception %s" (Printexc.to_string e)
 
 (* The bench's workload (bench/programs/percepts.jade): four percept types,
-   three behaviours, both packed and boxed percepts. *)
+   three behaviours; and a fifth type of two texts (a record of two boxes)
+   and one of a double (boxed whole). *)
 let bench_program = {|ontology Load
 	proposition falling extends percept with priority = 10
 	predicate obstacle(d as integer) extends percept with priority = 8
 	predicate qrCodeRead(qrCode as text) extends percept with priority = 4
 	predicate position(k as integer) extends percept with priority = 2
+	predicate note(a as text, n as integer, b as text) extends percept with priority = 4
+	predicate level(x as double) extends percept with priority = 8
 
 agent Ag uses ontology Load
 	property counts as map of integer:integer = {}
@@ -336,6 +342,12 @@ cyclic behaviour Others for agent Ag
 	on percept when content matches qrCodeRead(q) do
 		falls = falls + 1
 		log "qr " + q
+
+	on percept when content matches note(a, n, b) do
+		log a + n + b
+
+	on percept when content matches level(x) do
+		log "level " + x
 
 cyclic behaviour Watch for agent Ag
 	on percept when content matches falling do
@@ -432,7 +444,7 @@ let () =
     ("codec", [ Alcotest.test_case "D32 every kind of value round-trips" `Quick codec_round_trip ]);
     ("agent", [
         Alcotest.test_case "objects, growth, order, refusals" `Quick packed_agent_unit;
-        Alcotest.test_case "= reference, the bench's program, 60 hosts" `Quick packed_bench_program;
+        Alcotest.test_case "= reference, the bench's program and two more types, 60 hosts" `Quick packed_bench_program;
         qcheck ~count:150 ~long_factor:10 "D32 packed = reference after every operation"
           (QCheck.pair Typed_gen.arb_program QCheck.small_nat) packed_equals_reference ]);
   ]
