@@ -225,6 +225,10 @@ module M = P.M
 module E = Interp.Runtime.E   (* the fast engine: what runs programs *)
 module V = Interp.Value
 
+(* The packed agent (lib/engine/packed.ml): the fast engine with the waiting
+   percepts as ints in rings, what the steady run and the floods drive. *)
+module PK = Engine.Packed.Make (Engine.Interp_bodies) (Engine.Percept_codec)
+
 let load_program file =
   let r = Syntax.Parse.file file in
   let env, diags = Typing.check [ r ] in
@@ -257,46 +261,42 @@ let machine_params = Semantics.Machine.default_params
 let new_agent env =
   let (a, behs) = Interp.Eval.create_agent env ~name:"l" ~atype:"Loader" ~args:[] ~fuel:1000 in
   a.record_ran <- false;   (* no trace is written *)
-  M.init machine_params ~world:a behs
+  PK.of_config machine_params (M.init machine_params ~world:a behs)
 
-(* Run the agent until idle on the fast engine, one [E.step] at a time
-   except that each percept's dispatch (Dequeue, Handle or Skip per handler,
-   EndDispatch) is taken as the derived rule [E.dispatch]; count the percepts
-   that left and call [window] every [every] of them. *)
-let drain ?(every = 0) ?(window = fun _ -> ()) c =
+(* Run the packed agent until idle, one [PK.step] at a time except that each
+   percept's dispatch (Dequeue, Handle or Skip per handler, EndDispatch) is
+   taken as the derived rule [PK.dispatch]; count the percepts that left and
+   call [window] every [every] of them. *)
+let drain ?(every = 0) ?(window = fun _ -> ()) t =
   let handled = ref 0 in
-  let rec go (c : M.t) =
-    match E.dispatch machine_params c with
-    | Some c' ->
+  let rec go () =
+    if PK.dispatch t then begin
       (* a caller reads the bodies' events after each dispatch *)
-      ignore (Interp.Eval.take_events c'.world);
+      ignore (Interp.Eval.take_events (PK.world t));
       incr handled;
       if every > 0 && !handled mod every = 0 then window !handled;
-      go c'
-    | None ->
-      match E.step machine_params c with
-      | [] -> c
-      | (_, c') :: _ -> go c' in
-  let c = go c in
-  (c, !handled)
+      go ()
+    end else
+      match PK.step t with
+      | None -> ()
+      | Some _ -> go () in
+  go ();
+  !handled
 
 (* The host notifies percepts k, ..., k + 1023. *)
-let notify_batch percept c k =
-  let c = ref c in
+let notify_batch percept t k =
   for i = k to k + 1023 do
     let (p, d) = percept i in
-    c := M.notify machine_params !c p d
-  done;
-  !c
+    PK.notify t p d
+  done
 
 let interp_steady env total =
   let percept = percept_maker env in
-  let c = ref (new_agent env) and k = ref 0 in
+  let t = new_agent env and k = ref 0 in
   let t0 = Unix.gettimeofday () in
   while !k < total do
-    c := notify_batch percept !c !k; k := !k + 1024;
-    let (c', _) = drain !c in
-    c := c'
+    notify_batch percept t !k; k := !k + 1024;
+    ignore (drain t)
   done;
   let dt = Unix.gettimeofday () -. t0 in
   (float_of_int total /. dt, dt)
@@ -306,7 +306,7 @@ let interp_steady env total =
    counted by rule. *)
 let interp_where env total =
   let percept = percept_maker env in
-  let c = ref (new_agent env) and k = ref 0 in
+  let t = new_agent env and k = ref 0 in
   let names = [| "Transfer"; "Dequeue"; "Handle"; "Skip"; "EndDispatch"; "other" |] in
   let counts = Array.make (Array.length names) 0 and steps = ref 0 in
   let rule : M.lbl -> int = function
@@ -315,16 +315,16 @@ let interp_where env total =
   let t_notify = ref 0. and t_loop = ref 0. in
   let words0 = Gc.minor_words () and minors0 = (Gc.quick_stat ()).minor_collections in
   let count l = incr steps; let i = rule l in counts.(i) <- counts.(i) + 1 in
-  let rec go (c : M.t) = match E.dispatch ~observe:count machine_params c with
-    | Some c' -> ignore (Interp.Eval.take_events c'.world); go c'
-    | None -> match E.step machine_params c with
-      | [] -> c
-      | (l, c') :: _ -> count l; go c' in
+  let rec go () =
+    if PK.dispatch ~observe:count t then begin ignore (Interp.Eval.take_events (PK.world t)); go () end
+    else match PK.step t with
+      | None -> ()
+      | Some l -> count l; go () in
   while !k < total do
     let t0 = Unix.gettimeofday () in
-    c := notify_batch percept !c !k; k := !k + 1024;
+    notify_batch percept t !k; k := !k + 1024;
     let t1 = Unix.gettimeofday () in
-    c := go !c;
+    go ();
     let t2 = Unix.gettimeofday () in
     t_notify := !t_notify +. (t1 -. t0); t_loop := !t_loop +. (t2 -. t1)
   done;
@@ -375,7 +375,7 @@ let million_windows () =
    apart, every million of each also on its own. *)
 let interp_flood env total =
   let percept = percept_maker env in
-  let c = ref (new_agent env) in
+  let t = new_agent env in
   Gc.compact (); reset_peak_rss ();
   let live0 = (Gc.stat ()).live_words in
   let gc0 = Gc.quick_stat () in
@@ -383,25 +383,29 @@ let interp_flood env total =
   let (notified, notify_windows) = million_windows () in
   for k = 0 to total - 1 do
     let (p, d) = percept k in
-    c := M.notify machine_params !c p d;
+    PK.notify t p d;
     if (k + 1) mod 1_000_000 = 0 then notified ()
   done;
   let t_notify = Unix.gettimeofday () -. t0 in
   let gc1 = Gc.quick_stat () in
-  (* the live heap with every percept waiting (not timed) *)
-  let live_words = float_of_int ((Gc.stat ()).live_words - live0) /. float_of_int total in
+  (* the live heap with every percept waiting (not timed): after a full
+     collection, so that the rings' arrays left behind by their growth are
+     not counted, their growth slack is *)
+  Gc.full_major ();
+  (* the rings' ints are outside the heap: added *)
+  let live_words = float_of_int ((Gc.stat ()).live_words - live0 + PK.offheap_words t) /. float_of_int total in
   let t1 = Unix.gettimeofday () in
-  let c = match E.step machine_params !c with
-    | [ ((Semantics.Machine.Transfer k), c) ] when k = total -> c
-    | _ -> failwith "flood: the first step is not the Transfer of every percept" in
+  (match PK.step t with
+   | Some (Semantics.Machine.Transfer k) when k = total -> ()
+   | _ -> failwith "flood: the first step is not the Transfer of every percept");
   let t2 = Unix.gettimeofday () in
   let (dispatched, windows) = million_windows () in
-  let (idle, handled) = drain ~every:1_000_000 ~window:(fun _ -> dispatched ()) c in
+  let handled = drain ~every:1_000_000 ~window:(fun _ -> dispatched ()) t in
   let t3 = Unix.gettimeofday () in
   (* what the drained agent still holds beyond the fresh one (not timed) *)
   Gc.full_major ();
-  let kept_words = (Gc.stat ()).live_words - live0 in
-  ignore (Sys.opaque_identity idle);
+  let kept_words = (Gc.stat ()).live_words - live0 + PK.offheap_words t in
+  ignore (Sys.opaque_identity t);
   if handled <> total then failwith "flood: not every percept was dispatched";
   let dt = t_notify +. (t3 -. t1) in
   { n = total; notify_ns = t_notify *. 1e9 /. float_of_int total; transfer_s = t2 -. t1;
@@ -620,23 +624,44 @@ let count_bench () =
   Interp.Runtime.tune_gc ();
   let env = load_program (find_program "percepts.jade") in
   let percept = percept_maker env in
+  (* live words per waiting percept, once, after a full collection, the
+     words allocated by it not counted; JSREF_COUNT_NO_LIVE=1 leaves it out
+     (its collection would be in an instruction count) *)
+  let live = ref None and live0 = ref 0 and extra = ref 0. in
+  let measure = Sys.getenv_opt "JSREF_COUNT_NO_LIVE" <> Some "1" in
+  let start_live () = if measure then begin Gc.full_major (); live0 := (Gc.stat ()).live_words end in
+  let live_per_waiting t k =
+    if measure then begin
+      let m0 = Gc.minor_words () in
+      Gc.full_major ();
+      (* the rings' ints are outside the heap: added *)
+      live := Some (k, float_of_int ((Gc.stat ()).live_words - !live0 + PK.offheap_words t) /. float_of_int k);
+      extra := !extra +. (Gc.minor_words () -. m0)
+    end in
   let w0 = Gc.minor_words () in
   let n = match Sys.argv.(2) with
     | "steady" ->   (* in batches of 1,024: n rounded up *)
-      let c = ref (new_agent env) and k = ref 0 in
+      let t = new_agent env and k = ref 0 in
+      start_live ();
       while !k < n do
-        c := notify_batch percept !c !k; k := !k + 1024;
-        c := fst (drain !c)
+        notify_batch percept t !k; k := !k + 1024;
+        if !k = 1024 then live_per_waiting t 1024;
+        ignore (drain t)
       done;
       !k
     | "flood" ->
-      let c = ref (new_agent env) in
-      for k = 0 to n - 1 do let (p, d) = percept k in c := M.notify machine_params !c p d done;
-      ignore (Sys.opaque_identity (drain !c));
+      let t = new_agent env in
+      start_live ();
+      for k = 0 to n - 1 do let (p, d) = percept k in PK.notify t p d done;
+      if n > 0 then live_per_waiting t n;
+      ignore (Sys.opaque_identity (drain t));
       n
     | _ -> usage () in
-  Printf.printf "%s of %d percepts: %.1f words allocated per percept\n" Sys.argv.(2) n
-    ((Gc.minor_words () -. w0) /. float_of_int (max 1 n))
+  Printf.printf "%s of %d percepts: %.1f words allocated per percept%s\n" Sys.argv.(2) n
+    ((Gc.minor_words () -. w0 -. !extra) /. float_of_int (max 1 n))
+    (match !live with
+     | Some (k, w) -> Printf.sprintf "; %.1f words (%.0f bytes) live per waiting percept with %d waiting" w (w *. 8.) k
+     | None -> "")
 
 (* ---------------------------------------------------- the JADE back end *)
 

@@ -136,6 +136,14 @@ module Make (B : BODIES) = struct
                       phase = Dispatch_phase; last = l } in
     match bs with Some s -> M.with_bs c' s | None -> c'
 
+  (* Dequeue of [e], already taken from the priority queue (which is now
+     [pq]), then its handlers and EndDispatch. *)
+  let dispatch_popped observe p (c : M.t) e pq =
+    (match observe with Some f -> f (Dequeue e) | None -> ());
+    let k = handlers_and_behs c in
+    dispatch_end observe p c e ~pq ~waits:(bump_waits p c e) ~dispatched:(c.dispatched + 1)
+      (dispatch_handlers observe p c e c.world false None k.todo k.behs)
+
   let dispatch ?observe p (c : M.t) : M.t option =
     match c.phase, c.cur with
     | Handle_phase, Some d ->
@@ -143,13 +151,12 @@ module Make (B : BODIES) = struct
               (dispatch_handlers observe p c d.e c.world d.applied None d.todo []))
     | Dispatch_phase, _ when single_candidate p && not (M.dispatch_over p c) ->
       if Pqueue.is_empty c.pq then None
-      else begin                                                             (* dequeue *)
+      else                                                                   (* dequeue *)
         (* Pqueue.pop without its option and pair *)
-        let e = Pqueue.first c.pq and pq = Pqueue.drop_first c.pq in
-        (match observe with Some f -> f (Dequeue e) | None -> ());
-        let k = handlers_and_behs c in
-        Some (dispatch_end observe p c e ~pq ~waits:(bump_waits p c e) ~dispatched:(c.dispatched + 1)
-                (dispatch_handlers observe p c e c.world false None k.todo k.behs))
-      end
+        Some (dispatch_popped observe p c (Pqueue.first c.pq) (Pqueue.drop_first c.pq))
     | _ -> None
+
+  let dispatch_entry ?observe p c e ~pq = dispatch_popped observe p c e pq
+
+  let dequeue_entry p c e ~pq = dequeue_top p c e pq
 end

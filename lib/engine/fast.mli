@@ -50,4 +50,17 @@ module Make (B : BODIES) : sig
       time (each is then the only rule enabled), without building the
       configurations in between; [observe] sees their labels in order.
       [None] in any other configuration. *)
+
+  val dequeue_entry : Semantics.Machine.params -> M.t -> B.percept Semantics.Machine.entry ->
+    pq:B.percept Semantics.Pqueue.t -> M.lbl * M.t
+  (** Dequeue (R3b) of an entry the caller has already taken from the top of
+      its priority queue, [pq] being that queue without it: in phase
+      Dispatch, stable ties, no flood abstraction, not [Native], with the
+      entry the one candidate. What [M.dequeue] answers there. The packed
+      agent ({!Packed}) keeps its percepts apart and gives them here. *)
+
+  val dispatch_entry : ?observe:(M.lbl -> unit) -> Semantics.Machine.params -> M.t ->
+    B.percept Semantics.Machine.entry -> pq:B.percept Semantics.Pqueue.t -> M.t
+  (** {!dispatch} from phase Dispatch, the entry already taken from the top
+      of the priority queue as in {!dequeue_entry}. *)
 end

@@ -1,0 +1,228 @@
+(** The packed agent: one agent's loop, as {!Fast}, with its waiting
+    percepts kept as ints instead of a queue of boxed entries.
+
+    The reference configuration ({!Semantics.Machine.config}) keeps every
+    notified percept as an entry [{p; prio; seq}] in a cell of the O2A queue,
+    then in a bucket of the priority queue: in a flood of millions of
+    percepts, every one of them is a few small blocks on the heap, which the
+    collector promotes and marks again and again. The packed agent keeps
+    them in rings of ints ({!Ring}, below):
+    - the O2A ring: one record per notified percept, [prio_tag; slots...]
+      (the priority and the codec's tag in one int). Their seqs need no
+      place: the percepts in O2A are the last ones notified, in order, so
+      their seqs are consecutive and end at [next_seq];
+    - the priority buckets, one per priority present, highest first (there
+      are few): one record per waiting percept, [seq_tag; slots...], oldest
+      first (R3b, stable ties);
+    - objects put into O2A (R2c) stay in the configuration's [o2a], each with
+      the seq of the last percept notified before it, so that the reference's
+      O2A queue can be rebuilt in its order.
+
+    How a percept becomes ints is the {!CODEC}'s business. What the packed
+    agent does itself: the host's notify and put (R2a-R2d, capacity counting
+    the ring and the objects), Transfer (R3a: records copied from the O2A
+    ring to the buckets, nothing allocated per percept) and Dequeue (R3b: the
+    highest non-empty bucket's oldest record, decoded into the entry the
+    handlers see), and the derived rule Dispatch through
+    {!Fast.Make.dispatch_entry}. Every other rule (Handle, Skip,
+    EndDispatch, BehaviourStep, NextIteration, Idle) reads of O2A and the
+    priority queue only whether they hold a percept: it is taken by
+    {!Fast.Make.step} on a view of the configuration where the O2A queue
+    holds the objects and at most the first waiting percept, and the
+    priority queue at most its top (one record decoded), and it changes
+    neither.
+
+    Packed mode is used only where it is simple: the [Reference] and
+    [Budgeted] variants, stable ties, no flood abstraction, no ghosts
+    ({!packable}). Elsewhere the agent keeps the plain configuration and
+    every rule is {!Fast}'s.
+
+    Seqs, [next_seq], [dispatched] and [last] are exactly the reference's;
+    {!to_config} gives the reference's configuration (test/fastpath holds
+    it equal, after every host operation and every rule, on random
+    programs). A run of notifies writes no configuration: the fields they
+    change ([next_seq], an idle agent's phase, [last]) are written when
+    the configuration is next read. The handlers get a fresh percept equal
+    to the notified one (D32). docs/semantics.md, "The packed agent". *)
+
+(** A growable first-in first-out ring of ints, with a second ring beside it
+    for boxed values: the store of the packed agent's waiting percepts
+    ({!Packed}). A percept is a record of a few ints (its header and its
+    slots) and, for what cannot be written as ints, boxed values in the
+    side ring. Both rings are first in, first out, so a record's boxes
+    follow those of the records before it.
+
+    Each ring is an array whose length is a power of two, used circularly
+    from its head; it doubles when full (the elements are copied once). The
+    ints are a [Bigarray] outside the OCaml heap, the boxed values an
+    ordinary array. A
+    ring that has drained can be given back its small array ({!shrink}), so
+    that a flood's memory does not stay with the agent once it is idle.
+
+    Nothing is allocated per element except when a ring grows. *)
+module Ring : sig
+  type 'b t
+
+  val create : unit -> 'b t
+
+  val length : 'b t -> int
+  (** Ints in the ring. *)
+
+  val boxes : 'b t -> int
+  (** Boxed values in the side ring. *)
+
+  val is_empty : 'b t -> bool
+  (** No int and no boxed value. *)
+
+  val push : 'b t -> int -> unit
+  (** Add an int at the back. *)
+
+  val get : 'b t -> int -> int
+  (** [get r i]: the [i]th int from the front (0 is the front). Unchecked
+      beyond [length]: the caller reads only what it wrote. *)
+
+  val set : 'b t -> int -> int -> unit
+  (** [set r i x]: the [i]th int from the front becomes [x] ([i < length]). *)
+
+  val drop : 'b t -> int -> unit
+  (** Remove [n] ints from the front ([n <= length]). *)
+
+  val move_front : 'b t -> 'b t -> int -> skip:int -> unit
+  (** [move_front src dst n ~skip]: drop [skip] ints from the front of
+      [src], then move its next [n] ints to the back of [dst], in order. *)
+
+  val push_box : 'b t -> 'b -> unit
+  val get_box : 'b t -> int -> 'b
+  (** The [j]th boxed value from the front. *)
+
+  val drop_box : 'b t -> unit
+  (** Remove the front boxed value. The ring no longer holds it (its place is
+      overwritten by a value still in the ring, or by the last one pushed). *)
+
+  val shrink : 'b t -> unit
+  (** When the ring is empty, give back an array of more than 65,536 places
+      (the ring starts again small; a smaller one is kept, so that a steady
+      run does not grow its rings again after every batch). Does nothing to a ring that is not
+      empty. *)
+
+  val heap_words : 'b t -> int
+  val offheap_words : 'b t -> int
+  (** Words the ring takes on the OCaml heap (its record, the block of its
+      ints, its side array), and outside it (the ints: a [Bigarray], which
+      the collector neither copies nor scans), growth slack included. *)
+end
+
+(** {1 Tags}
+
+    A percept's {e tag} says how it is written: the codec's own number for
+    its kind (0 to 1,023), how many ints it takes after the record's header
+    (its width, 0 to 255) and how many boxed values it has in the side ring
+    (0 to 3). It is one int of 20 bits, made by {!make_tag}; the packed
+    agent reads the width and the boxes from it without asking the codec. *)
+
+val make_tag : kind:int -> width:int -> boxes:int -> int
+(** @raise Invalid_argument outside the ranges above. *)
+
+val tag_kind : int -> int
+val tag_width : int -> int
+val tag_boxes : int -> int
+
+(** How a percept is written as ints. A percept is given a tag, then
+    written as [tag_width tag] ints and [tag_boxes tag] boxed values in the
+    side ring. Reading it back must give a percept equal to
+    the one written (a fresh one is fine when nothing can tell them apart:
+    see {!Percept_codec}). *)
+module type CODEC = sig
+  type percept
+
+  type t
+  (** The codec's own state (e.g. the tags it has given, per agent). *)
+
+  val create : unit -> t
+
+  val encode : t -> percept -> percept Ring.t -> int
+  (** [encode c p r]: push the percept's ints and boxes onto [r] and
+      answer its tag ({!make_tag}: [tag_width tag] ints and [tag_boxes tag]
+      boxes were pushed); the kind is given once per kind of percept (e.g.
+      per schema whose slots are all integers). *)
+
+  val read : t -> int -> percept Ring.t -> pos:int -> box:int -> percept
+  (** [read c tag r ~pos ~box]: the percept of this tag whose ints start at
+      [pos] in [r] and whose boxes (if any) start at the [box]th boxed
+      value. *)
+end
+
+module Make (B : Fast.BODIES) (_ : CODEC with type percept = B.percept) : sig
+  module F : module type of Fast.Make (B)
+  module M = F.M
+
+  type t
+  (** A mutable agent, owned by the one loop that runs it. *)
+
+  val packable : Semantics.Machine.params -> bool
+  (** Variant [Reference] or [Budgeted], stable ties, no flood abstraction,
+      no ghosts. *)
+
+  val of_config : Semantics.Machine.params -> M.t -> t
+  (** The agent, its percepts packed when {!packable} (O2A's percepts into
+      the O2A ring, the priority queue into the buckets).
+      @raise Invalid_argument when packable and O2A's percepts are not the
+      last ones notified, in order (no run of these variants reaches such
+      a configuration). *)
+
+  val to_config : t -> M.t
+  (** The reference's configuration: the rings decoded into [o2a] and [pq]
+      in the reference's order (objects among percepts where they were put).
+      O(waiting percepts). *)
+
+  val params : t -> Semantics.Machine.params
+  val packed : t -> bool
+  (** Whether the percepts are packed ({!packable} of the params). *)
+
+  val waiting : t -> int
+  (** Percepts in O2A and in the priority queue. *)
+
+  val phase : t -> Semantics.Machine.phase
+  val last : t -> M.lbl
+  val world : t -> B.world
+
+  val offheap_words : t -> int
+  (** Words the rings' ints take outside the OCaml heap (growth slack
+      included), which [Gc] does not count: the bench adds them to the live
+      words it sees. *)
+
+  (** {2 Host rules} *)
+
+  val o2a_has_room : t -> bool
+  (** R2d: percepts in the O2A ring and objects count. *)
+
+  val notify_event : t -> B.percept -> default:int -> priority:int option ->
+    (unit, Semantics.Machine.refusal) result
+  (** {!Semantics.Machine.Make.notify_event}: refused (nothing changes) with
+      a negative priority (R2a) or a full O2A queue (R2d). *)
+
+  val notify : t -> B.percept -> int -> unit
+  (** Notify with the type's default priority; the caller checked
+      {!o2a_has_room}. *)
+
+  val notify_with : t -> B.percept -> int -> unit
+  (** NotifyWith: the priority given (a natural number, R2a). *)
+
+  val put : t -> B.obj -> unit
+  (** Put (R2c); the caller checked {!o2a_has_room}. *)
+
+  val send : t -> B.message -> unit
+  (** Send (R5e). *)
+
+  (** {2 Agent rules} *)
+
+  val step : t -> M.lbl option
+  (** Takes the first rule {!Semantics.Machine.Make.step} lists (under
+      stable ties there is one), as that rule does; [None] (nothing
+      changes) when no rule is enabled. *)
+
+  val dispatch : ?observe:(M.lbl -> unit) -> t -> bool
+  (** The derived rule Dispatch ({!Fast.Make.dispatch}): [true] when it
+      was taken, [false] (nothing changes) where {!Fast.Make.dispatch}
+      answers [None]. *)
+end

@@ -1,0 +1,450 @@
+(* The packed agent (lib/engine/packed.ml, issue 17 goal 2) held equal to
+   the reference machine: its rings (Ring), its percept codec
+   (Percept_codec), and the agent itself, rule by rule, on random programs
+   and random host operations. *)
+
+open Syntax
+open Test_support
+open Support
+module V = Interp.Value
+module Mc = Semantics.Machine
+module Ring = Engine.Packed.Ring
+module Codec = Engine.Percept_codec
+module Pk = Engine.Packed.Make (Engine.Interp_bodies) (Engine.Percept_codec)
+module RM = Pk.M
+
+(* ------------------------------------------------------------ rings *)
+
+(* A ring against a plain list model: pushes and drops interleaved, many
+   times around the array and through its growth. *)
+let ring_model () =
+  let rand = Random.State.make [| seed |] in
+  for round = 1 to 50 do
+    let r : string Ring.t = Ring.create () in
+    let ints = Queue.create () and boxes = Queue.create () in
+    let next = ref 0 in
+    for _ = 1 to 2000 do
+      (match Random.State.int rand (if round mod 2 = 0 then 5 else 3) with
+       | 0 | 3 | 4 -> incr next; Ring.push r !next; Queue.push !next ints
+       | 1 -> let n = Random.State.int rand (Queue.length ints + 1) in
+         Ring.drop r n; for _ = 1 to n do ignore (Queue.pop ints) done
+       | _ ->
+         if Random.State.bool rand || Queue.is_empty boxes then begin
+           let s = string_of_int !next in Ring.push_box r s; Queue.push s boxes end
+         else begin Ring.drop_box r; ignore (Queue.pop boxes) end);
+      Alcotest.(check int) "length" (Queue.length ints) (Ring.length r);
+      Alcotest.(check int) "boxes" (Queue.length boxes) (Ring.boxes r);
+      List.iteri (fun i x -> if Ring.get r i <> x then Alcotest.failf "int %d: %d, not %d" i (Ring.get r i) x)
+        (List.of_seq (Queue.to_seq ints));
+      List.iteri (fun j x -> if Ring.get_box r j <> x then Alcotest.failf "box %d: %s, not %s" j (Ring.get_box r j) x)
+        (List.of_seq (Queue.to_seq boxes))
+    done
+  done
+
+(* move_front = drops and pushes, the rings wrapped around and growing. *)
+let ring_move_front () =
+  let rand = Random.State.make [| seed |] in
+  let src : unit Ring.t = Ring.create () and dst : unit Ring.t = Ring.create () in
+  let ms = Queue.create () and md = Queue.create () and next = ref 0 in
+  for _ = 1 to 3000 do
+    for _ = 1 to Random.State.int rand 6 do incr next; Ring.push src !next; Queue.push !next ms done;
+    if Random.State.int rand 4 = 0 then begin
+      let n = Random.State.int rand (Queue.length md + 1) in
+      Ring.drop dst n; for _ = 1 to n do ignore (Queue.pop md) done
+    end;
+    let avail = Queue.length ms in
+    if avail > 0 then begin
+      let skip = Random.State.int rand 2 in
+      let n = Random.State.int rand (avail - skip + 1) in
+      Ring.move_front src dst n ~skip;
+      for _ = 1 to skip do ignore (Queue.pop ms) done;
+      for _ = 1 to n do Queue.push (Queue.pop ms) md done
+    end;
+    let check name r q =
+      Alcotest.(check int) (name ^ " length") (Queue.length q) (Ring.length r);
+      List.iteri (fun i x -> if Ring.get r i <> x then Alcotest.failf "%s %d: %d, not %d" name i (Ring.get r i) x)
+        (List.of_seq (Queue.to_seq q)) in
+    check "src" src ms; check "dst" dst md
+  done
+
+(* A drained ring gives its large array back; one that is not drained
+   keeps everything. *)
+let ring_shrink () =
+  let r : int Ring.t = Ring.create () in
+  for i = 1 to 100_000 do Ring.push r i done;
+  Ring.push_box r 7;
+  Ring.shrink r;
+  Alcotest.(check int) "not drained: kept" 100_000 (Ring.length r);
+  Alcotest.(check int) "its last int" 100_000 (Ring.get r 99_999);
+  Ring.drop r 100_000; Ring.drop_box r;
+  Ring.shrink r;
+  if Ring.offheap_words r > 100 || Ring.heap_words r > 100 then
+    Alcotest.failf "drained: %d and %d words kept" (Ring.offheap_words r) (Ring.heap_words r);
+  Ring.push r 5; Ring.push_box r 9;
+  Alcotest.(check (pair int int)) "usable after" (5, 9) (Ring.get r 0, Ring.get_box r 0)
+
+(* ------------------------------------------------------------ codec *)
+
+let sch name slots = V.Schema { sname = name; slots = Array.of_list (List.map (fun (n, v) -> (n, ref v)) slots) }
+
+(* Equal as the interpreter's values are built (Int 1 and Double 1.0
+   differ); a host object is compared by identity. *)
+let same_value a b = a == b || (match a, b with V.Native _, _ | _, V.Native _ -> false | _ -> a = b)
+
+let native = V.Native { nid = 3; cls = "Robot"; methods = [ ("go", fun _ -> V.Unit) ] }
+
+(* Every kind of value, packed or boxed, round-trips through a ring, several
+   in a row, at their places. *)
+let codec_round_trip () =
+  let m = V.map_empty () in
+  (match m with V.Map mv -> V.map_set mv (V.Int 1) (V.Text "a") | _ -> ());
+  let values = [
+    (sch "position" [ ("k", V.Int 3) ], true);
+    (sch "position" [ ("k", V.Int (-2147483648)) ], true);
+    (sch "position" [ ("k", V.Int 2147483647) ], true);
+    (sch "falling" [], true);
+    (sch "at" [ ("x", V.Int 1); ("ok", V.Bool true); ("y", V.Int 0) ], true);
+    (sch "at" [ ("x", V.Int 1); ("ok", V.Bool false); ("y", V.Int (-5)) ], true);
+    (sch "at" [ ("x", V.Bool false); ("ok", V.Int 1); ("y", V.Int 0) ], true);  (* other kinds: another tag *)
+    (sch "at" [ ("a", V.Int 1); ("ok", V.Bool false); ("y", V.Int 0) ], true);  (* other slot names *)
+    (sch "seen" [ ("t", V.Text "x y"); ("b", V.Bool true) ], true);        (* a text: a box *)
+    (sch "msg" [ ("a", V.Text "p"); ("n", V.Int 2); ("b", V.Text ""); ("ok", V.Bool false) ], true);
+    (sch "four" [ ("a", V.Text "1"); ("b", V.Text "2"); ("c", V.Text "3"); ("d", V.Text "4") ], false);
+    (sch "reading" [ ("v", V.Double 1.5); ("f", V.Float 0.5) ], false);
+    (sch "box" [ ("p", sch "point" [ ("x", V.Int 1) ]) ], false);
+    (sch "tags" [ ("l", V.list_of [ V.Int 1; V.Int 2 ]) ], false);
+    (sch "who" [ ("a", V.Aid "r") ], false);
+    (V.Int 4, false); (V.Bool true, false); (V.Float 2.5, false); (V.Double 1e300, false);
+    (V.Text "é\n", false); (V.Aid "x", false); (V.list_of [ V.Text "a" ], false); (m, false);
+    (native, false); (V.Agent_ref "a", false); (V.Behaviour_ref 2, false); (V.Unit, false) ] in
+  let c = Codec.create () in
+  let r = Ring.create () in
+  (* twice over, so that the second time every tag is already given *)
+  let all = values @ values in
+  let tags = List.map (fun (v, packed) ->
+      let at = Ring.length r and boxes = Ring.boxes r in
+      Ring.push r 0;
+      let tag = Codec.encode c v r in
+      Ring.set r at tag;
+      Alcotest.(check bool) (V.to_literal v ^ " packed") packed (Engine.Packed.tag_kind tag > 0);
+      Alcotest.(check int) (V.to_literal v ^ " width") (at + 1 + Engine.Packed.tag_width tag) (Ring.length r);
+      Alcotest.(check int) (V.to_literal v ^ " boxes") (boxes + Engine.Packed.tag_boxes tag) (Ring.boxes r);
+      tag) all in
+  (* position, falling, three kinds of at, seen, msg *)
+  Alcotest.(check int) "kinds interned once each" 7 (Codec.kinds c);
+  let pos = ref 0 and box = ref 0 in
+  List.iter2 (fun (v, packed) tag ->
+      Alcotest.(check int) "tag" tag (Ring.get r !pos);
+      let v' = Codec.read c tag r ~pos:(!pos + 1) ~box:!box in
+      if not (same_value v v') then Alcotest.failf "%s read back as %s" (V.to_literal v) (V.to_literal v');
+      if packed && v == v' then Alcotest.failf "%s: not a fresh value" (V.to_literal v);
+      pos := !pos + 1 + Engine.Packed.tag_width tag;
+      box := !box + Engine.Packed.tag_boxes tag)
+    all tags;
+  Alcotest.(check int) "every int read" (Ring.length r) !pos;
+  (* a decoded value's slots are its own: setting one changes no other *)
+  let r = Ring.create () in
+  let tag = Codec.encode c (sch "position" [ ("k", V.Int 3) ]) r in
+  (match Codec.read c tag r ~pos:0 ~box:0, Codec.read c tag r ~pos:0 ~box:0 with
+   | V.Schema a, V.Schema b ->
+     snd a.slots.(0) := V.Int 9;
+     Alcotest.(check bool) "fresh slots" true (!(snd b.slots.(0)) = V.Int 3)
+   | _ -> Alcotest.fail "not a schema")
+
+(* ------------------------------------------------ the packed agent *)
+
+(* The configurations compared field by field, as the reference's:
+   O2A in order, the priority queue as its set of entries in dequeue order. *)
+let show_entry (e : V.t Mc.entry) = Printf.sprintf "%s/%d/%d" (V.to_literal e.p) e.prio e.seq
+
+let show_label (l : RM.lbl) =
+  Mc.action_name l ^ (match l with
+      | Mc.Dequeue e | Mc.Notify e | Mc.Notify_with e -> "(" ^ show_entry e ^ ")"
+      | Mc.Handle { id; h; seq; p } -> Printf.sprintf "(%d,%d,%d,%s)" id h seq (V.to_literal p)
+      | Mc.Skip { id; h } -> Printf.sprintf "(%d,%d)" id h
+      | Mc.End_dispatch { seq; discarded } -> Printf.sprintf "(%d,%b)" seq discarded
+      | Mc.Behaviour_step { id; _ } -> Printf.sprintf "(%d)" id
+      | Mc.Transfer n -> Printf.sprintf "(%d)" n
+      | Mc.Put o -> "(" ^ V.to_literal o ^ ")"
+      | _ -> "")
+
+let show_config (c : RM.t) =
+  Printf.sprintf "phase=%s o2a=[%s] pq=[%s] msgq=%d next_seq=%d msg_seq=%d puts=%d dispatched=%d \
+                  active=[%s] ready=[%s] blocked=[%s] pos=%d cur=%s done=%d waits=%d last=%s"
+    (match c.phase with Mc.Transfer_phase -> "transfer" | Dispatch_phase -> "dispatch"
+                      | Handle_phase -> "handle" | Idle_phase -> "idle")
+    (String.concat ";" (List.map (function Mc.O_percept e -> show_entry e | Mc.O_object o -> "obj " ^ V.to_literal o)
+                          (Semantics.Fqueue.to_list c.o2a)))
+    (String.concat ";" (List.map show_entry (Semantics.Pqueue.to_sorted_list c.pq)))
+    (Semantics.Fqueue.length c.msgq) c.next_seq c.msg_seq c.puts c.dispatched
+    (String.concat ";" (List.map (fun (a : Interp.Eval.beh Mc.instance) ->
+         Printf.sprintf "%d:%s" a.id (Interp.Eval.beh_type a.beh)) c.active))
+    (String.concat ";" (List.map string_of_int c.ready))
+    (String.concat ";" (List.map string_of_int c.blocked)) c.pos
+    (match c.cur with
+     | None -> "-"
+     | Some d -> Printf.sprintf "%s todo=%s applied=%b" (show_entry d.e)
+                   (String.concat "," (List.map (fun (i, h) -> Printf.sprintf "%d.%d" i h) d.todo)) d.applied)
+    (Mc.Int_set.cardinal c.done_) (List.length c.waits) (show_label c.last)
+
+let show_event = function
+  | Interp.Eval.Log s -> "log " ^ s
+  | Interp.Eval.Invoke { meth; _ } -> "invoke " ^ meth
+  | Interp.Eval.Sent { perf; content; receivers } ->
+    Printf.sprintf "send %s %s to %s" perf (V.to_literal content) (String.concat "," receivers)
+  | Interp.Eval.Activated b -> "activate " ^ b
+  | Interp.Eval.Deactivated i -> "deactivate " ^ string_of_int i
+  | Interp.Eval.Error (_, at, m) -> Printf.sprintf "error %s %s" (Source.string_of_region at) m
+  | Interp.Eval.Ran { handler; effects } ->
+    Printf.sprintf "ran %s: %d effects" (if handler > 0 then string_of_int handler else "action")
+      (List.length effects)
+
+(* A random host drives two copies of the same agent: the reference
+   machine ([RM.step], one rule at a time, on a persistent configuration)
+   and the packed agent (its [step], or the derived rule [dispatch], which
+   the reference then follows rule by rule). After every host operation
+   (every other notify or so) and every rule: the same labels, the same body
+   events, [to_config] of the packed agent = the reference configuration,
+   the same refusals. *)
+type op = Notify of V.t * int * int option * bool | Put of V.t | Send of V.t | Steps of int | Dispatches of int
+
+let packed_equals_reference_exn (prog, seed) =
+  let text = Print.program prog in
+  let env, diags = Typing.check [ Parse.string ~file:"gen.jade" text ] in
+  if List.exists (fun d -> d.Diag.severity = Diag.Error) diags then
+    QCheck.Test.fail_reportf "the generated program does not check";
+  let rand = Random.State.make [| seed |] in
+  let percept () =
+    let ps = Event_gen.percept_types env in
+    let s = List.nth ps (Random.State.int rand (List.length ps)) in
+    let args = List.map (fun (_, ty) -> Event_gen.small_literal rand ty) s.s_slots in
+    let text = if args = [] then s.s_name else s.s_name ^ "(" ^ String.concat ", " args ^ ")" in
+    Interp.Eval.percept_value env ~agent_type:"Ag" (Parse.expr ~file:"e" text) in
+  let variant = List.nth [ Mc.Reference; Mc.Budgeted; Mc.Reference; Mc.Budgeted; Mc.Printed; Mc.Native ] (seed mod 6) in
+  let p = { Mc.default_params with variant;
+                                   tie = (if seed mod 7 = 3 then Mc.Unstable else Mc.Stable);
+                                   budget = 1 + Random.State.int rand 3;
+                                   ghosts = seed mod 11 = 5;
+                                   o2a_capacity = (if Random.State.bool rand then None else Some (1 + Random.State.int rand 6)) } in
+  let ops = List.init (5 + Random.State.int rand 25) (fun _ ->
+      match Random.State.int rand 10 with
+      | 0 | 1 | 2 | 3 ->
+        let (v, default) = percept () in
+        let prio = match Random.State.int rand 5 with
+          | 0 -> Some (Random.State.int rand 9) | 1 when Random.State.int rand 4 = 0 -> Some (-1) | _ -> None in
+        Notify (v, default, prio, Random.State.bool rand)
+      | 4 -> Put (V.list_of [ V.Int (Random.State.int rand 5) ])
+      | 5 -> Send (fst (percept ()))
+      | 6 | 7 -> Steps (1 + Random.State.int rand 25)
+      | _ -> Dispatches (1 + Random.State.int rand 3)) in
+  let args_for () =
+    let rand = Random.State.make [| seed; 1 |] in
+    let params = match Typing.Tenv.agent_create env "Ag" with Some r -> r.r_params | None -> [] in
+    List.map (fun (_, ty) -> Interp.Eval.literal_value env (Parse.expr ~file:"a" (Event_gen.small_literal rand ty))) params in
+  let (ar, behs_r) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:(args_for ()) ~fuel:500 in
+  let (ap, behs_p) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:(args_for ()) ~fuel:500 in
+  let events a = List.map show_event (Interp.Eval.take_events a) in
+  if events ar <> events ap then QCheck.Test.fail_reportf "on create differs";
+  let c = ref (RM.init p ~world:ar behs_r) in
+  let t = Pk.of_config p (RM.init p ~world:ap behs_p) in
+  let history = Buffer.create 256 in
+  let fail fmt = Printf.ksprintf (fun s ->
+      QCheck.Test.fail_reportf "%s\nafter: %s\nparams: %s budget=%d cap=%s packed=%b\n%s" s (Buffer.contents history)
+        (Mc.string_of_variant p.variant) p.budget
+        (match p.o2a_capacity with Some k -> string_of_int k | None -> "-") (Pk.packed t) text) fmt in
+  let compare_now what =
+    Buffer.add_string history (what ^ " | ");
+    let r = show_config !c and k = show_config (Pk.to_config t) in
+    if r <> k then fail "configurations differ after %s:\nreference: %s\npacked:    %s" what r k;
+    let er = events ar and ep = events ap in
+    if er <> ep then fail "events differ after %s:\n%s\n%s" what (String.concat "|" er) (String.concat "|" ep) in
+  let ref_step () = match RM.step p !c with
+    | [] -> None
+    | (l, c') :: _ -> c := c'; Some l in
+  List.iter (function
+      | Notify (v, default, priority, check) ->
+        let r = RM.notify_event p !c v ~default ~priority in
+        let k = Pk.notify_event t v ~default ~priority in
+        (match r, k with
+         | Ok c', Ok () -> c := c'
+         | Error x, Error y when x = y -> ()
+         | _ -> fail "notify %s: refusals differ" (V.to_literal v));
+        (* not after every notify: the packed agent writes a run of
+           notifies into its configuration when it is next read *)
+        if check then compare_now ("notify " ^ V.to_literal v)
+        else Buffer.add_string history ("notify " ^ V.to_literal v ^ " | ")
+      | Put o ->
+        let room = RM.o2a_has_room p !c in
+        if room <> Pk.o2a_has_room t then fail "put: room differs";
+        if room then begin c := RM.put p !c o; Pk.put t o end;
+        compare_now "put"
+      | Send v ->
+        let m = { Interp.Eval.perf = "inform"; content = v; sender = "host" } in
+        c := RM.send p !c m; Pk.send t m;
+        compare_now "send"
+      | Steps n ->
+        for _ = 1 to n do
+          let lr = ref_step () and lk = Pk.step t in
+          let show = function Some l -> show_label l | None -> "none" in
+          if show lr <> show lk then fail "step: reference %s, packed %s" (show lr) (show lk);
+          compare_now ("step " ^ show lr)
+        done
+      | Dispatches n ->
+        for _ = 1 to n do
+          let labels = ref [] in
+          if Pk.dispatch ~observe:(fun l -> labels := show_label l :: !labels) t then begin
+            let taken = List.rev !labels in
+            let followed = List.map (fun _ -> match ref_step () with
+                | Some l -> show_label l | None -> "none") taken in
+            if taken <> followed then
+              fail "dispatch: %s; the reference: %s" (String.concat " " taken) (String.concat " " followed);
+            compare_now ("dispatch " ^ String.concat " " taken)
+          end
+        done)
+    ops;
+  true
+
+let packed_equals_reference x =
+  try packed_equals_reference_exn x with
+  | QCheck.Test.Test_fail _ as e -> raise e
+  | e -> QCheck.Test.fail_reportf "exception %s" (Printexc.to_string e)
+
+(* The bench's workload (bench/programs/percepts.jade): four percept types,
+   three behaviours; and a fifth type of two texts (a record of two boxes)
+   and one of a double (boxed whole). *)
+let bench_program = {|ontology Load
+	proposition falling extends percept with priority = 10
+	predicate obstacle(d as integer) extends percept with priority = 8
+	predicate qrCodeRead(qrCode as text) extends percept with priority = 4
+	predicate position(k as integer) extends percept with priority = 2
+	predicate note(a as text, n as integer, b as text) extends percept with priority = 4
+	predicate level(x as double) extends percept with priority = 8
+
+agent Ag uses ontology Load
+	property counts as map of integer:integer = {}
+	property falls as integer = 0
+
+	on create do
+		activate behaviour Positions
+		activate behaviour Others
+		activate behaviour Watch
+
+cyclic behaviour Positions for agent Ag
+	on percept when content matches position(k) do
+		counts[k] = k
+		log "position " + k
+
+cyclic behaviour Others for agent Ag
+	on percept when content matches obstacle(d) do
+		counts[d] = d
+		log "obstacle " + d
+
+	on percept when content matches qrCodeRead(q) do
+		falls = falls + 1
+		log "qr " + q
+
+	on percept when content matches note(a, n, b) do
+		log a + n + b
+
+	on percept when content matches level(x) do
+		log "level " + x
+
+cyclic behaviour Watch for agent Ag
+	on percept when content matches falling do
+		falls = falls + 1
+		log "falling"
+|}
+
+let packed_bench_program () =
+  let prog = (Parse.string ~file:"bench.jade" bench_program).program in
+  for seed = 0 to 59 do
+    match packed_equals_reference (prog, seed) with
+    | _ -> ()
+    | exception QCheck.Test.Test_fail (_, msgs) -> Alcotest.failf "seed %d: %s" seed (String.concat "\n" msgs)
+  done
+
+(* Fixed scenarios on the bench program: objects among percepts, growth of
+   the rings past their first array and around it, refusals at capacity. *)
+let packed_agent_unit () =
+  let env, _ = Typing.check [ Parse.string ~file:"bench.jade" bench_program ] in
+  let pv text = fst (Interp.Eval.percept_value env ~agent_type:"Ag" (Parse.expr ~file:"e" text)) in
+  let agent p =
+    let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
+    Pk.of_config p (RM.init p ~world:a behs) in
+  let o2a_of t = List.map (function Mc.O_percept e -> show_entry e | Mc.O_object o -> V.to_literal o)
+      (Semantics.Fqueue.to_list (Pk.to_config t).o2a) in
+  (* objects between percepts, at their places *)
+  let t = agent Mc.default_params in
+  Alcotest.(check bool) "packed" true (Pk.packed t);
+  Pk.put t (V.Int 1);
+  ignore (Pk.notify_event t (pv "position(5)") ~default:2 ~priority:None);
+  Pk.put t (V.Int 2); Pk.put t (V.Int 3);
+  ignore (Pk.notify_event t (pv "qrCodeRead(\"A7\")") ~default:4 ~priority:(Some 9));
+  ignore (Pk.notify_event t (pv "falling") ~default:10 ~priority:None);
+  Pk.put t (V.Int 4);
+  Alcotest.(check (list string)) "O2A in order"
+    [ "1"; "position(5)/2/1"; "2"; "3"; "qrCodeRead(\"A7\")/9/2"; "falling/10/3"; "4" ] (o2a_of t);
+  Alcotest.(check (option string)) "transfer" (Some "Transfer(3)") (Option.map show_label (Pk.step t));
+  Alcotest.(check (list string)) "objects stay" [ "1"; "2"; "3"; "4" ] (o2a_of t);
+  Alcotest.(check (option string)) "highest first" (Some "Dequeue(falling/10/3)") (Option.map show_label (Pk.step t));
+  (* a flood: growth and wrap-around, ties in seq order *)
+  let t = agent Mc.default_params in
+  for k = 1 to 5000 do
+    ignore (Pk.notify_event t (pv (Printf.sprintf "position(%d)" k)) ~default:2 ~priority:(Some (k mod 3)))
+  done;
+  Alcotest.(check int) "waiting" 5000 (Pk.waiting t);
+  ignore (Pk.step t);
+  let seqs = ref [] in
+  while Pk.dispatch ~observe:(function Mc.Dequeue e -> seqs := (e.prio, e.seq) :: !seqs | _ -> ()) t do () done;
+  let expected = List.concat_map (fun prio ->
+      List.filter_map (fun k -> if k mod 3 = prio then Some (prio, k) else None) (List.init 5000 (fun i -> i + 1)))
+      [ 2; 1; 0 ] in
+  Alcotest.(check (list (pair int int))) "dequeue order" expected (List.rev !seqs);
+  Alcotest.(check int) "none left" 0 (Pk.waiting t);
+  (* refusals at capacity: percepts and objects count, nothing changes *)
+  let t = agent { Mc.default_params with o2a_capacity = Some 2 } in
+  Pk.put t (V.Int 1);
+  ignore (Pk.notify_event t (pv "position(1)") ~default:2 ~priority:None);
+  let before = show_config (Pk.to_config t) in
+  Alcotest.(check bool) "full" true (Pk.notify_event t (pv "position(2)") ~default:2 ~priority:None = Error Mc.O2a_full);
+  Alcotest.(check bool) "negative" true
+    (Pk.notify_event t (pv "position(2)") ~default:2 ~priority:(Some (-1)) = Error (Mc.Negative_priority (-1)));
+  Alcotest.(check string) "refusals change nothing" before (show_config (Pk.to_config t));
+  (* Budgeted, budget 1, every behaviour blocked while percepts wait: the
+     rules the packed agent leaves to Fast (BehaviourStep, NextIteration)
+     see that the priority queue is not empty *)
+  let p = { Mc.default_params with variant = Mc.Budgeted; budget = 1 } in
+  let t = agent p in
+  let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
+  let c = ref (RM.init p ~world:a behs) in
+  for k = 1 to 6 do
+    let v = pv (Printf.sprintf "position(%d)" k) in
+    ignore (Pk.notify_event t v ~default:2 ~priority:None);
+    c := RM.notify p !c v 2
+  done;
+  let rec run n acc_r acc_k =
+    if n = 0 then (List.rev acc_r, List.rev acc_k) else
+    let lr = match RM.step p !c with [] -> "none" | (l, c') :: _ -> c := c'; show_label l in
+    let lk = match Pk.step t with None -> "none" | Some l -> show_label l in
+    run (n - 1) (lr :: acc_r) (lk :: acc_k) in
+  let (lr, lk) = run 80 [] [] in
+  Alcotest.(check bool) "NextIteration taken with percepts waiting" true (List.mem "NextIteration" lr);
+  Alcotest.(check (list string)) "budgeted: the same rules" lr lk;
+  Alcotest.(check string) "budgeted: the same configuration" (show_config !c) (show_config (Pk.to_config t));
+  (* not packable: the plain configuration *)
+  let t = agent { Mc.default_params with tie = Mc.Unstable } in
+  Alcotest.(check bool) "unstable ties: not packed" false (Pk.packed t)
+
+let () =
+  Alcotest.run "packed" [
+    ("rings", [
+        Alcotest.test_case "ring = a list, through growth and wrap-around" `Quick ring_model;
+        Alcotest.test_case "move_front = drops and pushes" `Quick ring_move_front;
+        Alcotest.test_case "a drained ring gives its array back" `Quick ring_shrink ]);
+    ("codec", [ Alcotest.test_case "D32 every kind of value round-trips" `Quick codec_round_trip ]);
+    ("agent", [
+        Alcotest.test_case "objects, growth, order, refusals" `Quick packed_agent_unit;
+        Alcotest.test_case "= reference, the bench's program and two more types, 60 hosts" `Quick packed_bench_program;
+        qcheck ~count:150 ~long_factor:10 "D32 packed = reference after every operation"
+          (QCheck.pair Typed_gen.arb_program QCheck.small_nat) packed_equals_reference ]);
+  ]
