@@ -150,6 +150,9 @@ let make_tag ~kind ~width ~boxes =
   if kind < 0 || kind >= 1024 || width < 0 || width > 255 || boxes < 0 || boxes > 3 then
     invalid_arg "Packed.make_tag";
   (kind lsl 10) lor (width lsl 2) lor boxes
+(* A percept that travels as it is, in the ring's side array. *)
+let boxed_tag = make_tag ~kind:0 ~width:0 ~boxes:1
+
 let tag_kind tag = tag lsr 10
 let tag_width tag = (tag lsr 2) land 255
 let tag_boxes tag = tag land 3
@@ -163,7 +166,13 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
 
   type t = {
     p : params;
-    is_packed : bool;
+    can_pack : bool;                   (* [packable p] *)
+    mutable is_packed : bool;
+    pack_above : int;
+      (* plain (the configuration's own queues, as [Fast]) while fewer than
+         this many wait in O2A and the priority queue: they die young, and
+         packing them would only cost; packed from there until none wait
+         (a backlog the collector would otherwise promote and mark) *)
     mutable c : M.t;
       (* packed: [c.o2a] holds the objects only (R2c), [c.pq] is empty *)
     codec : C.t;
@@ -272,8 +281,8 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
 
   (* ------------------------------------------------ packing, projecting *)
 
-  let empty_state p c is_packed =
-    { p; is_packed; c; codec = C.create (); o2a = Ring.create (); o2a_n = 0; after = Fqueue.empty;
+  let empty_state ~pack_above p c =
+    { p; can_pack = packable p; is_packed = false; pack_above; c; codec = C.create (); o2a = Ring.create (); o2a_n = 0; after = Fqueue.empty;
       buckets = [||]; pq_n = 0; by_prio = Array.make small_prios no_bucket; top = 0;
       pend = 0; pend_p = [||]; pend_prio = 0; pend_with = false }
 
@@ -289,29 +298,47 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     push_record t t.o2a e.prio e.p;
     t.o2a_n <- t.o2a_n + 1
 
-  let of_config p (c : M.t) =
-    if not (packable p) then empty_state p c false
-    else begin
-      let t = empty_state p c true in
-      (* the percepts in O2A are the last notified: their seqs run to next_seq *)
-      let items = Fqueue.to_list c.o2a in
-      let percepts = List.filter_map (function O_percept e -> Some e | O_object _ -> None) items in
-      let first = c.next_seq - List.length percepts + 1 in
-      List.iteri (fun i (e : B.percept entry) ->
-          if e.seq <> first + i then invalid_arg "Packed.of_config: O2A's seqs are not the last notified")
-        percepts;
-      let seen = ref (first - 1) and objects = ref [] and after = ref [] in
-      List.iter (function
-          | O_percept e -> push_o2a t e; seen := e.seq
-          | O_object _ as o -> objects := o :: !objects; after := !seen :: !after) items;
-      t.after <- Fqueue.of_list (List.rev !after);
-      List.iter (fun (e : B.percept entry) ->
-          push_record t (bucket_for t e.prio).ring e.seq e.p;
-          t.pq_n <- t.pq_n + 1)
-        (Pqueue.to_sorted_list c.pq);
-      t.c <- { c with o2a = Fqueue.of_list (List.rev !objects); pq = Pqueue.empty };
-      t
-    end
+  (* Packing what waits in [t.c] (plain until now; the rings are empty). *)
+  let pack_now t =
+    let c = t.c in
+    (* the percepts in O2A are the last notified: their seqs run to next_seq *)
+    let items = Fqueue.to_list c.o2a in
+    let percepts = List.filter_map (function O_percept e -> Some e | O_object _ -> None) items in
+    let first = c.next_seq - List.length percepts + 1 in
+    List.iteri (fun i (e : B.percept entry) ->
+        if e.seq <> first + i then invalid_arg "Packed.of_config: O2A's seqs are not the last notified")
+      percepts;
+    let seen = ref (first - 1) and objects = ref [] and after = ref [] in
+    List.iter (function
+        | O_percept e -> push_o2a t e; seen := e.seq
+        | O_object _ as o -> objects := o :: !objects; after := !seen :: !after) items;
+    t.after <- Fqueue.of_list (List.rev !after);
+    List.iter (fun (e : B.percept entry) ->
+        push_record t (bucket_for t e.prio).ring e.seq e.p;
+        t.pq_n <- t.pq_n + 1)
+      (Pqueue.to_sorted_list c.pq);
+    t.c <- { c with o2a = Fqueue.of_list (List.rev !objects); pq = Pqueue.empty };
+    t.is_packed <- true
+
+  (* Plain, at most this many wait; packed, at least. *)
+  let backlog (c : M.t) = Fqueue.length c.o2a + Pqueue.size c.pq
+
+  let maybe_pack t =
+    if t.can_pack && not t.is_packed && backlog t.c >= t.pack_above then pack_now t
+
+  (* Nothing waits any more (and nothing is pending): plain again. The
+     configuration is then the plain one: its O2A holds the objects, its
+     priority queue is empty ([after] is rewritten by the next [pack_now]). *)
+  let maybe_unpack t =
+    if t.is_packed && t.pack_above > 0 && t.o2a_n = 0 && t.pq_n = 0 then
+      t.is_packed <- false
+
+  let default_pack_above = 4096
+
+  let of_config ?(pack_above = default_pack_above) p (c : M.t) =
+    let t = empty_state ~pack_above p c in
+    maybe_pack t;
+    t
 
   (* The records of a ring, decoded in order: [header -> percept -> 'a]. *)
   let decode_all t ring n f =
@@ -382,11 +409,11 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
 
   let notify t percept prio =
     if t.is_packed then notify_effect t percept prio ~with_:false
-    else t.c <- M.notify t.p t.c percept prio
+    else begin t.c <- M.notify t.p t.c percept prio; maybe_pack t end
 
   let notify_with t percept prio =
     if t.is_packed then notify_effect t percept prio ~with_:true
-    else t.c <- M.notify_with t.p t.c percept prio
+    else begin t.c <- M.notify_with t.p t.c percept prio; maybe_pack t end
 
   let notify_event t percept ~default ~priority =
     match priority with
@@ -451,7 +478,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
       | Transfer_phase -> Some (transfer t)
       | Dispatch_phase when not (dispatch_over t) ->
         let (l, c) = F.dequeue_entry t.p t.c (pop t) ~pq:Pqueue.empty in
-        t.c <- c; Some l
+        t.c <- c; maybe_unpack t; Some l
       | _ ->
         match F.step t.p (view t) with
         | [] -> None
@@ -471,6 +498,6 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
          | Some c -> t.c <- c; true
          | None -> false)
       | Dispatch_phase when not (dispatch_over t) ->
-        t.c <- F.dispatch_entry ?observe t.p t.c (pop t) ~pq:Pqueue.empty; true
+        t.c <- F.dispatch_entry ?observe t.p t.c (pop t) ~pq:Pqueue.empty; maybe_unpack t; true
       | _ -> false
 end

@@ -123,6 +123,11 @@ end
 val make_tag : kind:int -> width:int -> boxes:int -> int
 (** @raise Invalid_argument outside the ranges above. *)
 
+val boxed_tag : int
+(** The tag of a percept that travels boxed, as it is, in the side array
+    (kind 0): the codec's for what it cannot pack, and the agent's for a
+    percept notified while few wait. *)
+
 val tag_kind : int -> int
 val tag_width : int -> int
 val tag_boxes : int -> int
@@ -163,9 +168,19 @@ module Make (B : Fast.BODIES) (_ : CODEC with type percept = B.percept) : sig
   (** Variant [Reference] or [Budgeted], stable ties, no flood abstraction,
       no ghosts. *)
 
-  val of_config : Semantics.Machine.params -> M.t -> t
+  val default_pack_above : int
+  (** 4,096. *)
+
+  val of_config : ?pack_above:int -> Semantics.Machine.params -> M.t -> t
   (** The agent, its percepts packed when {!packable} (O2A's percepts into
-      the O2A ring, the priority queue into the buckets).
+      the O2A ring, the priority queue into the buckets) once at least
+      [pack_above] (default {!default_pack_above}) percepts and objects
+      wait in O2A and the priority queue: before that the agent is plain
+      (the configuration's own queues, every rule [Fast]'s), and it is
+      plain again when nothing waits. Encoding and decoding only pay where
+      the collector would otherwise promote a backlog: a steady run with
+      1,024 in flight packs nothing; a flood packs all but its first 4,096.
+      [~pack_above:0] packs at once and stays packed.
       @raise Invalid_argument when packable and O2A's percepts are not the
       last ones notified, in order (no run of these variants reaches such
       a configuration). *)
@@ -177,7 +192,8 @@ module Make (B : Fast.BODIES) (_ : CODEC with type percept = B.percept) : sig
 
   val params : t -> Semantics.Machine.params
   val packed : t -> bool
-  (** Whether the percepts are packed ({!packable} of the params). *)
+  (** Whether the percepts are packed now: {!packable} of the params, and
+      a backlog reached [pack_above] and has not drained since. *)
 
   val waiting : t -> int
   (** Percepts in O2A and in the priority queue. *)

@@ -23,7 +23,7 @@ type t = {
 (* Kind 0 is "boxed whole"; packed kinds are 1 .. max_kinds. *)
 let max_kinds = 1023
 let max_texts = 3
-let boxed_tag = Packed.make_tag ~kind:0 ~width:0 ~boxes:1
+let boxed_tag = Packed.boxed_tag
 
 let none = { sname = ""; names = [||]; how = [||]; ktag = -1 }
 let create () = { kinds = [||]; n = 0; hot = none }

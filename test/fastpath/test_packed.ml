@@ -246,12 +246,15 @@ let packed_equals_reference_exn (prog, seed) =
   let events a = List.map show_event (Interp.Eval.take_events a) in
   if events ar <> events ap then QCheck.Test.fail_reportf "on create differs";
   let c = ref (RM.init p ~world:ar behs_r) in
-  let t = Pk.of_config p (RM.init p ~world:ap behs_p) in
+  (* every percept packed; a mix (packed once two wait); the default
+     (boxed while fewer than 4,096 wait) *)
+  let pack_above = match seed mod 3 with 0 -> 0 | 1 -> 2 | _ -> Pk.default_pack_above in
+  let t = Pk.of_config ~pack_above p (RM.init p ~world:ap behs_p) in
   let history = Buffer.create 256 in
   let fail fmt = Printf.ksprintf (fun s ->
-      QCheck.Test.fail_reportf "%s\nafter: %s\nparams: %s budget=%d cap=%s packed=%b\n%s" s (Buffer.contents history)
+      QCheck.Test.fail_reportf "%s\nafter: %s\nparams: %s budget=%d cap=%s pack_above=%d packed=%b\n%s" s (Buffer.contents history)
         (Mc.string_of_variant p.variant) p.budget
-        (match p.o2a_capacity with Some k -> string_of_int k | None -> "-") (Pk.packed t) text) fmt in
+        (match p.o2a_capacity with Some k -> string_of_int k | None -> "-") pack_above (Pk.packed t) text) fmt in
   let compare_now what =
     Buffer.add_string history (what ^ " | ");
     let r = show_config !c and k = show_config (Pk.to_config t) in
@@ -370,7 +373,7 @@ let packed_agent_unit () =
   let pv text = fst (Interp.Eval.percept_value env ~agent_type:"Ag" (Parse.expr ~file:"e" text)) in
   let agent p =
     let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
-    Pk.of_config p (RM.init p ~world:a behs) in
+    Pk.of_config ~pack_above:0 p (RM.init p ~world:a behs) in
   let o2a_of t = List.map (function Mc.O_percept e -> show_entry e | Mc.O_object o -> V.to_literal o)
       (Semantics.Fqueue.to_list (Pk.to_config t).o2a) in
   (* objects between percepts, at their places *)
@@ -433,7 +436,27 @@ let packed_agent_unit () =
   Alcotest.(check string) "budgeted: the same configuration" (show_config !c) (show_config (Pk.to_config t));
   (* not packable: the plain configuration *)
   let t = agent { Mc.default_params with tie = Mc.Unstable } in
-  Alcotest.(check bool) "unstable ties: not packed" false (Pk.packed t)
+  Alcotest.(check bool) "unstable ties: not packed" false (Pk.packed t);
+  (* the default: plain while fewer than 4,096 wait, packed from the notify
+     that makes 4,096 until none wait, then plain again *)
+  let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
+  let t = Pk.of_config Mc.default_params (RM.init Mc.default_params ~world:a behs) in
+  Alcotest.(check int) "the threshold" 4096 Pk.default_pack_above;
+  Pk.put t (V.Int 0);
+  for k = 1 to 4094 do ignore (Pk.notify_event t (pv (Printf.sprintf "position(%d)" k)) ~default:2 ~priority:None) done;
+  Alcotest.(check bool) "4,095 waiting: plain" false (Pk.packed t);
+  ignore (Pk.notify_event t (pv "falling") ~default:10 ~priority:None);
+  Alcotest.(check bool) "4,096 waiting: packed" true (Pk.packed t);
+  Alcotest.(check (list string)) "the object first, in O2A" [ "0"; "position(1)/2/1" ]
+    (List.filteri (fun i _ -> i < 2) (o2a_of t));
+  ignore (Pk.step t);
+  let n = ref 0 in
+  while Pk.dispatch t do incr n done;
+  Alcotest.(check int) "every percept dispatched" 4095 !n;
+  Alcotest.(check bool) "none waiting: plain again" false (Pk.packed t);
+  Alcotest.(check (list string)) "the object stays" [ "0" ] (o2a_of t);
+  ignore (Pk.notify_event t (pv "position(7)") ~default:2 ~priority:None);
+  Alcotest.(check (list string)) "plain again, a notify after the object" [ "0"; "position(7)/2/4096" ] (o2a_of t)
 
 let () =
   Alcotest.run "packed" [
