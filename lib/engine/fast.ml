@@ -73,6 +73,14 @@ module Make (B : BODIES) = struct
     | Dispatch_phase when single_candidate p && not (M.dispatch_over p c) ->
       if Pqueue.is_empty c.pq then M.step p c
       else [ dequeue_top p c (Pqueue.first c.pq) (Pqueue.drop_first c.pq) ]
+    | Dispatch_phase when M.dispatch_over p c ->
+      (* the dispatch is over: of the ten rules only BehaviourStep (a
+         behaviour ready), NextIteration and Idle (none ready) can be
+         enabled, and at most one of them is; asked alone, in the
+         reference's order, without the other seven *)
+      if c.ready <> [] then M.behaviour_step p c
+      else (match M.next_iteration p c with [] -> M.idle p c | l -> l)
+    | Idle_phase -> []                     (* no rule is enabled in Idle *)
     | _ -> M.step p c
 
   (* Dispatch: the Handle arm of the rules over the snapshot [todo] of the
