@@ -567,8 +567,20 @@ let interp_bench () =
   let floods = List.map (fun n -> interp_flood env n) flood_sizes in
   print_floods floods;
   let rate_f = (List.nth floods (List.length floods - 1)).overall in   (* the largest *)
+  let big = List.nth floods (List.length floods - 1) and small = List.hd floods in
+  let bytes = big.live_words *. float_of_int (Sys.word_size / 8) in
+  Goals.record ~met:(bytes <= 64.) "2 floods: at most 64 bytes live per waiting percept"
+    (Printf.sprintf "%.0f bytes at %dM (%.1f words)" bytes (big.n / 1_000_000) big.live_words);
+  let total_ns f = f.notify_ns +. f.transfer_s *. 1e9 /. float_of_int f.n +. f.dispatch_ns in
+  let flat = total_ns big /. total_ns small in
+  Goals.record ~met:(flat <= 1.25) "2 floods: cost per percept flat, 1M to 10M (within 1.25)"
+    (Printf.sprintf "%dM / %dM: %.2f by wall clock" (big.n / 1_000_000) (small.n / 1_000_000) flat);
+  let flood_goal steady what =
+    Goals.record ~met:(rate_f >= 0.8 *. steady) "2 floods: the 10M flood at least 80% of the steady rate"
+      (Printf.sprintf "%.0f%% (%.2fM/s against %.2fM/s, %s)" (100. *. rate_f /. steady) (rate_f /. 1e6)
+         (steady /. 1e6) what) in
   (* JSREF_BENCH_NO_JADE=1 leaves the JADE baseline out (while developing) *)
-  if Sys.getenv_opt "JSREF_BENCH_NO_JADE" = Some "1" then () else begin
+  if Sys.getenv_opt "JSREF_BENCH_NO_JADE" = Some "1" then flood_goal rate_s "the first steady run" else begin
     let get res kind key = match List.assoc_opt kind res with
       | Some kv -> (match List.assoc_opt key kv with Some v -> float_of_string_opt v | None -> None)
       | None -> None in
@@ -594,6 +606,12 @@ let interp_bench () =
         "steady, median of the rounds" (median (List.map fst rounds))
         (median (List.filter_map snd rounds)) (median ratios)
         (List.fold_left min infinity ratios) (List.fold_left max 0. ratios);
+    Goals.record ~met:(ratios <> [] && List.for_all (fun r -> r >= 3.) ratios && List.length ratios = nrounds)
+      "1 steady: at least 3x JADE's direct O2A in every round"
+      (Printf.sprintf "ratios %s (%d of %d rounds at 3x or more)"
+         (String.concat ", " (List.map (Printf.sprintf "%.2fx") ratios))
+         (List.length (List.filter (fun r -> r >= 3.) ratios)) nrounds);
+    flood_goal (median (List.map fst rounds)) "the median of the steady rounds";
     match jade_results quick with
     | [] -> Printf.printf "  JADE baseline: not run (bench/jade/run.sh missing or failed)\n"
     | res ->
