@@ -217,7 +217,8 @@ let finish t =
       let a = ag.config.world in
       Eval.destroy_agent a;
       Tracer.destroyed t.tr ~agent:ag.name a) t.platform.agents;
-  match t.opts.trace with Some oc -> flush oc | None -> ()
+  (* the lines the writer holds, then the channel *)
+  Trace.flush (Tracer.writer t.tr)
 
 let steps t = t.steps
 let platform t = t.platform

@@ -17,9 +17,21 @@ type t = {
   w : Trace.writer;
   on_body : string -> Eval.event -> unit;
   names : (string, names) Hashtbl.t;
+  mutable last : string * names;   (* the agent's names last looked up, by address *)
 }
 
-let create w ~on_body = { w; on_body; names = Hashtbl.create 16 }
+let no_names = { types = [||]; noted = [] }
+let create w ~on_body = { w; on_body; names = Hashtbl.create 16; last = ("", no_names) }
+
+(* The names of an agent, [None] if none noted yet: the last agent's
+   without hashing (a run writes the same agent's lines in a row). *)
+let names_of t agent =
+  match t.last with
+  | (a, n) when a == agent -> Some n
+  | _ ->
+    match Hashtbl.find_opt t.names agent with
+    | Some n as r -> t.last <- (agent, n); r
+    | None -> None
 let writer t = t.w
 
 let header t env (p : Mc.params) ~seed agents =
@@ -38,10 +50,10 @@ let header t env (p : Mc.params) ~seed agents =
     percepts = List.filter_map (fun (s : T.schema) ->
         if s.s_percept then Some (s.s_name, s.s_priority) else None) (T.schemas env) }
 
-let entry (e : V.t Mc.entry) = { Trace.percept = V.to_literal e.p; priority = e.prio; seq = e.seq }
+let entry (e : V.t Mc.entry) = { Trace.percept = V.to_literal_quick e.p; priority = e.prio; seq = e.seq }
 
 let message (m : Eval.message) =
-  { Trace.performative = m.perf; content = V.to_literal m.content; from = m.sender }
+  { Trace.performative = m.perf; content = V.to_literal_quick m.content; from = m.sender }
 
 let effect = function
   | Mc.Activate b -> Trace.Activated (Eval.beh_type b)
@@ -51,9 +63,9 @@ let body (e : Eval.event) : Trace.body option =
   match e with
   | Eval.Log s -> Some (Trace.Log s)
   | Eval.Invoke { meth; cls; args; result } ->
-    Some (Trace.Invoke { meth; obj = cls; args = List.map V.to_literal args; result = V.to_literal result })
+    Some (Trace.Invoke { meth; obj = cls; args = List.map V.to_literal_quick args; result = V.to_literal_quick result })
   | Eval.Sent { perf; content; receivers } ->
-    Some (Trace.Send { performative = perf; content = V.to_literal content; receivers })
+    Some (Trace.Send { performative = perf; content = V.to_literal_quick content; receivers })
   | Eval.Activated b -> Some (Trace.Activate b)
   | Eval.Deactivated id -> Some (Trace.Deactivate id)
   | Eval.Error (_, at, message) -> Some (Trace.Error { at = Syntax.Source.string_of_region at; message })
@@ -73,9 +85,9 @@ let bodies t agent action evs =
    the list, no hashing (with many instances, D19, this was most of a
    step's time). *)
 let note_active t agent (c : config) =
-  let n = match Hashtbl.find_opt t.names agent with
+  let n = match names_of t agent with
     | Some n -> n
-    | None -> let n = { types = [||]; noted = [] } in Hashtbl.replace t.names agent n; n in
+    | None -> let n = { types = [||]; noted = [] } in Hashtbl.replace t.names agent n; t.last <- (agent, n); n in
   if n.noted != c.active then begin
     n.noted <- c.active;
     List.iter (fun (a : Eval.beh Mc.instance) ->
@@ -88,7 +100,7 @@ let note_active t agent (c : config) =
   end
 
 let name t agent id =
-  match Hashtbl.find_opt t.names agent with
+  match names_of t agent with
   | Some n when id >= 0 && id < Array.length n.types -> n.types.(id)
   | _ -> "?"
 
@@ -99,7 +111,7 @@ let ran which evs =
       | _ -> None) evs
 
 let created t ~agent ~agent_type args behs a =
-  Trace.write t.w ~agent (Trace.Create { agent_type; args = List.map V.to_literal args;
+  Trace.write t.w ~agent (Trace.Create { agent_type; args = List.map V.to_literal_quick args;
                                           behaviours = List.map Eval.beh_type behs });
   bodies t agent "Init" (Eval.take_events a)
 
@@ -108,15 +120,15 @@ let label_event t agent (c : config) (l : label) evs : Trace.event =
   | Mc.Init -> Semantics.Fault.crash "Tracer: Init is not a rule of the run"
   | Mc.Notify e -> Trace.Notify { entry = entry e; overridden = false }
   | Mc.Notify_with e -> Trace.Notify { entry = entry e; overridden = true }
-  | Mc.Put o -> Trace.Put { obj = V.to_literal o; index = c.puts }
+  | Mc.Put o -> Trace.Put { obj = V.to_literal_quick o; index = c.puts }
   | Mc.Send (m, seq) -> Trace.Deliver { message = message m; seq }
   | Mc.Transfer n -> Trace.Transfer n
   | Mc.Transfer_one e -> Trace.Transfer_one (entry e)
-  | Mc.Transfer_spin o -> Trace.Transfer_spin (V.to_literal o)
+  | Mc.Transfer_spin o -> Trace.Transfer_spin (V.to_literal_quick o)
   | Mc.Transfer_end -> Trace.Transfer_end
   | Mc.Dequeue e -> Trace.Dequeue (entry e)
   | Mc.Handle { id; h; p; seq } ->
-    Trace.Handle { instance = id; behaviour = name t agent id; handler = h; percept = V.to_literal p; seq;
+    Trace.Handle { instance = id; behaviour = name t agent id; handler = h; percept = V.to_literal_quick p; seq;
                    effects = (match ran (fun _ -> true) evs with Some (_, e) -> e | None -> []) }
   | Mc.Skip { id; h } -> Trace.Skip { instance = id; behaviour = name t agent id; handler = h }
   | Mc.End_dispatch { seq; discarded } -> Trace.End_dispatch { seq; discarded }
@@ -137,14 +149,14 @@ let label_event t agent (c : config) (l : label) evs : Trace.event =
 let host t ~agent (c : config) = Trace.write_with t.w ~agent (fun () -> label_event t agent c c.last [])
 
 let refused t ~agent v =
-  Trace.write t.w ~agent (Trace.Refused { percept = V.to_literal v; reason = "the O2A queue is full (R2d)" })
+  Trace.write t.w ~agent (Trace.Refused { percept = V.to_literal_quick v; reason = "the O2A queue is full (R2d)" })
 
 let refused_put t ~agent v =
-  Trace.write t.w ~agent (Trace.Refused_put { obj = V.to_literal v; reason = "the O2A queue is full (R2d)" })
+  Trace.write t.w ~agent (Trace.Refused_put { obj = V.to_literal_quick v; reason = "the O2A queue is full (R2d)" })
 
 let undeliverable t ~sender ~receiver (m : Eval.message) =
   Trace.write t.w ~agent:sender
-    (Trace.Undeliverable { receiver; performative = m.perf; content = V.to_literal m.content })
+    (Trace.Undeliverable { receiver; performative = m.perf; content = V.to_literal_quick m.content })
 
 (* Without a trace (a writer from [Trace.nowhere]) nothing but the bodies'
    logs and errors is wanted, and the lines are only counted: no event is

@@ -267,6 +267,37 @@ let every_event () =
     Body { action = "Handle"; body = Error { at = "f:1:2"; message = "m\"" } } ] in
   List.iteri (fun i event -> ignore (direct_equals_tree { Trace.step = i + 1; agent = "a"; event })) events
 
+(* ------------------------------------------ a value's literal text *)
+
+(* Values of every kind, nested: the trace writer's literal text
+   (Value.to_literal_quick) = Value.to_literal. *)
+let gen_value =
+  let open QCheck.Gen in
+  let int = oneof [ int_range 0 20; int_range (-0x8000_0000) 0x7FFF_FFFF;
+                    oneofl [ 0; 9; 10; 99; 100; -1; -10; 0x7FFF_FFFF; -0x8000_0000 ] ] in
+  let text = string_size ~gen:(oneofl [ '"'; '\\'; '\n'; '\x00'; '\x7f'; 'a'; ' '; ',' ]) (int_range 0 5) in
+  let leaf = oneof [
+      map (fun i -> V.Int i) int; map (fun b -> V.Bool b) bool; map (fun s -> V.Text s) text;
+      map (fun f -> V.Double f) (oneofl [ 0.; 1.5; -2.25; 1e10; nan ]);
+      map (fun f -> V.Float (V.float32 f)) (oneofl [ 0.; 0.1; 3.5 ]);
+      map (fun s -> V.Aid s) text; return V.Unit ] in
+  sized_size (int_range 0 3) @@ fix (fun self n ->
+      if n = 0 then leaf
+      else oneof [
+          leaf;
+          map (fun vs -> V.Schema { sname = "p"; slots = Array.of_list (List.mapi (fun i v -> (string_of_int i, ref v)) vs) })
+            (list_size (int_range 0 3) (self (n - 1)));
+          map (fun vs -> V.list_of vs) (list_size (int_range 0 3) (self (n - 1)));
+          map (fun kvs -> match V.map_empty () with
+              | V.Map mv as m -> List.iter (fun (k, v) -> V.map_set mv k v) kvs; m
+              | m -> m)
+            (list_size (int_range 0 2) (pair leaf (self (n - 1)))) ])
+
+let quick_literal_equal v =
+  let q = V.to_literal_quick v and l = V.to_literal v in
+  if q <> l then QCheck.Test.fail_reportf "quick:   %s\nliteral: %s" q l;
+  true
+
 (* --------------------------------------- a run without a trace *)
 
 let literal_of = Test_support.Event_gen.small_literal
@@ -354,6 +385,8 @@ let () =
     ("trace", [
         Alcotest.test_case "direct encoding = JSON tree, every event" `Quick every_event;
         qcheck ~count:3000 "trace: direct encoding = JSON tree" (QCheck.make gen_trace_line) direct_equals_tree ]);
+    ("value", [
+        qcheck ~count:3000 "value: quick literal = to_literal" (QCheck.make gen_value) quick_literal_equal ]);
     ("run", [
         qcheck ~count:60 "run: the same without a trace"
           (QCheck.pair Typed_gen.arb_program QCheck.small_nat) same_without_trace ]);
