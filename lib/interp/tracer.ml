@@ -171,6 +171,21 @@ let step t ~agent ~before ~after l =
   | [] -> ()
   | _ -> bodies t agent (Mc.action_name l) evs
 
+(* D34: the rules of a derived Dispatch but its last, from the labels
+   [Engine.Fast.dispatch ~observe] reports, each as it is taken: [start] is
+   the configuration the dispatch started from (its instances name the
+   handlers' behaviours), and the bodies' events are the agent's own (its
+   state is shared by the configurations: what the rule's body recorded is
+   there when the label is reported). The last rule, EndDispatch, is the
+   platform's step, written by [step]. *)
+let inside t ~agent ~(start : config) l =
+  note_active t agent start;
+  let evs = Eval.take_events start.Mc.world in
+  Trace.write_with t.w ~agent (fun () -> label_event t agent start l evs);
+  match evs with
+  | [] -> ()
+  | _ -> bodies t agent (Mc.action_name l) evs
+
 let destroyed t ~agent a =
   Trace.write t.w ~agent Trace.Destroy;
   bodies t agent "destroy" (Eval.take_events a)

@@ -307,8 +307,31 @@ let literal_of = Test_support.Event_gen.small_literal
    the same logs and errors in the same order, the same number of steps
    (--max-steps stops at the same rule), the same properties and the same
    configuration at the end. *)
-let same_without_trace (prog, seed) =
+let rec same_without_trace (prog, seed) = same_runs `Quiet (prog, seed)
+
+(* D34: with a trace, a percept's dispatch is the derived rule Dispatch too
+   when no body sends a message (the generated program's send statements
+   are made [do nothing]): the trace, byte for byte, the logs and errors and
+   the configuration at the end are those of the run that takes every rule
+   as a step of its own (hooks other than the reference's: each rule by
+   [hooks.step]). *)
+and same_traced_by_dispatch (prog, seed) = same_runs (`Traced true) (prog, seed)
+
+(* ... and the programs as generated, most of which send: then every rule
+   is a step of its own (each rule's messages are delivered, with their
+   lines, right after it) *)
+and same_traced_with_sends (prog, seed) = same_runs (`Traced false) (prog, seed)
+
+and same_runs mode (prog, seed) =
   let text = Print.program prog in
+  let text = match mode with
+    | `Quiet | `Traced false -> text
+    | `Traced true ->
+      String.concat "\n" (List.map (fun l ->
+          let t = String.trim l in
+          if String.length t >= 5 && String.sub t 0 5 = "send " then
+            String.sub l 0 (String.index l 's') ^ "do nothing"
+          else l) (String.split_on_char '\n' text)) in
   let env, diags = Typing.check [ Parse.string ~file:"gen.jade" text ] in
   if List.exists (fun d -> d.Diag.severity = Diag.Error) diags then
     QCheck.Test.fail_reportf "the generated program does not check";
@@ -330,6 +353,10 @@ let same_without_trace (prog, seed) =
   let max_steps = if seed mod 3 = 0 then 3_000 else 1 + Random.State.int rand 150 in
   let variant = List.nth [ Mc.Reference; Mc.Budgeted; Mc.Reference ] (seed mod 3) in
   let run traced =
+    (* `Quiet: traced, then not; `Traced: the reference's hooks, then a copy *)
+    let hooks = if traced || mode = `Quiet then Interp.Runtime.reference_hooks
+      else { Interp.Runtime.reference_hooks with step = Interp.Runtime.reference_hooks.step } in
+    let traced = traced || mode <> `Quiet in
     let out = ref [] in
     let file = Filename.temp_file "jsref_fast" ".jsonl" in
     let oc = if traced then Some (open_out_bin file) else None in
@@ -339,7 +366,7 @@ let same_without_trace (prog, seed) =
                  on_error = (fun _ at m -> out := Printf.sprintf "error %s %s" (Source.string_of_region at) m :: !out) } in
     (* the generated bodies send to aid("Bob") and aid("provider"): two
        agents of those names receive them, one its own messages *)
-    let rt = Interp.Runtime.create env opts [ ("provider", "Ag", args); ("Bob", "Ag", args) ] in
+    let rt = Interp.Runtime.create ~hooks env opts [ ("provider", "Ag", args); ("Bob", "Ag", args) ] in
     List.iter (function
         | `Run k -> Interp.Runtime.run_rounds rt k
         | `Idle -> Interp.Runtime.run_until_idle rt
@@ -365,9 +392,13 @@ let same_without_trace (prog, seed) =
         (String.concat " / " (Array.to_list (Array.map show_agent (Interp.Runtime.platform rt).agents))) in
     Interp.Runtime.finish rt;
     Option.iter close_out oc;
+    let trace = if traced then read_file file else "" in
     Sys.remove file;
-    (List.rev !out, state) in
+    (List.rev !out, state ^ "\n" ^ trace) in
   let (o1, s1) = run true and (o2, s2) = run false in
+  let (s1, s2) = match mode with
+    | `Quiet -> (List.hd (String.split_on_char '\n' s1), List.hd (String.split_on_char '\n' s2))
+    | `Traced _ -> (s1, s2) in
   if o1 <> o2 then
     QCheck.Test.fail_reportf "logs and errors differ (max-steps %d):\ntraced: %s\nquiet:  %s\n%s"
       max_steps (String.concat " | " o1) (String.concat " | " o2) text;
@@ -389,5 +420,9 @@ let () =
         qcheck ~count:3000 "value: quick literal = to_literal" (QCheck.make gen_value) quick_literal_equal ]);
     ("run", [
         qcheck ~count:60 "run: the same without a trace"
-          (QCheck.pair Typed_gen.arb_program QCheck.small_nat) same_without_trace ]);
+          (QCheck.pair Typed_gen.arb_program QCheck.small_nat) same_without_trace;
+        qcheck ~count:60 "run: a traced dispatch = rule by rule (D34)"
+          (QCheck.pair Typed_gen.arb_program QCheck.small_nat) same_traced_by_dispatch;
+        qcheck ~count:60 "run: a traced dispatch that may send = rule by rule (D34)"
+          (QCheck.pair Typed_gen.arb_program QCheck.small_nat) same_traced_with_sends ]);
   ]
