@@ -498,23 +498,36 @@ let k_skip = event_part (Skip { instance = 0; behaviour = ""; handler = 0 }) ",\
 let k_end_dispatch = event_part (End_dispatch { seq = 0; discarded = false }) ",\"seq\":"
 let k_discard = event_part (End_dispatch { seq = 0; discarded = true }) ",\"seq\":"
 
-(* The agent's name with its key, as JSON, for the last name seen
-   (physically): a run writes the same few names on every line. *)
-let agent_json = ref ("", ",\"agent\":\"\"")
+(* The hot events' constant parts, in the order of [agent_parts] below. *)
+let event_parts =
+  [| k_notify; k_notify_with; k_transfer_one; k_dequeue; k_handle; k_skip; k_end_dispatch; k_discard |]
 
-let put_agent o agent =
+(* For the last agent seen (physically: a run writes the same few names on
+   every line), its name with its key as JSON, and that followed by each of
+   [event_parts]. *)
+let agent_json = ref ("", ",\"agent\":\"\"", Array.map (fun k -> ",\"agent\":\"\"" ^ k) event_parts)
+
+let agent_parts agent =
   match !agent_json with
-  | (a, j) when a == agent -> add_raw o j
+  | (a, _, _) as r when a == agent -> r
   | _ ->
     let t = new_out 16 in
     put_str t ",\"agent\":" agent;
     let j = Bytes.sub_string t.b 0 t.p in
-    agent_json := (agent, j);
-    add_raw o j
+    let r = (agent, j, Array.map (fun k -> j ^ k) event_parts) in
+    agent_json := r;
+    r
 
-let encode o ~step ~agent event =
+let put_agent o agent = let (_, j, _) = agent_parts agent in add_raw o j
+
+(* The agent and the constant part [event_parts.(k)] after it. *)
+let put_agent_event o agent k = let (_, _, a) = agent_parts agent in add_raw o (Array.unsafe_get a k)
+
+(* The line after its step number: [step] is only for the events that go
+   through the JSON tree. *)
+let encode_after o ~step ~agent event =
   (* the line up to the agent's name included *)
-  let start () = put_int o "{\"step\":" step; put_agent o agent in
+  let start () = put_agent o agent in
   (* ... and its event name and action, for the events without a constant *)
   let head () =
     start ();
@@ -526,12 +539,12 @@ let encode o ~step ~agent event =
      | _, None -> add_raw o "\",\"action\":null") in
   match event with
   | Notify { entry; overridden } ->
-    start (); add_raw o (if overridden then k_notify_with else k_notify);
+    put_agent_event o agent (if overridden then 1 else 0);
     write_string o entry.percept; put_entry_rest o entry; add_char o '}'
   | Transfer_one entry ->
-    start (); add_raw o k_transfer_one; write_string o entry.percept; put_entry_rest o entry; add_char o '}'
+    put_agent_event o agent 2; write_string o entry.percept; put_entry_rest o entry; add_char o '}'
   | Dequeue entry ->
-    start (); add_raw o k_dequeue; write_string o entry.percept; put_entry_rest o entry; add_char o '}'
+    put_agent_event o agent 3; write_string o entry.percept; put_entry_rest o entry; add_char o '}'
   | Refused { percept; reason } ->
     head (); put_str o ",\"percept\":" percept; put_str o ",\"reason\":" reason; add_char o '}'
   | Put { obj; index } ->
@@ -545,19 +558,19 @@ let encode o ~step ~agent event =
   | Transfer_spin ob -> head (); put_str o ",\"object\":" ob; add_char o '}'
   | Transfer_end | Next_iteration | Idle | Destroy -> head (); add_char o '}'
   | Handle { instance; behaviour; handler; percept; seq; effects = e } ->
-    start (); add_raw o k_handle; write_int o instance;
+    put_agent_event o agent 4; write_int o instance;
     put_str o ",\"behaviour\":" behaviour;
     put_int o ",\"handler\":" handler; put_str o ",\"percept\":" percept;
     put_int o ",\"seq\":" seq;
     (match e with [] -> add_raw o ",\"effects\":[]" | _ -> put_effects o ",\"effects\":" e);
     add_char o '}'
   | Skip { instance; behaviour; handler } ->
-    start (); add_raw o k_skip; write_int o instance;
+    put_agent_event o agent 5; write_int o instance;
     put_str o ",\"behaviour\":" behaviour;
     put_int o ",\"handler\":" handler;
     add_char o '}'
   | End_dispatch { seq; discarded } ->
-    start (); add_raw o (if discarded then k_discard else k_end_dispatch); write_int o seq; add_char o '}'
+    put_agent_event o agent (if discarded then 7 else 6); write_int o seq; add_char o '}'
   | Behaviour_step { instance; behaviour; taken; action_effects; handler } ->
     head ();
     put_int o ",\"instance\":" instance; put_str o ",\"behaviour\":" behaviour;
@@ -587,11 +600,19 @@ let encode o ~step ~agent event =
      | Deactivate id -> put_int o ",\"instance\":" id
      | Error { at; message } -> put_str o ",\"at\":" at; put_str o ",\"message\":" message);
     add_char o '}'
-  | Create _ | Refused_put _ -> add_raw o (Yojson.Safe.to_string (line_to_json { step; agent; event }))
+  | Create _ | Refused_put _ ->
+    (* the tree's line after its step number (which holds no comma) *)
+    let j = Yojson.Safe.to_string (line_to_json { step; agent; event }) in
+    let k = String.index j ',' in
+    add_raw o (String.sub j k (String.length j - k))
+
+let step_key = "{\"step\":"
 
 let line_to_buffer b l =
   let o = new_out 256 in
-  encode o ~step:l.step ~agent:l.agent l.event;
+  add_raw o step_key;
+  write_int o l.step;
+  encode_after o ~step:l.step ~agent:l.agent l.event;
   Buffer.add_subbytes b o.b 0 o.p
 
 (* ------------------------------------------------------------- writing *)
@@ -602,11 +623,28 @@ let line_to_buffer b l =
    middle of one: only whole lines are ever written). *)
 type writer = { emit : (string -> unit) option; mutable lines : int; out : out;
                 mutable complete : int;
-                oc : out_channel option (* to_channel's *) }
+                oc : out_channel option (* to_channel's *);
+                digits : Bytes.t; mutable first : int
+                (* [lines] in decimal: [digits] from [first] on *) }
 
 let chunk = 65536
 
-let writer emit = { emit = Some emit; lines = 0; out = new_out 256; complete = 0; oc = None }
+let new_writer emit out oc =
+  { emit; lines = 0; out; complete = 0; oc; digits = Bytes.make 20 '0'; first = 19 }
+
+let writer emit = new_writer (Some emit) (new_out 256) None
+
+(* [lines + 1], and its decimal digits, without a division *)
+let next_line w =
+  w.lines <- w.lines + 1;
+  let d = w.digits in
+  let rec carry i =
+    if Bytes.unsafe_get d i = '9' then begin
+      Bytes.unsafe_set d i '0';
+      if i = w.first then w.first <- i - 1;
+      carry (i - 1)
+    end else Bytes.unsafe_set d i (Char.unsafe_chr (Char.code (Bytes.unsafe_get d i) + 1)) in
+  carry 19
 
 (* The whole lines not yet handed to the channel, handed over. They are
    dropped from [out] first: a channel that fails is not given them twice. *)
@@ -631,13 +669,13 @@ let pending w =
 let flush w = pending w; match w.oc with Some oc -> Stdlib.flush oc | None -> ()
 
 let to_channel oc =
-  let w = { emit = Some (output_string oc); lines = 0; out = new_out (2 * chunk); complete = 0; oc = Some oc } in
+  let w = new_writer (Some (output_string oc)) (new_out (2 * chunk)) (Some oc) in
   (* flushed when the program ends: normally, by [exit] (a signal handler
      may call it), or by an uncaught exception *)
   at_exit (fun () -> try flush w with Sys_error _ -> ());
   w
 
-let nowhere () = { emit = None; lines = 0; out = new_out 1; complete = 0; oc = None }
+let nowhere () = new_writer None (new_out 1) None
 
 (* The line just encoded in [w.out], with its newline, handed on. *)
 let line_done w =
@@ -653,10 +691,18 @@ let write_header w h =
   | None -> ()
 
 let write w ~agent event =
-  w.lines <- w.lines + 1;
   match w.emit with
-  | Some _ -> encode w.out ~step:w.lines ~agent event; line_done w
-  | None -> ()
+  | Some _ ->
+    next_line w;
+    let o = w.out in
+    add_raw o step_key;
+    let n = 20 - w.first in
+    room o n;
+    Bytes.unsafe_blit w.digits w.first o.b o.p n;
+    o.p <- o.p + n;
+    encode_after o ~step:w.lines ~agent event;
+    line_done w
+  | None -> w.lines <- w.lines + 1
 
 let lines_written w = w.lines
 

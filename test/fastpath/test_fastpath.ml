@@ -240,6 +240,23 @@ let direct_equals_tree (l : Trace.line) =
   if direct <> tree then QCheck.Test.fail_reportf "direct: %s\ntree:   %s" direct tree;
   true
 
+(* A writer numbers its lines itself (their step, in decimal, counted
+   without a division): each line it hands over is the direct encoding of
+   the line of that number, across 9, 99, 999 and 9999. *)
+let writer_numbers () =
+  let got = ref [] in
+  let w = Trace.writer (fun l -> got := l :: !got) in
+  let event k = if k mod 2 = 0 then Trace.Transfer k else Trace.Skip { instance = k; behaviour = "B"; handler = 1 } in
+  for k = 1 to 10_050 do Trace.write w ~agent:"a" (event k) done;
+  Alcotest.(check int) "lines written" 10_050 (Trace.lines_written w);
+  List.iteri (fun i l ->
+      let k = i + 1 in
+      let b = Buffer.create 64 in
+      Trace.line_to_buffer b { Trace.step = k; agent = "a"; event = event k };
+      Buffer.add_char b '\n';
+      if l <> Buffer.contents b then Alcotest.failf "line %d: %S, not %S" k l (Buffer.contents b))
+    (List.rev !got)
+
 (* Every constructor at least once, whatever QCheck draws. *)
 let every_event () =
   let e = { Trace.percept = "p(\"\\\"\")"; priority = 2; seq = 7 } in
@@ -415,6 +432,7 @@ let () =
         qcheck ~count:3000 "events: quick path = full path" arb_line quick_agrees ]);
     ("trace", [
         Alcotest.test_case "direct encoding = JSON tree, every event" `Quick every_event;
+        Alcotest.test_case "a writer numbers its lines" `Quick writer_numbers;
         qcheck ~count:3000 "trace: direct encoding = JSON tree" (QCheck.make gen_trace_line) direct_equals_tree ]);
     ("value", [
         qcheck ~count:3000 "value: quick literal = to_literal" (QCheck.make gen_value) quick_literal_equal ]);
