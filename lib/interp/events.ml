@@ -279,29 +279,137 @@ let quick_percept_value env agent_type e =
      | _ -> ());
     (v, prio)
 
+(* The commonest percepts, built without an expression: a schema name
+   alone, or a call whose slots are integers and texts, each given as an
+   integer literal without sign, decimal point or exponent, or a text
+   literal (no escapes). The value is the one [Eval.literal_value] gives
+   for the expression [quick_expr_at] reads (integer slots take integers as
+   they are, text slots texts). Anything else, and an integer out of the
+   32-bit range, is [Not_quick] here: [quick_notify] then reads the
+   expression. *)
+type slot_kind = Int_slot | Text_slot
+
+(* For the last type environment seen: each schema whose name is not a
+   keyword, and the kinds of its slots ([None]: a slot of another type). *)
+let direct_schemas : (Typing.Tenv.t * (Typing.Tenv.schema * slot_kind array option) array) option ref = ref None
+
+let direct_schema env s i j =
+  let table = match !direct_schemas with
+    | Some (e, a) when e == env -> a
+    | _ ->
+      let kind (_, ty) = match Typing.Types.repr ty with
+        | Typing.Types.Integer -> Some Int_slot
+        | Typing.Types.Text -> Some Text_slot
+        | _ -> None in
+      let a = Array.of_list (List.filter_map (fun (sc : Typing.Tenv.schema) ->
+          if Syntax.Lexer.keyword_of_string sc.s_name <> None then None
+          else
+            let kinds = List.map kind sc.s_slots in
+            Some (sc, if List.mem None kinds then None else Some (Array.of_list (List.map Option.get kinds))))
+          (Typing.Tenv.schemas env)) in
+      direct_schemas := Some (env, a); a in
+  let len = j - i in
+  let rec find k =
+    if k >= Array.length table then raise Not_quick
+    else let ((sc : Typing.Tenv.schema), _) as r = table.(k) in
+      if String.length sc.s_name = len && holds s i sc.s_name then r else find (k + 1) in
+  find 0
+
+let direct_slot kind s i : Value.t * int =
+  match kind with
+  | Int_slot ->
+    let j = digits s i in
+    (match at s j with '.' | 'e' | 'E' -> raise Not_quick | c when is_alpha c -> raise Not_quick | _ -> ());
+    if j - i > 10 then raise Not_quick;
+    let n = ref 0 in
+    for k = i to j - 1 do n := !n * 10 + (Char.code (String.unsafe_get s k) - 48) done;
+    if !n > 0x7FFF_FFFF then raise Not_quick;
+    (Value.Int !n, j)
+  | Text_slot ->
+    if at s i <> '\\' || at s (i + 1) <> '"' then raise Not_quick;
+    let j = text_end s (i + 2) in
+    if at s j <> '\\' || at s (j + 1) <> '"' then raise Not_quick;
+    (Value.Text (String.sub s (i + 2) (j - i - 2)), j + 2)
+
+(* The percept of the JSON string at [i] and the position after it, as
+   [quick_expr] then [Eval.literal_value] would give them. *)
+let direct_value env s i : Value.t * int =
+  if at s i <> '"' then raise Not_quick;
+  let i = i + 1 in
+  if not (is_alpha (at s i)) then raise Not_quick;
+  let j = ident_end s i in
+  let (sc, kinds) = direct_schema env s i j in
+  let (v, j) =
+    match kinds, sc.s_slots with
+    | _, [] when at s j <> '(' -> (Value.Schema { sname = sc.s_name; slots = [||] }, j)
+    | Some kinds, (_ :: _ as slots) when at s j = '(' ->
+      let n = Array.length kinds in
+      let vals = Array.make n ("", ref Value.Unit) in
+      let rec args k slots i =
+        match slots with
+        | (name, _) :: rest ->
+          let (v, i) = direct_slot kinds.(k) s (spaces s i) in
+          vals.(k) <- (name, ref v);
+          let i = spaces s i in
+          (match at s i, rest with
+           | ',', _ :: _ -> args (k + 1) rest (i + 1)
+           | ')', [] -> i + 1
+           | _ -> raise Not_quick)
+        | [] -> raise Not_quick in
+      let j = args 0 slots (j + 1) in
+      (Value.Schema { sname = sc.s_name; slots = vals }, j)
+    | _ -> raise Not_quick in
+  if at s j <> '"' then raise Not_quick;
+  (v, j + 1)
+
+(* [quick_percept_value] for a value built directly: its default priority
+   when the check of its type for this agent type is remembered. *)
+let direct_percept env agent_type (v : Value.t) =
+  match !percept_checks, v with
+  | Some (en, l), Value.Schema sv when en == env ->
+    let rec find = function
+      | [] -> raise Not_quick
+      | (ty, name, prio) :: rest -> if ty == agent_type && sv.sname == name then prio else find rest in
+    find !l
+  | _ -> raise Not_quick
+
+(* The percept at [i]: built directly when it can be, else through its
+   expression. *)
+let quick_percept env ty s i =
+  match
+    let (v, j) = direct_value env s i in
+    (v, direct_percept env ty v, j)
+  with
+  | r -> r
+  | exception Not_quick ->
+    let (e, j) = quick_expr env s i in
+    let (v, default) = quick_percept_value env ty e in
+    (v, default, j)
+
 let quick_notify env ~agents line =
   match
     if at line 0 <> '{' then raise Not_quick;
     let (k1, i) = quick_key line 1 in
-    let (agent, percept, i) = match k1 with
+    let (name, v, default, i) = match k1 with
       | `Agent ->
-        let (a, i) = quick_agent line i agents in
+        let ((name, ty), i) = quick_agent line i agents in
         if at line i <> ',' then raise Not_quick;
         let (k2, i) = quick_key line (i + 1) in
         if k2 <> `Notify then raise Not_quick;
-        let (p, i) = quick_expr env line i in
-        (a, p, spaces line i)
+        let (v, default, i) = quick_percept env ty line i in
+        (name, v, default, spaces line i)
       | `Notify ->
-        let (p, i) = quick_expr env line i in
-        let i = spaces line i in
-        if at line i <> ',' then raise Not_quick;
-        let (k2, i) = quick_key line (i + 1) in
+        (* the agent comes after the percept: the percept's text is read
+           first, its value once the agent type is known *)
+        let j = match quick_expr env line i with (_, j) -> j in
+        let j = spaces line j in
+        if at line j <> ',' then raise Not_quick;
+        let (k2, j) = quick_key line (j + 1) in
         if k2 <> `Agent then raise Not_quick;
-        let (a, i) = quick_agent line i agents in
-        (a, p, i) in
+        let ((name, ty), j) = quick_agent line j agents in
+        let (v, default, _) = quick_percept env ty line i in
+        (name, v, default, j) in
     if at line i <> '}' || i + 1 <> String.length line then raise Not_quick;
-    let (name, ty) = agent in
-    let (v, default) = quick_percept_value env ty percept in
     Notify { agent = name; percept = v; default; priority = None }
   with
   | e -> Some e

@@ -23,6 +23,7 @@ let program_text = String.concat "\n" [
     "\tpredicate who(a as aid) extends percept";
     "\tproposition falling extends percept with priority = 10";
     "\tpredicate tags(l as list of integer) extends percept";
+    "\tpredicate code(c as text, n as integer, d as text) extends percept";
     "";
     "ontology Other";
     "\tproposition hidden extends percept";
@@ -81,7 +82,10 @@ let quick_taken () =
       ({|{"agent":"a","notify":"reading(-1.5e3, 0.1)"}|}, "notify a reading(-1500.0, 0.1) (reading) 0 -");
       ({|{"agent":"a","notify":"seen(\"x y#\", true)"}|}, "notify a seen(\"x y#\", true) (seen) 0 -");
       ({|{"agent":"a","notify":"at(point(1,  2))"}|}, "notify a at(point(1, 2)) (at) 0 -");
-      ({|{"agent":"b","notify":"hidden"}|}, "notify b hidden (hidden) 0 -") ]
+      ({|{"agent":"b","notify":"hidden"}|}, "notify b hidden (hidden) 0 -");
+      ({|{"agent":"a","notify":"code(\"x\", 12 ,\"\")"}|}, "notify a code(\"x\", 12, \"\") (code) 0 -");
+      ({|{"agent":"a","notify":"code(\"x\", 12 ,\"\")"}|}, "notify a code(\"x\", 12, \"\") (code) 0 -");
+      ({|{"agent":"a","notify":"code(\"x\", 2147483647, \"y\")"}|}, "notify a code(\"x\", 2147483647, \"y\") (code) 0 -") ]
 
 (* Lines it must leave to the full path: other fields, escapes, forms it
    does not know, and every line that is an error. *)
@@ -101,6 +105,10 @@ let quick_refused () =
       {|{"agent":"a","notify":"position(\"x\")"}|};
       {|{"agent":"a","notify":"position(99999999999999999999)"}|};
       {|{"agent":"a","notify":"position(1.)"}|};
+      {|{"agent":"a","notify":"code(\"x\", 2147483648, \"y\")"}|};
+      {|{"agent":"a","notify":"code(\"x\", 1)"}|};
+      {|{"agent":"a","notify":"position()"}|};
+      {|{"agent":"a","notify":"falling()"}|};
       {|{"agent":"a","notify":"position (1)"}|};
       {|{"agent":"a","notify":"position(1) "}|};
       {|{"agent":"a","notify":"position(1) # c"}|};
@@ -152,7 +160,7 @@ let gen_line =
   let call name n = map2 (fun args s -> name ^ "(" ^ String.concat s args ^ ")") (list_repeat n value) sep in
   let any_percept = oneof [
       call "position" 1; call "reading" 2; call "seen" 2; call "at" 1; call "who" 1; call "tags" 1;
-      call "point" 2; call "position" 2;
+      call "point" 2; call "position" 2; call "code" 3; call "code" 2;
       oneofl [ "falling"; "hidden"; "falling()"; "position"; "aid(\"a\")"; "tags([1, 2])" ] ] in
   (* percepts of the right types, so that most lines are good ones *)
   let small_int = map2 (fun neg n -> (if neg then "-" else "") ^ string_of_int n) bool (int_range 0 1000) in
@@ -163,6 +171,7 @@ let gen_line =
       map3 (fun a s b -> "reading(" ^ a ^ s ^ b ^ ")") signed sep signed;
       map3 (fun t s b -> "seen(" ^ t ^ s ^ b ^ ")") good_text sep (oneofl [ "true"; "false" ]);
       map2 (fun a b -> Printf.sprintf "at(point(%s, %s))" a b) small_int small_int;
+      map3 (fun a n b -> "code(" ^ a ^ ", " ^ n ^ "," ^ b ^ ")") good_text (oneof [ small_int; int_text ]) good_text;
       return "falling" ] in
   let percept = frequency [ 3, well_typed; 2, any_percept ] in
   let json_string s = Yojson.Safe.to_string (`String s) in
