@@ -140,6 +140,35 @@ let to_line_round_trip () =
       {|{"agent":"a","message":"position(1)","performative":"request"}|};
       {|{"run":3}|}; {|{"run":"idle"}|} ]
 
+(* The events file's lines are those input_line reads, whatever their
+   lengths (one longer than the reader's 64 kB buffer, lines across its
+   edges), with or without a last newline. *)
+let lines_as_input_line (pieces, last_newline) =
+  let text = String.concat "\n" pieces ^ (if last_newline then "\n" else "") in
+  let file = Filename.temp_file "jsref_lines" ".jsonl" in
+  let oc = open_out_bin file in
+  output_string oc text; close_out oc;
+  let expected =
+    let ic = open_in_bin file in
+    let rec go acc = match input_line ic with l -> go (l :: acc) | exception End_of_file -> List.rev acc in
+    let r = go [] in close_in ic; r in
+  let got = List.rev (Ev.fold_lines file (fun acc n l ->
+      if n <> List.length acc + 1 then QCheck.Test.fail_reportf "line %d numbered %d" (List.length acc + 1) n;
+      `Continue (l :: acc)) []) in
+  Sys.remove file;
+  if got <> expected then
+    QCheck.Test.fail_reportf "%d lines read, %d by input_line (lengths %s)" (List.length got) (List.length expected)
+      (String.concat "," (List.map (fun p -> string_of_int (String.length p)) pieces));
+  true
+
+let arb_pieces =
+  let open QCheck.Gen in
+  let piece = oneof [ string_size ~gen:(oneofl [ 'a'; '\r'; ' ' ]) (int_range 0 40);
+                      map (fun n -> String.make n 'x') (oneofl [ 65535; 65536; 65537; 200_000 ]);
+                      map (fun n -> String.make n 'y') (int_range 1000 30000) ] in
+  QCheck.make ~print:(fun (l, b) -> Printf.sprintf "%d pieces %s" (List.length l) (if b then "+newline" else ""))
+    (pair (list_size (int_range 0 12) piece) bool)
+
 (* Random lines: well-formed ones of every shape the quick path knows and
    some it does not, then, one time in two, a few characters changed. *)
 let gen_line =
@@ -438,7 +467,8 @@ let () =
         Alcotest.test_case "quick path takes percept literals" `Quick quick_taken;
         Alcotest.test_case "quick path leaves the rest to the full path" `Quick quick_refused;
         Alcotest.test_case "to_line reads back as the same event" `Quick to_line_round_trip;
-        qcheck ~count:3000 "events: quick path = full path" arb_line quick_agrees ]);
+        qcheck ~count:3000 "events: quick path = full path" arb_line quick_agrees;
+        qcheck ~count:200 "events: lines as input_line reads them" arb_pieces lines_as_input_line ]);
     ("trace", [
         Alcotest.test_case "direct encoding = JSON tree, every event" `Quick every_event;
         Alcotest.test_case "a writer numbers its lines" `Quick writer_numbers;
