@@ -152,10 +152,14 @@ let number s i : Syntax.Ast.expr' * int =
 
 (* Does [s] hold [w] from [i] on? *)
 let rec holds_from s i w k =
-  if k + 8 <= String.length w then
-    (* eight bytes at a time *)
-    (String.get_int64_ne s (i + k) : int64) = String.get_int64_ne w k && holds_from s i w (k + 8)
-  else k >= String.length w || (String.unsafe_get s (i + k) = String.unsafe_get w k && holds_from s i w (k + 1))
+  let n = String.length w in
+  if k + 8 <= n then
+    (* eight bytes at a time; the last eight of a word of eight or more
+       bytes at once (they may overlap those already compared) *)
+    (String.get_int64_ne s (i + k) : int64) = String.get_int64_ne w k
+    && (k + 8 = n || (if k + 16 > n then String.get_int64_ne s (i + n - 8) = String.get_int64_ne w (n - 8)
+                      else holds_from s i w (k + 8)))
+  else k >= n || (String.unsafe_get s (i + k) = String.unsafe_get w k && holds_from s i w (k + 1))
 let holds s i w = i + String.length w <= String.length s && holds_from s i w 0
 
 (* The program's schema names (never keywords: the program declared them as
@@ -454,7 +458,17 @@ let fold_lines path f init =
       let buf = ref (Bytes.create 65536) in
       (* the bytes not yet handed out: [!buf] from [!pos] to [!len] *)
       let pos = ref 0 and len = ref 0 and eof = ref false in
-      let rec newline b i stop = if i >= stop then -1 else if Bytes.unsafe_get b i = '\n' then i else newline b (i + 1) stop in
+      (* the first newline from [i] on, eight bytes at a time while eight
+         are left (a word with a zero byte once xored with newlines) *)
+      let rec newline b i stop =
+        if i + 8 <= stop then begin
+          let x = Int64.logxor (Bytes.get_int64_ne b i) 0x0A0A0A0A0A0A0A0AL in
+          if Int64.logand (Int64.sub x 0x0101010101010101L) (Int64.logand (Int64.lognot x) 0x8080808080808080L) = 0L
+          then newline b (i + 8) stop
+          else newline_byte b i stop
+        end else newline_byte b i stop
+      and newline_byte b i stop =
+        if i >= stop then -1 else if Bytes.unsafe_get b i = '\n' then i else newline_byte b (i + 1) stop in
       (* the rest moved to the front, and the buffer filled after it *)
       let refill () =
         let rest = !len - !pos in

@@ -24,6 +24,8 @@ let program_text = String.concat "\n" [
     "\tproposition falling extends percept with priority = 10";
     "\tpredicate tags(l as list of integer) extends percept";
     "\tpredicate code(c as text, n as integer, d as text) extends percept";
+    "\tproposition qrCodeReadX extends percept";
+    "\tproposition aVeryLongPerceptName extends percept";
     "";
     "ontology Other";
     "\tproposition hidden extends percept";
@@ -190,7 +192,9 @@ let gen_line =
   let any_percept = oneof [
       call "position" 1; call "reading" 2; call "seen" 2; call "at" 1; call "who" 1; call "tags" 1;
       call "point" 2; call "position" 2; call "code" 3; call "code" 2;
-      oneofl [ "falling"; "hidden"; "falling()"; "position"; "aid(\"a\")"; "tags([1, 2])" ] ] in
+      oneofl [ "falling"; "hidden"; "falling()"; "position"; "aid(\"a\")"; "tags([1, 2])";
+               "qrCodeReadX"; "qrCodeReadY"; "qrCodeRdadX"; "aVeryLongPerceptName"; "aVeryLongPerceptNamf";
+               "aVeryLongPercfptName"; "aVeryLongPerceptNam" ] ] in
   (* percepts of the right types, so that most lines are good ones *)
   let small_int = map2 (fun neg n -> (if neg then "-" else "") ^ string_of_int n) bool (int_range 0 1000) in
   let good_text = map (fun l -> "\"" ^ String.of_seq (List.to_seq l) ^ "\"")
