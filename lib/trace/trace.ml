@@ -405,21 +405,25 @@ let add_raw o s =
   Bytes.unsafe_blit_string s 0 o.b o.p n;
   o.p <- o.p + n
 
-(* A text as a JSON string. Copied at once when it needs no escape (none of
-   the characters Yojson escapes: a quote, a backslash, a control
-   character, DEL); otherwise written again over the copy, by Yojson. *)
+(* Does [s] need no JSON escape from [i] to [n] (none of the characters
+   Yojson escapes: a quote, a backslash, a control character, DEL)? *)
+let rec plain s i n =
+  i >= n
+  || (let c = String.unsafe_get s i in
+      c >= ' ' && c <> '"' && c <> '\\' && c <> '\x7F' && plain s (i + 1) n)
+
+(* A text as a JSON string: copied at once when it needs no escape,
+   otherwise by Yojson. *)
 let write_string o s =
   let n = String.length s in
-  room o (n + 2);
-  let b = o.b and p = o.p in
-  Bytes.unsafe_set b p '"';
-  let rec copy i =
-    i >= n
-    || (let c = String.unsafe_get s i in
-        c >= ' ' && c <> '"' && c <> '\\' && c <> '\x7F'
-        && (Bytes.unsafe_set b (p + 1 + i) c; copy (i + 1))) in
-  if copy 0 then begin Bytes.unsafe_set b (p + 1 + n) '"'; o.p <- p + n + 2 end
-  else begin
+  if plain s 0 n then begin
+    room o (n + 2);
+    let b = o.b and p = o.p in
+    Bytes.unsafe_set b p '"';
+    Bytes.unsafe_blit_string s 0 b (p + 1) n;
+    Bytes.unsafe_set b (p + 1 + n) '"';
+    o.p <- p + n + 2
+  end else begin
     let t = Buffer.create (n + 16) in
     Yojson.Safe.write_string t s;
     add_raw o (Buffer.contents t)
