@@ -159,16 +159,17 @@ let to_literal v = show ~quote:true v
    handle): integers by a digit loop, schemas and lists into one buffer;
    every other value as [show] writes it. The test "value: quick literal =
    to_literal" holds the two equal. *)
+let int_digits = Bytes.create 20
+
 let add_int b i =
-  if i >= 0 then begin
-    let rec count n k = if n < 10 then k else count (n / 10) (k + 1) in
-    let k = count i 1 in
-    let d = Bytes.create k in
+  if i >= 0 && i < 10 then Buffer.add_char b (Char.unsafe_chr (48 + i))
+  else if i >= 0 then begin
+    (* the digits from the last, at the end of [int_digits] *)
     let rec put n j =
-      Bytes.unsafe_set d j (Char.unsafe_chr (48 + n mod 10));
-      if n >= 10 then put (n / 10) (j - 1) in
-    put i (k - 1);
-    Buffer.add_bytes b d
+      Bytes.unsafe_set int_digits j (Char.unsafe_chr (48 + n mod 10));
+      if n >= 10 then put (n / 10) (j - 1) else j in
+    let first = put i 19 in
+    Buffer.add_subbytes b int_digits first (20 - first)
   end else Buffer.add_string b (string_of_int i)
 
 let rec add_literal b v = match v with
@@ -177,7 +178,10 @@ let rec add_literal b v = match v with
   | Schema s ->
     Buffer.add_string b s.sname;
     Buffer.add_char b '(';
-    Array.iteri (fun i (_, r) -> if i > 0 then Buffer.add_string b ", "; add_literal b !r) s.slots;
+    for i = 0 to Array.length s.slots - 1 do
+      if i > 0 then Buffer.add_string b ", ";
+      add_literal b !(snd (Array.unsafe_get s.slots i))
+    done;
     Buffer.add_char b ')'
   | List l ->
     Buffer.add_char b '[';
