@@ -174,9 +174,13 @@ let dispatch_bound (c : M.t) =
    bodies' logs and errors in order, their messages delivered after it,
    before any other agent runs). It is taken only when the steps left
    cover every rule it may take, so --max-steps stops at the same rule.
-   With a trace, every rule is a step of its own. Either way the steps are
-   counted here, and the platform keeps no list of them (issue 17; test
-   "run: the same without a trace"). *)
+   With a trace, the same when no body of the program sends a message
+   (D34): each rule's line is written as the engine reports the rule's
+   label; otherwise every rule is a step of its own (its messages are
+   delivered, with their lines, right after it). Either way the steps are
+   counted here, and the platform keeps no list of them (issue 17; tests
+   "run: the same without a trace", "run: a traced dispatch = rule by
+   rule (D34)"). *)
 let iterate t i =
   let left = t.opts.max_steps - t.steps in
   if left > 0 then begin
