@@ -201,6 +201,10 @@ let iterate t i =
           else if writes then
             E.dispatch p c ~observe:(fun l ->
                 incr taken;
+                (* D34 holds only while nothing is sent: a body that sent
+                   would be a broken invariant, not a reordered trace *)
+                if c.Mc.world.Eval.outbox <> [] then
+                  Semantics.Fault.crash "Runtime: a message sent in a dispatch traced in one call (D34)";
                 match l with
                 | Mc.End_dispatch _ -> ()   (* the platform's step: written by on_event *)
                 | _ -> Tracer.inside t.tr ~agent ~start:c l)
