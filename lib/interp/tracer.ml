@@ -13,15 +13,46 @@ type label = (V.t, Eval.message, V.t) Mc.label
    list last noted, so that a rule that did not change it costs nothing. *)
 type names = { mutable types : string array; mutable noted : Eval.beh Mc.instance list }
 
+(* The text of the last percept written, with the values its slots held
+   then: a percept's dequeue and handle lines carry the same value, and its
+   text is taken again only if a slot changed since (a handler may set one,
+   [k of content = 5]). Only a schema whose slots hold integers, texts,
+   booleans or numbers is kept: values of those kinds never change. *)
+type text_kept = { mutable value : V.t; mutable leaves : V.t array; mutable text : string }
+
 type t = {
   w : Trace.writer;
   on_body : string -> Eval.event -> unit;
   names : (string, names) Hashtbl.t;
   mutable last : string * names;   (* the agent's names last looked up, by address *)
+  kept : text_kept;
 }
 
 let no_names = { types = [||]; noted = [] }
-let create w ~on_body = { w; on_body; names = Hashtbl.create 16; last = ("", no_names) }
+let create w ~on_body =
+  { w; on_body; names = Hashtbl.create 16; last = ("", no_names);
+    kept = { value = V.Unit; leaves = [||]; text = "" } }
+
+let unchanging = function
+  | V.Int _ | V.Text _ | V.Bool _ | V.Float _ | V.Double _ -> true
+  | _ -> false
+
+(* [V.to_literal v] (by [V.to_literal_quick]), kept for the next line *)
+let percept_text t (v : V.t) =
+  let k = t.kept in
+  match v with
+  | V.Schema s when v == k.value
+                 && Array.length s.slots = Array.length k.leaves
+                 && (let rec same i = i < 0 || (!(snd s.slots.(i)) == k.leaves.(i) && same (i - 1)) in
+                     same (Array.length s.slots - 1)) ->
+    k.text
+  | V.Schema s ->
+    let text = V.to_literal_quick v in
+    if Array.for_all (fun (_, r) -> unchanging !r) s.slots then begin
+      k.value <- v; k.leaves <- Array.map (fun (_, r) -> !r) s.slots; k.text <- text
+    end;
+    text
+  | _ -> V.to_literal_quick v
 
 (* The names of an agent, [None] if none noted yet: the last agent's
    without hashing (a run writes the same agent's lines in a row). *)
@@ -50,7 +81,7 @@ let header t env (p : Mc.params) ~seed agents =
     percepts = List.filter_map (fun (s : T.schema) ->
         if s.s_percept then Some (s.s_name, s.s_priority) else None) (T.schemas env) }
 
-let entry (e : V.t Mc.entry) = { Trace.percept = V.to_literal_quick e.p; priority = e.prio; seq = e.seq }
+let entry t (e : V.t Mc.entry) = { Trace.percept = percept_text t e.p; priority = e.prio; seq = e.seq }
 
 let message (m : Eval.message) =
   { Trace.performative = m.perf; content = V.to_literal_quick m.content; from = m.sender }
@@ -118,17 +149,17 @@ let created t ~agent ~agent_type args behs a =
 let label_event t agent (c : config) (l : label) evs : Trace.event =
   match l with
   | Mc.Init -> Semantics.Fault.crash "Tracer: Init is not a rule of the run"
-  | Mc.Notify e -> Trace.Notify { entry = entry e; overridden = false }
-  | Mc.Notify_with e -> Trace.Notify { entry = entry e; overridden = true }
+  | Mc.Notify e -> Trace.Notify { entry = entry t e; overridden = false }
+  | Mc.Notify_with e -> Trace.Notify { entry = entry t e; overridden = true }
   | Mc.Put o -> Trace.Put { obj = V.to_literal_quick o; index = c.puts }
   | Mc.Send (m, seq) -> Trace.Deliver { message = message m; seq }
   | Mc.Transfer n -> Trace.Transfer n
-  | Mc.Transfer_one e -> Trace.Transfer_one (entry e)
+  | Mc.Transfer_one e -> Trace.Transfer_one (entry t e)
   | Mc.Transfer_spin o -> Trace.Transfer_spin (V.to_literal_quick o)
   | Mc.Transfer_end -> Trace.Transfer_end
-  | Mc.Dequeue e -> Trace.Dequeue (entry e)
+  | Mc.Dequeue e -> Trace.Dequeue (entry t e)
   | Mc.Handle { id; h; p; seq } ->
-    Trace.Handle { instance = id; behaviour = name t agent id; handler = h; percept = V.to_literal_quick p; seq;
+    Trace.Handle { instance = id; behaviour = name t agent id; handler = h; percept = percept_text t p; seq;
                    effects = (match ran (fun _ -> true) evs with Some (_, e) -> e | None -> []) }
   | Mc.Skip { id; h } -> Trace.Skip { instance = id; behaviour = name t agent id; handler = h }
   | Mc.End_dispatch { seq; discarded } -> Trace.End_dispatch { seq; discarded }
@@ -138,7 +169,7 @@ let label_event t agent (c : config) (l : label) evs : Trace.event =
       taken = (match msg with
           | None -> None
           | Some (Mc.M_message { m; mseq }) -> Some (Trace.Took_message (message m, mseq))
-          | Some (Mc.M_percept e) -> Some (Trace.Took_percept (entry e)));
+          | Some (Mc.M_percept e) -> Some (Trace.Took_percept (entry t e)));
       action_effects = Option.map snd (ran (fun h -> h = 0) evs);
       handler = (match msg, ran (fun h -> h > 0) evs with
           | Some _, Some (h, e) -> Some (h, e)

@@ -357,6 +357,53 @@ let quick_literal_equal v =
   if q <> l then QCheck.Test.fail_reportf "quick:   %s\nliteral: %s" q l;
   true
 
+(* The trace keeps a percept's text from one line to the next only while
+   its slots hold the same values: a handler that sets a slot of its
+   percept changes the text of the handle lines after it. *)
+let percept_text_follows_its_slots () =
+  let text = String.concat "\n" [
+      "ontology O";
+      "\tpredicate position(k as integer, t as text) extends percept";
+      "";
+      "agent A uses ontology O";
+      "\ton create do";
+      "\t\tactivate behaviour B1";
+      "\t\tactivate behaviour B2";
+      "";
+      "cyclic behaviour B1 for agent A";
+      "\ton percept when content matches position(k, t) do";
+      "\t\tk of content = k + 1";
+      "";
+      "cyclic behaviour B2 for agent A";
+      "\ton percept when content matches position(k, t) do";
+      "\t\tlog \"seen \" + k";
+      "" ] in
+  let env, _ = Typing.check [ Parse.string ~file:"m.jade" text ] in
+  let file = Filename.temp_file "jsref_text" ".jsonl" in
+  let oc = open_out_bin file in
+  let opts = { Interp.Runtime.params = Mc.default_params; seed = None; fuel = 500; max_steps = 1000;
+               trace = Some oc; on_log = (fun _ _ -> ()); on_error = (fun _ _ _ -> ()) } in
+  let rt = Interp.Runtime.create env opts [ ("a", "A", []) ] in
+  List.iter (fun p ->
+      let (v, default) = Interp.Eval.percept_value env ~agent_type:"A" (Parse.expr ~file:"e" p) in
+      match Interp.Runtime.notify rt ~agent:"a" v ~default ~priority:None with
+      | Ok () -> ()
+      | Error m -> Alcotest.fail m) [ {|position(1, "x")|}; {|position(7, "y")|} ];
+  Interp.Runtime.run_until_idle rt;
+  Interp.Runtime.finish rt;
+  close_out oc;
+  let percepts = List.filter_map (fun l ->
+      match Yojson.Safe.from_string l with
+      | `Assoc f ->
+        (match List.assoc_opt "event" f, List.assoc_opt "percept" f with
+         | Some (`String ("dequeue" | "handle" as e)), Some (`String p) -> Some (e ^ " " ^ p)
+         | _ -> None)
+      | _ -> None) (String.split_on_char '\n' (String.trim (read_file file))) in
+  Sys.remove file;
+  Alcotest.(check (list string)) "dequeue, then each handle line after B1 set k"
+    [ {|dequeue position(1, "x")|}; {|handle position(2, "x")|}; {|handle position(2, "x")|};
+      {|dequeue position(7, "y")|}; {|handle position(8, "y")|}; {|handle position(8, "y")|} ] percepts
+
 (* --------------------------------------- a run without a trace *)
 
 let literal_of = Test_support.Event_gen.small_literal
@@ -476,6 +523,7 @@ let () =
     ("trace", [
         Alcotest.test_case "direct encoding = JSON tree, every event" `Quick every_event;
         Alcotest.test_case "a writer numbers its lines" `Quick writer_numbers;
+        Alcotest.test_case "a percept's text follows its slots" `Quick percept_text_follows_its_slots;
         qcheck ~count:3000 "trace: direct encoding = JSON tree" (QCheck.make gen_trace_line) direct_equals_tree ]);
     ("value", [
         qcheck ~count:3000 "value: quick literal = to_literal" (QCheck.make gen_value) quick_literal_equal ]);
