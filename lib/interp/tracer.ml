@@ -37,19 +37,24 @@ let unchanging = function
   | V.Int _ | V.Text _ | V.Bool _ | V.Float _ | V.Double _ -> true
   | _ -> false
 
-(* [V.to_literal v] (by [V.to_literal_quick]), kept for the next line *)
-let percept_text t (v : V.t) =
+let rec all_unchanging slots i = i < 0 || (unchanging !(snd slots.(i)) && all_unchanging slots (i - 1))
+let rec same_leaves slots leaves i = i < 0 || (!(snd slots.(i)) == leaves.(i) && same_leaves slots leaves (i - 1))
+
+(* [V.to_literal v] (by [V.to_literal_quick]); with [keep] (a dequeue: its
+   handle lines follow) kept for the next lines *)
+let percept_text ?(keep = false) t (v : V.t) =
   let k = t.kept in
   match v with
-  | V.Schema s when v == k.value
-                 && Array.length s.slots = Array.length k.leaves
-                 && (let rec same i = i < 0 || (!(snd s.slots.(i)) == k.leaves.(i) && same (i - 1)) in
-                     same (Array.length s.slots - 1)) ->
+  | V.Schema s when v == k.value && Array.length s.slots = Array.length k.leaves
+                    && same_leaves s.slots k.leaves (Array.length s.slots - 1) ->
     k.text
-  | V.Schema s ->
+  | V.Schema s when keep ->
     let text = V.to_literal_quick v in
-    if Array.for_all (fun (_, r) -> unchanging !r) s.slots then begin
-      k.value <- v; k.leaves <- Array.map (fun (_, r) -> !r) s.slots; k.text <- text
+    let n = Array.length s.slots in
+    if all_unchanging s.slots (n - 1) then begin
+      let leaves = if Array.length k.leaves = n then k.leaves else Array.make n V.Unit in
+      for i = 0 to n - 1 do leaves.(i) <- !(snd s.slots.(i)) done;
+      k.value <- v; k.leaves <- leaves; k.text <- text
     end;
     text
   | _ -> V.to_literal_quick v
@@ -81,7 +86,7 @@ let header t env (p : Mc.params) ~seed agents =
     percepts = List.filter_map (fun (s : T.schema) ->
         if s.s_percept then Some (s.s_name, s.s_priority) else None) (T.schemas env) }
 
-let entry t (e : V.t Mc.entry) = { Trace.percept = percept_text t e.p; priority = e.prio; seq = e.seq }
+let entry ?keep t (e : V.t Mc.entry) = { Trace.percept = percept_text ?keep t e.p; priority = e.prio; seq = e.seq }
 
 let message (m : Eval.message) =
   { Trace.performative = m.perf; content = V.to_literal_quick m.content; from = m.sender }
@@ -157,7 +162,7 @@ let label_event t agent (c : config) (l : label) evs : Trace.event =
   | Mc.Transfer_one e -> Trace.Transfer_one (entry t e)
   | Mc.Transfer_spin o -> Trace.Transfer_spin (V.to_literal_quick o)
   | Mc.Transfer_end -> Trace.Transfer_end
-  | Mc.Dequeue e -> Trace.Dequeue (entry t e)
+  | Mc.Dequeue e -> Trace.Dequeue (entry ~keep:true t e)
   | Mc.Handle { id; h; p; seq } ->
     Trace.Handle { instance = id; behaviour = name t agent id; handler = h; percept = percept_text t p; seq;
                    effects = (match ran (fun _ -> true) evs with Some (_, e) -> e | None -> []) }
