@@ -162,6 +162,21 @@ let rec holds_from s i w k =
   else k >= n || (String.unsafe_get s (i + k) = String.unsafe_get w k && holds_from s i w (k + 1))
 let holds s i w = i + String.length w <= String.length s && holds_from s i w 0
 
+(* A word of at most eight bytes as the eight bytes that start with it and
+   the mask of its own, for [holds_packed]. *)
+let pack w =
+  let b = Bytes.make 8 '\000' and m = Bytes.make 8 '\000' in
+  let n = min 8 (String.length w) in
+  Bytes.blit_string w 0 b 0 n;
+  Bytes.fill m 0 n '\255';
+  (Bytes.get_int64_ne b 0, Bytes.get_int64_ne m 0)
+
+(* [holds s i w] for a word of at most eight bytes packed as [p]: one
+   comparison where eight bytes of [s] are left from [i]. *)
+let holds_packed s i w ((v, m) : int64 * int64) =
+  if i + 8 <= String.length s then Int64.logand (String.get_int64_ne s i) m = v
+  else holds s i w
+
 (* The program's schema names (never keywords: the program declared them as
    identifiers; checked all the same), for the last type environment seen. *)
 let schema_names : (Typing.Tenv.t * string array) option ref = ref None
@@ -240,13 +255,15 @@ let rec string_end s i escaped =
 
 (* A key at [i] (spaces allowed before it and around the colon): [`Agent]
    or [`Notify], and the position of its value. *)
+let agent_key = pack "\"agent\"" and notify_key = pack "\"notify\""
+
 let quick_key s i =
   let i = spaces s i in
   let (key, j) =
     (* the letter after the quote tells which key it may be *)
     match at s (i + 1) with
-    | 'a' when holds s i "\"agent\"" -> (`Agent, i + 7)
-    | 'n' when holds s i "\"notify\"" -> (`Notify, i + 8)
+    | 'a' when holds_packed s i "\"agent\"" agent_key -> (`Agent, i + 7)
+    | 'n' when holds_packed s i "\"notify\"" notify_key -> (`Notify, i + 8)
     | _ -> raise Not_quick in
   let j = spaces s j in
   if at s j <> ':' then raise Not_quick;
@@ -302,7 +319,8 @@ type slot_kind = Int_slot | Text_slot
 
 (* For the last type environment seen: each schema whose name is not a
    keyword, and the kinds of its slots ([None]: a slot of another type). *)
-let direct_schemas : (Typing.Tenv.t * (Typing.Tenv.schema * slot_kind array option) array) option ref = ref None
+let direct_schemas :
+  (Typing.Tenv.t * (Typing.Tenv.schema * slot_kind array option * (int64 * int64)) array) option ref = ref None
 
 let direct_schema env s i j =
   let table = match !direct_schemas with
@@ -316,14 +334,17 @@ let direct_schema env s i j =
           if Syntax.Lexer.keyword_of_string sc.s_name <> None then None
           else
             let kinds = List.map kind sc.s_slots in
-            Some (sc, if List.mem None kinds then None else Some (Array.of_list (List.map Option.get kinds))))
+            Some (sc, (if List.mem None kinds then None else Some (Array.of_list (List.map Option.get kinds))),
+                  pack sc.s_name))
           (Typing.Tenv.schemas env)) in
       direct_schemas := Some (env, a); a in
   let len = j - i in
   let rec find k =
     if k >= Array.length table then raise Not_quick
-    else let ((sc : Typing.Tenv.schema), _) as r = table.(k) in
-      if String.length sc.s_name = len && holds s i sc.s_name then r else find (k + 1) in
+    else let ((sc : Typing.Tenv.schema), kinds, packed) = table.(k) in
+      if String.length sc.s_name = len
+      && (if len <= 8 then holds_packed s i sc.s_name packed else holds s i sc.s_name)
+      then (sc, kinds) else find (k + 1) in
   find 0
 
 let direct_slot kind s i : Value.t * int =

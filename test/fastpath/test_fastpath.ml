@@ -111,6 +111,10 @@ let quick_refused () =
       {|{"agent":"a","notify":"code(\"x\", 1)"}|};
       {|{"agent":"a","notify":"position()"}|};
       {|{"agent":"a","notify":"falling()"}|};
+      {|{"agent":"a","notify":"fallinh"}|};
+      {|{"agent":"a","notify":"positiom(1)"}|};
+      {|{"agenu":"a","notify":"position(1)"}|};
+      {|{"agent":"a","notifz":"position(1)"}|};
       {|{"agent":"a","notify":"position (1)"}|};
       {|{"agent":"a","notify":"position(1) "}|};
       {|{"agent":"a","notify":"position(1) # c"}|};
@@ -194,7 +198,7 @@ let gen_line =
       call "point" 2; call "position" 2; call "code" 3; call "code" 2;
       oneofl [ "falling"; "hidden"; "falling()"; "position"; "aid(\"a\")"; "tags([1, 2])";
                "qrCodeReadX"; "qrCodeReadY"; "qrCodeRdadX"; "aVeryLongPerceptName"; "aVeryLongPerceptNamf";
-               "aVeryLongPercfptName"; "aVeryLongPerceptNam" ] ] in
+               "aVeryLongPercfptName"; "aVeryLongPerceptNam"; "fallinh"; "hiddem"; "positiom(1)"; "fallinG" ] ] in
   (* percepts of the right types, so that most lines are good ones *)
   let small_int = map2 (fun neg n -> (if neg then "-" else "") ^ string_of_int n) bool (int_range 0 1000) in
   let good_text = map (fun l -> "\"" ^ String.of_seq (List.to_seq l) ^ "\"")
