@@ -322,7 +322,10 @@ type slot_kind = Int_slot | Text_slot
 let direct_schemas :
   (Typing.Tenv.t * (Typing.Tenv.schema * slot_kind array option * (int64 * int64)) array) option ref = ref None
 
-let direct_schema env s i j =
+(* The schema whose name is at [i] (not followed by a letter, digit or
+   '_': a name that begins another, [pos] and [position], does not hide
+   it), and the position after the name. *)
+let direct_schema env s i =
   let table = match !direct_schemas with
     | Some (e, a) when e == env -> a
     | _ ->
@@ -338,13 +341,13 @@ let direct_schema env s i j =
                   pack sc.s_name))
           (Typing.Tenv.schemas env)) in
       direct_schemas := Some (env, a); a in
-  let len = j - i in
   let rec find k =
     if k >= Array.length table then raise Not_quick
     else let ((sc : Typing.Tenv.schema), kinds, packed) = table.(k) in
-      if String.length sc.s_name = len
-      && (if len <= 8 then holds_packed s i sc.s_name packed else holds s i sc.s_name)
-      then (sc, kinds) else find (k + 1) in
+      let len = String.length sc.s_name in
+      if (if len <= 8 then holds_packed s i sc.s_name packed else holds s i sc.s_name)
+      && not (i + len < String.length s && String.unsafe_get ident_chars (Char.code (String.unsafe_get s (i + len))) = '\001')
+      then (sc, kinds, i + len) else find (k + 1) in
   find 0
 
 let direct_slot kind s i : Value.t * int =
@@ -369,26 +372,29 @@ let direct_value env s i : Value.t * int =
   if at s i <> '"' then raise Not_quick;
   let i = i + 1 in
   if not (is_alpha (at s i)) then raise Not_quick;
-  let j = ident_end s i in
-  let (sc, kinds) = direct_schema env s i j in
+  let (sc, kinds, j) = direct_schema env s i in
   let (v, j) =
     match kinds, sc.s_slots with
     | _, [] when at s j <> '(' -> (Value.Schema { sname = sc.s_name; slots = [||] }, j)
     | Some kinds, (_ :: _ as slots) when at s j = '(' ->
-      let n = Array.length kinds in
-      let vals = Array.make n ("", ref Value.Unit) in
-      let rec args k slots i =
+      (* the slots, last first *)
+      let rec args k slots i acc =
         match slots with
         | (name, _) :: rest ->
           let (v, i) = direct_slot kinds.(k) s (spaces s i) in
-          vals.(k) <- (name, ref v);
+          let acc = (name, ref v) :: acc in
           let i = spaces s i in
           (match at s i, rest with
-           | ',', _ :: _ -> args (k + 1) rest (i + 1)
-           | ')', [] -> i + 1
+           | ',', _ :: _ -> args (k + 1) rest (i + 1) acc
+           | ')', [] -> (acc, i + 1)
            | _ -> raise Not_quick)
         | [] -> raise Not_quick in
-      let j = args 0 slots (j + 1) in
+      let (vals, j) = args 0 slots (j + 1) [] in
+      let vals = match vals with
+        | [ a ] -> [| a |]
+        | [ b; a ] -> [| a; b |]
+        | [ c; b; a ] -> [| a; b; c |]
+        | l -> Array.of_list (List.rev l) in
       (Value.Schema { sname = sc.s_name; slots = vals }, j)
     | _ -> raise Not_quick in
   if at s j <> '"' then raise Not_quick;

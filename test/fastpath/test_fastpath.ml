@@ -112,6 +112,8 @@ let quick_refused () =
       {|{"agent":"a","notify":"position()"}|};
       {|{"agent":"a","notify":"falling()"}|};
       {|{"agent":"a","notify":"fallinh"}|};
+      {|{"agent":"a","notify":"fallings"}|};
+      {|{"agent":"a","notify":"positions(1)"}|};
       {|{"agent":"a","notify":"positiom(1)"}|};
       {|{"agenu":"a","notify":"position(1)"}|};
       {|{"agent":"a","notifz":"position(1)"}|};
@@ -198,7 +200,8 @@ let gen_line =
       call "point" 2; call "position" 2; call "code" 3; call "code" 2;
       oneofl [ "falling"; "hidden"; "falling()"; "position"; "aid(\"a\")"; "tags([1, 2])";
                "qrCodeReadX"; "qrCodeReadY"; "qrCodeRdadX"; "aVeryLongPerceptName"; "aVeryLongPerceptNamf";
-               "aVeryLongPercfptName"; "aVeryLongPerceptNam"; "fallinh"; "hiddem"; "positiom(1)"; "fallinG" ] ] in
+               "aVeryLongPercfptName"; "aVeryLongPerceptNam"; "fallinh"; "hiddem"; "positiom(1)"; "fallinG";
+               "fallings"; "falling_"; "falling2"; "positions(1)"; "aVeryLongPerceptNameX" ] ] in
   (* percepts of the right types, so that most lines are good ones *)
   let small_int = map2 (fun neg n -> (if neg then "-" else "") ^ string_of_int n) bool (int_range 0 1000) in
   let good_text = map (fun l -> "\"" ^ String.of_seq (List.to_seq l) ^ "\"")
