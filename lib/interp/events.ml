@@ -276,9 +276,10 @@ let quick_agent s i agents =
   let (j, escaped) = string_end s (i + 1) false in
   if escaped then raise Not_quick;
   let len = j - i - 1 in
-  match List.find_opt (fun (n, _) -> String.length n = len && holds s (i + 1) n) agents with
-  | Some a -> (a, spaces s (j + 1))
-  | None -> raise Not_quick
+  let rec find = function
+    | ((n, _) as a) :: rest -> if String.length n = len && holds s (i + 1) n then a else find rest
+    | [] -> raise Not_quick in
+  (find agents, spaces s (j + 1))
 
 (* [Eval.percept_value]: the value of the literal, checked to be a percept
    of a type the agent type sees, and that type's default priority. The
