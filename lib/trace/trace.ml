@@ -375,11 +375,11 @@ let header_of_json j =
    [Yojson.Safe.to_string (line_to_json l)] writes: the same fields in the
    same order, and no JSON tree in between. Keys, event names and actions
    are copied as constants (the part of a line before its first value
-   depends only on the event's constructor, D34); integers are written by a
-   digit loop, texts copied at once when they need no escape. Create (once
-   per agent) and any event without a case here go through the tree. The
-   tests "trace: direct encoding = JSON tree" hold the two equal over every
-   event. *)
+   depends only on the event's constructor and the agent); integers are
+   written by a digit loop, texts copied at once when they need no escape.
+   Create (once per agent) and Refused_put go through the tree. The tests
+   "trace: direct encoding = JSON tree" and "a writer numbers its lines"
+   hold the two equal over every event (D30). *)
 
 (* The bytes written so far: [b] from 0 to [p]. *)
 type out = { mutable b : Bytes.t; mutable p : int }
