@@ -670,10 +670,17 @@ let pending w =
     end
   | _ -> ()
 
-let flush w = pending w; match w.oc with Some oc -> Stdlib.flush oc | None -> ()
+(* After a flush the bytes are given back (a process that runs many
+   traced runs, a test or the fuzz campaign, keeps every writer to a
+   channel until it exits); a later line takes new ones. *)
+let flush w =
+  pending w;
+  match w.oc with
+  | Some oc -> if w.out.p = 0 then w.out.b <- Bytes.empty; Stdlib.flush oc
+  | None -> ()
 
 let to_channel oc =
-  let w = new_writer (Some (output_string oc)) (new_out (2 * chunk)) (Some oc) in
+  let w = new_writer (Some (output_string oc)) (new_out 4096) (Some oc) in
   (* flushed when the program ends: normally, by [exit] (a signal handler
      may call it), or by an uncaught exception *)
   at_exit (fun () -> try flush w with Sys_error _ -> ());
