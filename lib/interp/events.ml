@@ -114,7 +114,12 @@ let at s i = if i < String.length s then String.unsafe_get s i else '\000'
 let rec spaces s i = if at s i = ' ' then spaces s (i + 1) else i
 let rec digits_from s i = if is_digit (at s i) then digits_from s (i + 1) else i
 let digits s i = let j = digits_from s i in if j = i then raise Not_quick else j
-let rec ident_end s i = let c = at s i in if is_alpha c || is_digit c then ident_end s (i + 1) else i
+(* The characters of an identifier after its first: letters, digits, '_'
+   (a table: this runs for every byte of every schema name read) *)
+let ident_chars = String.init 256 (fun k -> let c = Char.chr k in if is_alpha c || is_digit c then '\001' else '\000')
+let rec ident_end s i =
+  if i < String.length s && String.unsafe_get ident_chars (Char.code (String.unsafe_get s i)) = '\001'
+  then ident_end s (i + 1) else i
 (* The end of a text literal's characters: printable ASCII up to a
    backslash (in the JSON line, the text's closing quote is one). *)
 let rec text_end s i = match at s i with
@@ -147,11 +152,30 @@ let number s i : Syntax.Ast.expr' * int =
 
 (* Does [s] hold [w] from [i] on? *)
 let rec holds_from s i w k =
-  if k + 8 <= String.length w then
-    (* eight bytes at a time *)
-    (String.get_int64_ne s (i + k) : int64) = String.get_int64_ne w k && holds_from s i w (k + 8)
-  else k >= String.length w || (String.unsafe_get s (i + k) = String.unsafe_get w k && holds_from s i w (k + 1))
+  let n = String.length w in
+  if k + 8 <= n then
+    (* eight bytes at a time; the last eight of a word of eight or more
+       bytes at once (they may overlap those already compared) *)
+    (String.get_int64_ne s (i + k) : int64) = String.get_int64_ne w k
+    && (k + 8 = n || (if k + 16 > n then String.get_int64_ne s (i + n - 8) = String.get_int64_ne w (n - 8)
+                      else holds_from s i w (k + 8)))
+  else k >= n || (String.unsafe_get s (i + k) = String.unsafe_get w k && holds_from s i w (k + 1))
 let holds s i w = i + String.length w <= String.length s && holds_from s i w 0
+
+(* A word of at most eight bytes as the eight bytes that start with it and
+   the mask of its own, for [holds_packed]. *)
+let pack w =
+  let b = Bytes.make 8 '\000' and m = Bytes.make 8 '\000' in
+  let n = min 8 (String.length w) in
+  Bytes.blit_string w 0 b 0 n;
+  Bytes.fill m 0 n '\255';
+  (Bytes.get_int64_ne b 0, Bytes.get_int64_ne m 0)
+
+(* [holds s i w] for a word of at most eight bytes packed as [p]: one
+   comparison where eight bytes of [s] are left from [i]. *)
+let holds_packed s i w ((v, m) : int64 * int64) =
+  if i + 8 <= String.length s then Int64.logand (String.get_int64_ne s i) m = v
+  else holds s i w
 
 (* The program's schema names (never keywords: the program declared them as
    identifiers; checked all the same), for the last type environment seen. *)
@@ -231,12 +255,16 @@ let rec string_end s i escaped =
 
 (* A key at [i] (spaces allowed before it and around the colon): [`Agent]
    or [`Notify], and the position of its value. *)
+let agent_key = pack "\"agent\"" and notify_key = pack "\"notify\""
+
 let quick_key s i =
   let i = spaces s i in
   let (key, j) =
-    if holds s i "\"agent\"" then (`Agent, i + 7)
-    else if holds s i "\"notify\"" then (`Notify, i + 8)
-    else raise Not_quick in
+    (* the letter after the quote tells which key it may be *)
+    match at s (i + 1) with
+    | 'a' when holds_packed s i "\"agent\"" agent_key -> (`Agent, i + 7)
+    | 'n' when holds_packed s i "\"notify\"" notify_key -> (`Notify, i + 8)
+    | _ -> raise Not_quick in
   let j = spaces s j in
   if at s j <> ':' then raise Not_quick;
   (key, spaces s (j + 1))
@@ -248,9 +276,10 @@ let quick_agent s i agents =
   let (j, escaped) = string_end s (i + 1) false in
   if escaped then raise Not_quick;
   let len = j - i - 1 in
-  match List.find_opt (fun (n, _) -> String.length n = len && holds s (i + 1) n) agents with
-  | Some a -> (a, spaces s (j + 1))
-  | None -> raise Not_quick
+  let rec find = function
+    | ((n, _) as a) :: rest -> if String.length n = len && holds s (i + 1) n then a else find rest
+    | [] -> raise Not_quick in
+  (find agents, spaces s (j + 1))
 
 (* [Eval.percept_value]: the value of the literal, checked to be a percept
    of a type the agent type sees, and that type's default priority. The
@@ -279,29 +308,147 @@ let quick_percept_value env agent_type e =
      | _ -> ());
     (v, prio)
 
+(* The commonest percepts, built without an expression: a schema name
+   alone, or a call whose slots are integers and texts, each given as an
+   integer literal without sign, decimal point or exponent, or a text
+   literal (no escapes). The value is the one [Eval.literal_value] gives
+   for the expression [quick_expr_at] reads (integer slots take integers as
+   they are, text slots texts). Anything else, and an integer out of the
+   32-bit range, is [Not_quick] here: [quick_notify] then reads the
+   expression. *)
+type slot_kind = Int_slot | Text_slot
+
+(* For the last type environment seen: each schema whose name is not a
+   keyword, and the kinds of its slots ([None]: a slot of another type). *)
+let direct_schemas :
+  (Typing.Tenv.t * (Typing.Tenv.schema * slot_kind array option * (int64 * int64)) array) option ref = ref None
+
+(* The schema whose name is at [i] (not followed by a letter, digit or
+   '_': a name that begins another, [pos] and [position], does not hide
+   it), and the position after the name. *)
+let direct_schema env s i =
+  let table = match !direct_schemas with
+    | Some (e, a) when e == env -> a
+    | _ ->
+      let kind (_, ty) = match Typing.Types.repr ty with
+        | Typing.Types.Integer -> Some Int_slot
+        | Typing.Types.Text -> Some Text_slot
+        | _ -> None in
+      let a = Array.of_list (List.filter_map (fun (sc : Typing.Tenv.schema) ->
+          if Syntax.Lexer.keyword_of_string sc.s_name <> None then None
+          else
+            let kinds = List.map kind sc.s_slots in
+            Some (sc, (if List.mem None kinds then None else Some (Array.of_list (List.map Option.get kinds))),
+                  pack sc.s_name))
+          (Typing.Tenv.schemas env)) in
+      direct_schemas := Some (env, a); a in
+  let rec find k =
+    if k >= Array.length table then raise Not_quick
+    else let ((sc : Typing.Tenv.schema), kinds, packed) = table.(k) in
+      let len = String.length sc.s_name in
+      if (if len <= 8 then holds_packed s i sc.s_name packed else holds s i sc.s_name)
+      && not (i + len < String.length s && String.unsafe_get ident_chars (Char.code (String.unsafe_get s (i + len))) = '\001')
+      then (sc, kinds, i + len) else find (k + 1) in
+  find 0
+
+let direct_slot kind s i : Value.t * int =
+  match kind with
+  | Int_slot ->
+    let j = digits s i in
+    (match at s j with '.' | 'e' | 'E' -> raise Not_quick | c when is_alpha c -> raise Not_quick | _ -> ());
+    if j - i > 10 then raise Not_quick;
+    let n = ref 0 in
+    for k = i to j - 1 do n := !n * 10 + (Char.code (String.unsafe_get s k) - 48) done;
+    if !n > 0x7FFF_FFFF then raise Not_quick;
+    (Value.Int !n, j)
+  | Text_slot ->
+    if at s i <> '\\' || at s (i + 1) <> '"' then raise Not_quick;
+    let j = text_end s (i + 2) in
+    if at s j <> '\\' || at s (j + 1) <> '"' then raise Not_quick;
+    (Value.Text (String.sub s (i + 2) (j - i - 2)), j + 2)
+
+(* The percept of the JSON string at [i] and the position after it, as
+   [quick_expr] then [Eval.literal_value] would give them. *)
+let direct_value env s i : Value.t * int =
+  if at s i <> '"' then raise Not_quick;
+  let i = i + 1 in
+  if not (is_alpha (at s i)) then raise Not_quick;
+  let (sc, kinds, j) = direct_schema env s i in
+  let (v, j) =
+    match kinds, sc.s_slots with
+    | _, [] when at s j <> '(' -> (Value.Schema { sname = sc.s_name; slots = [||] }, j)
+    | Some kinds, (_ :: _ as slots) when at s j = '(' ->
+      (* the slots, last first *)
+      let rec args k slots i acc =
+        match slots with
+        | (name, _) :: rest ->
+          let (v, i) = direct_slot kinds.(k) s (spaces s i) in
+          let acc = (name, ref v) :: acc in
+          let i = spaces s i in
+          (match at s i, rest with
+           | ',', _ :: _ -> args (k + 1) rest (i + 1) acc
+           | ')', [] -> (acc, i + 1)
+           | _ -> raise Not_quick)
+        | [] -> raise Not_quick in
+      let (vals, j) = args 0 slots (j + 1) [] in
+      let vals = match vals with
+        | [ a ] -> [| a |]
+        | [ b; a ] -> [| a; b |]
+        | [ c; b; a ] -> [| a; b; c |]
+        | l -> Array.of_list (List.rev l) in
+      (Value.Schema { sname = sc.s_name; slots = vals }, j)
+    | _ -> raise Not_quick in
+  if at s j <> '"' then raise Not_quick;
+  (v, j + 1)
+
+(* [quick_percept_value] for a value built directly: its default priority
+   when the check of its type for this agent type is remembered. *)
+let direct_percept env agent_type (v : Value.t) =
+  match !percept_checks, v with
+  | Some (en, l), Value.Schema sv when en == env ->
+    let rec find = function
+      | [] -> raise Not_quick
+      | (ty, name, prio) :: rest -> if ty == agent_type && sv.sname == name then prio else find rest in
+    find !l
+  | _ -> raise Not_quick
+
+(* The percept at [i]: built directly when it can be, else through its
+   expression. *)
+let quick_percept env ty s i =
+  match
+    let (v, j) = direct_value env s i in
+    (v, direct_percept env ty v, j)
+  with
+  | r -> r
+  | exception Not_quick ->
+    let (e, j) = quick_expr env s i in
+    let (v, default) = quick_percept_value env ty e in
+    (v, default, j)
+
 let quick_notify env ~agents line =
   match
     if at line 0 <> '{' then raise Not_quick;
     let (k1, i) = quick_key line 1 in
-    let (agent, percept, i) = match k1 with
+    let (name, v, default, i) = match k1 with
       | `Agent ->
-        let (a, i) = quick_agent line i agents in
+        let ((name, ty), i) = quick_agent line i agents in
         if at line i <> ',' then raise Not_quick;
         let (k2, i) = quick_key line (i + 1) in
         if k2 <> `Notify then raise Not_quick;
-        let (p, i) = quick_expr env line i in
-        (a, p, spaces line i)
+        let (v, default, i) = quick_percept env ty line i in
+        (name, v, default, spaces line i)
       | `Notify ->
-        let (p, i) = quick_expr env line i in
-        let i = spaces line i in
-        if at line i <> ',' then raise Not_quick;
-        let (k2, i) = quick_key line (i + 1) in
+        (* the agent comes after the percept: the percept's text is read
+           first, its value once the agent type is known *)
+        let j = match quick_expr env line i with (_, j) -> j in
+        let j = spaces line j in
+        if at line j <> ',' then raise Not_quick;
+        let (k2, j) = quick_key line (j + 1) in
         if k2 <> `Agent then raise Not_quick;
-        let (a, i) = quick_agent line i agents in
-        (a, p, i) in
+        let ((name, ty), j) = quick_agent line j agents in
+        let (v, default, _) = quick_percept env ty line i in
+        (name, v, default, j) in
     if at line i <> '}' || i + 1 <> String.length line then raise Not_quick;
-    let (name, ty) = agent in
-    let (v, default) = quick_percept_value env ty percept in
     Notify { agent = name; percept = v; default; priority = None }
   with
   | e -> Some e
@@ -328,14 +475,52 @@ let to_line = function
   | Run_idle -> Yojson.Safe.to_string (`Assoc [ "run", `String "idle" ])
   | Run_rules k -> Yojson.Safe.to_string (`Assoc [ "run", `Assoc [ "rules", `Int k ] ])
 
-(* Every line of the file, one at a time, with its number. *)
+(* Every line of the file, one at a time, with its number: the lines
+   [input_line] reads (split at each newline, the last one with or without
+   its own), found in a buffer the file is read into 64 kB at a time
+   (issue 17: [input_line] cost a fifth of the reading). Only the line
+   being read is kept: a line longer than the buffer makes it grow. *)
 let fold_lines path f init =
   let ic = open_in_bin path in
   Fun.protect ~finally:(fun () -> close_in_noerr ic) (fun () ->
+      let buf = ref (Bytes.create 65536) in
+      (* the bytes not yet handed out: [!buf] from [!pos] to [!len] *)
+      let pos = ref 0 and len = ref 0 and eof = ref false in
+      (* the first newline from [i] on, eight bytes at a time while eight
+         are left (a word with a zero byte once xored with newlines) *)
+      let rec newline b i stop =
+        if i + 8 <= stop then begin
+          let x = Int64.logxor (Bytes.get_int64_ne b i) 0x0A0A0A0A0A0A0A0AL in
+          if Int64.logand (Int64.sub x 0x0101010101010101L) (Int64.logand (Int64.lognot x) 0x8080808080808080L) = 0L
+          then newline b (i + 8) stop
+          else newline_byte b i stop
+        end else newline_byte b i stop
+      and newline_byte b i stop =
+        if i >= stop then -1 else if Bytes.unsafe_get b i = '\n' then i else newline_byte b (i + 1) stop in
+      (* the rest moved to the front, and the buffer filled after it *)
+      let refill () =
+        let rest = !len - !pos in
+        if rest = Bytes.length !buf then begin
+          let bigger = Bytes.create (2 * Bytes.length !buf) in
+          Bytes.blit !buf !pos bigger 0 rest;
+          buf := bigger
+        end else Bytes.blit !buf !pos !buf 0 rest;
+        pos := 0; len := rest;
+        let k = input ic !buf rest (Bytes.length !buf - rest) in
+        if k = 0 then eof := true else len := rest + k in
+      let rec next_line from =
+        match newline !buf from !len with
+        | -1 when !eof ->
+          if !pos < !len then begin
+            let l = Bytes.sub_string !buf !pos (!len - !pos) in
+            pos := !len; Some l
+          end else None
+        | -1 -> let scanned = from - !pos in refill (); next_line (!pos + scanned)
+        | i -> let l = Bytes.sub_string !buf !pos (i - !pos) in pos := i + 1; Some l in
       let rec go acc n =
-        match input_line ic with
-        | exception End_of_file -> acc
-        | l -> match f acc n l with
+        match next_line !pos with
+        | None -> acc
+        | Some l -> match f acc n l with
           | `Continue acc -> go acc (n + 1)
           | `Stop acc -> acc in
       go init 1)

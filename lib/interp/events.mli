@@ -29,6 +29,14 @@ val iter :
     is bad now (the file changed since {!check}) is reported and ends the
     reading: [false]. *)
 
+val fold_lines :
+  string -> ('a -> int -> string -> [ `Continue of 'a | `Stop of 'a ]) -> 'a -> 'a
+(** Every line of the file in order, with its number from 1, as
+    [input_line] reads them (split at each newline, the last line with or
+    without its own; a carriage return is kept), until the function says
+    [`Stop]. Only the line being read is kept in memory.
+    @raise Sys_error when the file cannot be read. *)
+
 (** {1 Reading one line}
 
     Most lines of a long events file are a notify of a percept literal

@@ -40,7 +40,27 @@ type t = {
   mutable steps : int;           (* agent steps so far *)
   rand : Random.State.t option;
   tr : Tracer.t;
+  sends : bool;                  (* has the program a send statement? (D34) *)
 }
+
+(* D34: does any body of the program hold a send statement? Only a body
+   that sends makes the platform act inside a dispatch (it delivers each
+   rule's messages right after the rule, with a trace line each). *)
+let program_sends env =
+  let rec stmt (s : Syntax.Ast.stmt) = match s.it with
+    | Send _ -> true
+    | If (branches, els) -> List.exists (fun (_, b) -> block b) branches || Option.fold ~none:false ~some:block els
+    | While (_, b) | For (_, _, b) -> block b
+    | _ -> false
+  and block b = List.exists stmt b in
+  let routines = List.exists (fun (r : T.routine) -> block r.r_body) in
+  List.exists (fun (a : T.agent) ->
+      routines a.a_functions || routines a.a_procedures || routines (Option.to_list a.a_create)
+      || Option.fold ~none:false ~some:block a.a_destroy) (T.agents env)
+  || List.exists (fun (b : T.behaviour) ->
+      routines b.b_functions || routines b.b_procedures || routines (Option.to_list b.b_create)
+      || Option.fold ~none:false ~some:block b.b_action
+      || List.exists (fun (h : T.handler) -> block h.h_body) b.b_handlers) (T.behaviours env)
 
 (* ------------------------------------------------------------- trace *)
 
@@ -78,7 +98,7 @@ let create ?(hooks = reference_hooks) env opts specs =
     | _ -> () in
   let t = { env; opts; hooks; platform = P.create []; steps = 0;
             rand = Option.map (fun s -> Random.State.make [| s |]) opts.seed;
-            tr = Tracer.create w ~on_body } in
+            tr = Tracer.create w ~on_body; sends = program_sends env } in
   Tracer.header t.tr env opts.params ~seed:opts.seed (List.map (fun (n, ty, _) -> (n, ty)) specs);
   let created = List.map (fun (name, ty, args) ->
       let (a, behs) = Eval.create_agent env ~name ~atype:ty ~args ~fuel:opts.fuel in
@@ -154,21 +174,41 @@ let dispatch_bound (c : M.t) =
    bodies' logs and errors in order, their messages delivered after it,
    before any other agent runs). It is taken only when the steps left
    cover every rule it may take, so --max-steps stops at the same rule.
-   With a trace, every rule is a step of its own. Either way the steps are
-   counted here, and the platform keeps no list of them (issue 17; test
-   "run: the same without a trace"). *)
+   With a trace, the same when no body of the program sends a message
+   (D34): each rule's line is written as the engine reports the rule's
+   label; otherwise every rule is a step of its own (its messages are
+   delivered, with their lines, right after it). Either way the steps are
+   counted here, and the platform keeps no list of them (issue 17; tests
+   "run: the same without a trace", "run: a traced dispatch = rule by
+   rule (D34)"). *)
 let iterate t i =
   let left = t.opts.max_steps - t.steps in
   if left > 0 then begin
     (* D29: without a trace, a percept's dispatch is the engine's one-call
-       Dispatch; a defective implementation (hooks) takes its own rules *)
-    let derived = not (Trace.writes (Tracer.writer t.tr)) && t.hooks == reference_hooks in
+       Dispatch; a defective implementation (hooks) takes its own rules.
+       D34: with a trace too, when no body of the program sends a message:
+       each rule's line is written as the engine reports its label. *)
+    let writes = Trace.writes (Tracer.writer t.tr) in
+    let derived = (not writes || not t.sends) && t.hooks == reference_hooks in
     let taken = ref 0 in
     let count _ = incr taken in
+    let agent = t.platform.agents.(i).name in
     let step p c =
       let room = left - !taken in
       if room <= 0 then []
-      else match if derived && room >= dispatch_bound c then E.dispatch ~observe:count p c else None with
+      else match
+          if not (derived && room >= dispatch_bound c) then None
+          else if writes then
+            E.dispatch p c ~observe:(fun l ->
+                incr taken;
+                (* D34 holds only while nothing is sent: a body that sent
+                   would be a broken invariant, not a reordered trace *)
+                if c.Mc.world.Eval.outbox <> [] then
+                  Semantics.Fault.crash "Runtime: a message sent in a dispatch traced in one call (D34)";
+                match l with
+                | Mc.End_dispatch _ -> ()   (* the platform's step: written by on_event *)
+                | _ -> Tracer.inside t.tr ~agent ~start:c l)
+          else E.dispatch ~observe:count p c with
         | Some c' -> [ (c'.Mc.last, c') ]
         | None -> (match t.hooks.step p c with [] -> [] | r -> incr taken; r) in
     let (pl, _) = P.iteration ~max_steps:left ~on_event:(on_event t) ~step ~keep:false t.opts.params t.platform i in
@@ -217,7 +257,8 @@ let finish t =
       let a = ag.config.world in
       Eval.destroy_agent a;
       Tracer.destroyed t.tr ~agent:ag.name a) t.platform.agents;
-  match t.opts.trace with Some oc -> flush oc | None -> ()
+  (* the lines the writer holds, then the channel *)
+  Trace.flush (Tracer.writer t.tr)
 
 let steps t = t.steps
 let platform t = t.platform

@@ -13,13 +13,61 @@ type label = (V.t, Eval.message, V.t) Mc.label
    list last noted, so that a rule that did not change it costs nothing. *)
 type names = { mutable types : string array; mutable noted : Eval.beh Mc.instance list }
 
+(* The text of the last percept written, with the values its slots held
+   then: a percept's dequeue and handle lines carry the same value, and its
+   text is taken again only if a slot changed since (a handler may set one,
+   [k of content = 5]). Only a schema whose slots hold integers, texts,
+   booleans or numbers is kept: values of those kinds never change. *)
+type text_kept = { mutable value : V.t; mutable leaves : V.t array; mutable text : string }
+
 type t = {
   w : Trace.writer;
   on_body : string -> Eval.event -> unit;
   names : (string, names) Hashtbl.t;
+  mutable last : string * names;   (* the agent's names last looked up, by address *)
+  kept : text_kept;
 }
 
-let create w ~on_body = { w; on_body; names = Hashtbl.create 16 }
+let no_names = { types = [||]; noted = [] }
+let create w ~on_body =
+  { w; on_body; names = Hashtbl.create 16; last = ("", no_names);
+    kept = { value = V.Unit; leaves = [||]; text = "" } }
+
+let unchanging = function
+  | V.Int _ | V.Text _ | V.Bool _ | V.Float _ | V.Double _ -> true
+  | _ -> false
+
+let rec all_unchanging slots i = i < 0 || (unchanging !(snd slots.(i)) && all_unchanging slots (i - 1))
+let rec same_leaves slots leaves i = i < 0 || (!(snd slots.(i)) == leaves.(i) && same_leaves slots leaves (i - 1))
+
+(* [V.to_literal v] (by [V.to_literal_quick]); with [keep] (a dequeue: its
+   handle lines follow) kept for the next lines *)
+let percept_text ?(keep = false) t (v : V.t) =
+  let k = t.kept in
+  match v with
+  | V.Schema s when v == k.value && Array.length s.slots = Array.length k.leaves
+                    && same_leaves s.slots k.leaves (Array.length s.slots - 1) ->
+    k.text
+  | V.Schema s when keep ->
+    let text = V.to_literal_quick v in
+    let n = Array.length s.slots in
+    if all_unchanging s.slots (n - 1) then begin
+      let leaves = if Array.length k.leaves = n then k.leaves else Array.make n V.Unit in
+      for i = 0 to n - 1 do leaves.(i) <- !(snd s.slots.(i)) done;
+      k.value <- v; k.leaves <- leaves; k.text <- text
+    end;
+    text
+  | _ -> V.to_literal_quick v
+
+(* The names of an agent, [None] if none noted yet: the last agent's
+   without hashing (a run writes the same agent's lines in a row). *)
+let names_of t agent =
+  match t.last with
+  | (a, n) when a == agent -> Some n
+  | _ ->
+    match Hashtbl.find_opt t.names agent with
+    | Some n as r -> t.last <- (agent, n); r
+    | None -> None
 let writer t = t.w
 
 let header t env (p : Mc.params) ~seed agents =
@@ -38,10 +86,10 @@ let header t env (p : Mc.params) ~seed agents =
     percepts = List.filter_map (fun (s : T.schema) ->
         if s.s_percept then Some (s.s_name, s.s_priority) else None) (T.schemas env) }
 
-let entry (e : V.t Mc.entry) = { Trace.percept = V.to_literal e.p; priority = e.prio; seq = e.seq }
+let entry ?keep t (e : V.t Mc.entry) = { Trace.percept = percept_text ?keep t e.p; priority = e.prio; seq = e.seq }
 
 let message (m : Eval.message) =
-  { Trace.performative = m.perf; content = V.to_literal m.content; from = m.sender }
+  { Trace.performative = m.perf; content = V.to_literal_quick m.content; from = m.sender }
 
 let effect = function
   | Mc.Activate b -> Trace.Activated (Eval.beh_type b)
@@ -51,9 +99,9 @@ let body (e : Eval.event) : Trace.body option =
   match e with
   | Eval.Log s -> Some (Trace.Log s)
   | Eval.Invoke { meth; cls; args; result } ->
-    Some (Trace.Invoke { meth; obj = cls; args = List.map V.to_literal args; result = V.to_literal result })
+    Some (Trace.Invoke { meth; obj = cls; args = List.map V.to_literal_quick args; result = V.to_literal_quick result })
   | Eval.Sent { perf; content; receivers } ->
-    Some (Trace.Send { performative = perf; content = V.to_literal content; receivers })
+    Some (Trace.Send { performative = perf; content = V.to_literal_quick content; receivers })
   | Eval.Activated b -> Some (Trace.Activate b)
   | Eval.Deactivated id -> Some (Trace.Deactivate id)
   | Eval.Error (_, at, message) -> Some (Trace.Error { at = Syntax.Source.string_of_region at; message })
@@ -73,9 +121,9 @@ let bodies t agent action evs =
    the list, no hashing (with many instances, D19, this was most of a
    step's time). *)
 let note_active t agent (c : config) =
-  let n = match Hashtbl.find_opt t.names agent with
+  let n = match names_of t agent with
     | Some n -> n
-    | None -> let n = { types = [||]; noted = [] } in Hashtbl.replace t.names agent n; n in
+    | None -> let n = { types = [||]; noted = [] } in Hashtbl.replace t.names agent n; t.last <- (agent, n); n in
   if n.noted != c.active then begin
     n.noted <- c.active;
     List.iter (fun (a : Eval.beh Mc.instance) ->
@@ -88,7 +136,7 @@ let note_active t agent (c : config) =
   end
 
 let name t agent id =
-  match Hashtbl.find_opt t.names agent with
+  match names_of t agent with
   | Some n when id >= 0 && id < Array.length n.types -> n.types.(id)
   | _ -> "?"
 
@@ -99,24 +147,24 @@ let ran which evs =
       | _ -> None) evs
 
 let created t ~agent ~agent_type args behs a =
-  Trace.write t.w ~agent (Trace.Create { agent_type; args = List.map V.to_literal args;
+  Trace.write t.w ~agent (Trace.Create { agent_type; args = List.map V.to_literal_quick args;
                                           behaviours = List.map Eval.beh_type behs });
   bodies t agent "Init" (Eval.take_events a)
 
 let label_event t agent (c : config) (l : label) evs : Trace.event =
   match l with
   | Mc.Init -> Semantics.Fault.crash "Tracer: Init is not a rule of the run"
-  | Mc.Notify e -> Trace.Notify { entry = entry e; overridden = false }
-  | Mc.Notify_with e -> Trace.Notify { entry = entry e; overridden = true }
-  | Mc.Put o -> Trace.Put { obj = V.to_literal o; index = c.puts }
+  | Mc.Notify e -> Trace.Notify { entry = entry t e; overridden = false }
+  | Mc.Notify_with e -> Trace.Notify { entry = entry t e; overridden = true }
+  | Mc.Put o -> Trace.Put { obj = V.to_literal_quick o; index = c.puts }
   | Mc.Send (m, seq) -> Trace.Deliver { message = message m; seq }
   | Mc.Transfer n -> Trace.Transfer n
-  | Mc.Transfer_one e -> Trace.Transfer_one (entry e)
-  | Mc.Transfer_spin o -> Trace.Transfer_spin (V.to_literal o)
+  | Mc.Transfer_one e -> Trace.Transfer_one (entry t e)
+  | Mc.Transfer_spin o -> Trace.Transfer_spin (V.to_literal_quick o)
   | Mc.Transfer_end -> Trace.Transfer_end
-  | Mc.Dequeue e -> Trace.Dequeue (entry e)
+  | Mc.Dequeue e -> Trace.Dequeue (entry ~keep:true t e)
   | Mc.Handle { id; h; p; seq } ->
-    Trace.Handle { instance = id; behaviour = name t agent id; handler = h; percept = V.to_literal p; seq;
+    Trace.Handle { instance = id; behaviour = name t agent id; handler = h; percept = percept_text t p; seq;
                    effects = (match ran (fun _ -> true) evs with Some (_, e) -> e | None -> []) }
   | Mc.Skip { id; h } -> Trace.Skip { instance = id; behaviour = name t agent id; handler = h }
   | Mc.End_dispatch { seq; discarded } -> Trace.End_dispatch { seq; discarded }
@@ -126,7 +174,7 @@ let label_event t agent (c : config) (l : label) evs : Trace.event =
       taken = (match msg with
           | None -> None
           | Some (Mc.M_message { m; mseq }) -> Some (Trace.Took_message (message m, mseq))
-          | Some (Mc.M_percept e) -> Some (Trace.Took_percept (entry e)));
+          | Some (Mc.M_percept e) -> Some (Trace.Took_percept (entry t e)));
       action_effects = Option.map snd (ran (fun h -> h = 0) evs);
       handler = (match msg, ran (fun h -> h > 0) evs with
           | Some _, Some (h, e) -> Some (h, e)
@@ -137,14 +185,14 @@ let label_event t agent (c : config) (l : label) evs : Trace.event =
 let host t ~agent (c : config) = Trace.write_with t.w ~agent (fun () -> label_event t agent c c.last [])
 
 let refused t ~agent v =
-  Trace.write t.w ~agent (Trace.Refused { percept = V.to_literal v; reason = "the O2A queue is full (R2d)" })
+  Trace.write t.w ~agent (Trace.Refused { percept = V.to_literal_quick v; reason = "the O2A queue is full (R2d)" })
 
 let refused_put t ~agent v =
-  Trace.write t.w ~agent (Trace.Refused_put { obj = V.to_literal v; reason = "the O2A queue is full (R2d)" })
+  Trace.write t.w ~agent (Trace.Refused_put { obj = V.to_literal_quick v; reason = "the O2A queue is full (R2d)" })
 
 let undeliverable t ~sender ~receiver (m : Eval.message) =
   Trace.write t.w ~agent:sender
-    (Trace.Undeliverable { receiver; performative = m.perf; content = V.to_literal m.content })
+    (Trace.Undeliverable { receiver; performative = m.perf; content = V.to_literal_quick m.content })
 
 (* Without a trace (a writer from [Trace.nowhere]) nothing but the bodies'
    logs and errors is wanted, and the lines are only counted: no event is
@@ -155,6 +203,21 @@ let step t ~agent ~before ~after l =
   let evs = Eval.take_events after.Mc.world in
   Trace.write_with t.w ~agent (fun () -> label_event t agent after l evs);
   if writes then note_active t agent after;
+  match evs with
+  | [] -> ()
+  | _ -> bodies t agent (Mc.action_name l) evs
+
+(* D34: the rules of a derived Dispatch but its last, from the labels
+   [Engine.Fast.dispatch ~observe] reports, each as it is taken: [start] is
+   the configuration the dispatch started from (its instances name the
+   handlers' behaviours), and the bodies' events are the agent's own (its
+   state is shared by the configurations: what the rule's body recorded is
+   there when the label is reported). The last rule, EndDispatch, is the
+   platform's step, written by [step]. *)
+let inside t ~agent ~(start : config) l =
+  note_active t agent start;
+  let evs = Eval.take_events start.Mc.world in
+  Trace.write_with t.w ~agent (fun () -> label_event t agent start l evs);
   match evs with
   | [] -> ()
   | _ -> bodies t agent (Mc.action_name l) evs

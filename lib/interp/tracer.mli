@@ -38,5 +38,13 @@ val undeliverable : t -> sender:string -> receiver:string -> Eval.message -> uni
 val step : t -> agent:string -> before:config -> after:config -> label -> unit
 (** The line of an agent rule, then the events of the bodies it ran. *)
 
+val inside : t -> agent:string -> start:config -> label -> unit
+(** D34: the line of a rule taken inside the derived rule Dispatch
+    ([Engine.Fast.dispatch ~observe]: Dequeue, Handle, Skip; not its last,
+    EndDispatch, which the platform sees as the step), then the events of
+    the body it ran; [start] is the configuration the dispatch started
+    from. The lines are those {!step} writes for the same rules taken one
+    at a time. *)
+
 val destroyed : t -> agent:string -> Eval.agent -> unit
 (** The [destroy] line, then the events of [on destroy]. *)

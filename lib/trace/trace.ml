@@ -371,170 +371,349 @@ let header_of_json j =
 
 (* ---------------------------------------------- direct encoding (issue 17) *)
 
-(* A line written straight into a buffer, byte for byte what
+(* A line written straight into bytes, byte for byte what
    [Yojson.Safe.to_string (line_to_json l)] writes: the same fields in the
-   same order, strings and integers by Yojson's own writers, and no JSON
-   tree in between. Create (once per agent) and any event without a case
-   here go through the tree. The test "trace: direct encoding = JSON tree"
-   holds the two equal over every event. *)
+   same order, and no JSON tree in between. Keys, event names and actions
+   are copied as constants (the part of a line before its first value
+   depends only on the event's constructor and the agent); integers are
+   written by a digit loop, texts copied at once when they need no escape.
+   Create (once per agent) and Refused_put go through the tree. The tests
+   "trace: direct encoding = JSON tree" and "a writer numbers its lines"
+   hold the two equal over every event (D30). *)
 
-(* Does the string need no JSON escape (none of the characters Yojson
-   escapes: a quote, a backslash, a control character, DEL)? *)
-let rec plain s i =
-  i >= String.length s
+(* The bytes written so far: [b] from 0 to [p]. *)
+type out = { mutable b : Bytes.t; mutable p : int }
+
+let new_out n = { b = Bytes.create n; p = 0 }
+
+let grow o n =
+  let nb = Bytes.create (max (2 * Bytes.length o.b) (o.p + n)) in
+  Bytes.blit o.b 0 nb 0 o.p;
+  o.b <- nb
+
+(* Room for [n] more bytes. *)
+let room o n = if o.p + n > Bytes.length o.b then grow o n [@@inline]
+
+let add_char o c = room o 1; Bytes.unsafe_set o.b o.p c; o.p <- o.p + 1
+
+(* A string written as it is (a constant: a key, punctuation, JSON that is
+   already encoded): one copy (a loop over the bytes costs more from 4
+   bytes on). *)
+let add_raw o s =
+  let n = String.length s in
+  room o n;
+  Bytes.unsafe_blit_string s 0 o.b o.p n;
+  o.p <- o.p + n
+
+(* Does [s] need no JSON escape from [i] to [n] (none of the characters
+   Yojson escapes: a quote, a backslash, a control character, DEL)? *)
+let rec plain s i n =
+  i >= n
   || (let c = String.unsafe_get s i in
-      c >= ' ' && c <> '"' && c <> '\\' && c <> '\x7F' && plain s (i + 1))
+      c >= ' ' && c <> '"' && c <> '\\' && c <> '\x7F' && plain s (i + 1) n)
 
-let write_string b s =
-  if plain s 0 then (Buffer.add_char b '"'; Buffer.add_string b s; Buffer.add_char b '"')
-  else Yojson.Safe.write_string b s
+(* A text as a JSON string: copied at once when it needs no escape,
+   otherwise by Yojson. *)
+let write_string o s =
+  let n = String.length s in
+  if plain s 0 n then begin
+    room o (n + 2);
+    let b = o.b and p = o.p in
+    Bytes.unsafe_set b p '"';
+    Bytes.unsafe_blit_string s 0 b (p + 1) n;
+    Bytes.unsafe_set b (p + 1 + n) '"';
+    o.p <- p + n + 2
+  end else begin
+    let t = Buffer.create (n + 16) in
+    Yojson.Safe.write_string t s;
+    add_raw o (Buffer.contents t)
+  end
 
-(* A natural number's decimal digits, as Yojson writes them, at once;
-   other integers by Yojson. *)
-let digits = Bytes.create 20
+(* A natural number's decimal digits, as Yojson writes them, by a digit
+   loop; a negative one by Yojson. *)
+let digit n = Char.unsafe_chr (48 + n)
 
-let write_int b i =
-  if i > 0 then begin
-    let k = ref 20 and n = ref i in
-    while !n > 0 do
-      decr k; Bytes.unsafe_set digits !k (Char.unsafe_chr (48 + !n mod 10)); n := !n / 10
-    done;
-    Buffer.add_subbytes b digits !k (20 - !k)
-  end else Yojson.Safe.write_int b i
+let write_int o i =
+  if i >= 0 && i < 100 then begin
+    (* most integers of a trace: instances, handlers, priorities *)
+    room o 2;
+    let b = o.b and p = o.p in
+    if i < 10 then begin Bytes.unsafe_set b p (digit i); o.p <- p + 1 end
+    else begin Bytes.unsafe_set b p (digit (i / 10)); Bytes.unsafe_set b (p + 1) (digit (i mod 10)); o.p <- p + 2 end
+  end else if i >= 0 then begin
+    let rec count n k = if n < 10 then k else count (n / 10) (k + 1) in
+    let k = count i 1 in
+    room o k;
+    let b = o.b in
+    let rec put n j =
+      Bytes.unsafe_set b j (Char.unsafe_chr (48 + n mod 10));
+      if n >= 10 then put (n / 10) (j - 1) in
+    put i (o.p + k - 1);
+    o.p <- o.p + k
+  end else begin
+    let t = Buffer.create 24 in
+    Yojson.Safe.write_int t i;
+    add_raw o (Buffer.contents t)
+  end
 
-let put_str b key s = Buffer.add_string b key; write_string b s
-let put_int b key i = Buffer.add_string b key; write_int b i
+let put_str o key s = add_raw o key; write_string o s
+let put_int o key i = add_raw o key; write_int o i
 
-let put_list b key f l =
-  Buffer.add_string b key;
-  Buffer.add_char b '[';
-  List.iteri (fun i x -> if i > 0 then Buffer.add_char b ','; f x) l;
-  Buffer.add_char b ']'
+let put_list o key f l =
+  add_raw o key;
+  add_char o '[';
+  List.iteri (fun i x -> if i > 0 then add_char o ','; f x) l;
+  add_char o ']'
 
-let put_effects b key l = put_list b key (fun e -> write_string b (effect_to_string e)) l
+let put_effects o key l = put_list o key (fun e -> write_string o (effect_to_string e)) l
 
 (* [sep] comes before the first field: "," inside a line, "" in an object
    of its own *)
-let put_entry b sep e =
-  put_str b (sep ^ "\"percept\":") e.percept;
-  put_int b ",\"priority\":" e.priority;
-  put_int b ",\"seq\":" e.seq
+let put_entry_rest o e =
+  put_int o ",\"priority\":" e.priority;
+  put_int o ",\"seq\":" e.seq
 
-let put_message b sep m =
-  put_str b (sep ^ "\"performative\":") m.performative;
-  put_str b ",\"content\":" m.content;
-  put_str b ",\"from\":" m.from
+let put_entry o sep e =
+  put_str o (sep ^ "\"percept\":") e.percept;
+  put_entry_rest o e
 
-(* The agent's name as JSON, for the last name seen (physically): a run
-   writes the same few names on every line. *)
-let agent_json = ref ("", "\"\"")
+let put_message o sep m =
+  put_str o (sep ^ "\"performative\":") m.performative;
+  put_str o ",\"content\":" m.content;
+  put_str o ",\"from\":" m.from
 
-let line_to_buffer b l =
+(* What follows the agent in a line of this event, up to the first field's
+   value: its event name and action (never escaped: this module's own
+   names) and the first field's key. Computed once for each constructor
+   below, from [event_name] and [action] themselves. *)
+let event_part ev first =
+  ",\"event\":\"" ^ event_name ev ^ "\",\"action\":"
+  ^ (match action ev with Some a -> "\"" ^ a ^ "\"" | None -> "null") ^ first
+
+let e0 = { percept = ""; priority = 0; seq = 0 }
+let k_notify = event_part (Notify { entry = e0; overridden = false }) ",\"percept\":"
+let k_notify_with = event_part (Notify { entry = e0; overridden = true }) ",\"percept\":"
+let k_transfer_one = event_part (Transfer_one e0) ",\"percept\":"
+let k_dequeue = event_part (Dequeue e0) ",\"percept\":"
+let k_handle =
+  event_part (Handle { instance = 0; behaviour = ""; handler = 0; percept = ""; seq = 0; effects = [] })
+    ",\"instance\":"
+let k_skip = event_part (Skip { instance = 0; behaviour = ""; handler = 0 }) ",\"instance\":"
+let k_end_dispatch = event_part (End_dispatch { seq = 0; discarded = false }) ",\"seq\":"
+let k_discard = event_part (End_dispatch { seq = 0; discarded = true }) ",\"seq\":"
+
+(* The hot events' constant parts, in the order of [agent_parts] below. *)
+let event_parts =
+  [| k_notify; k_notify_with; k_transfer_one; k_dequeue; k_handle; k_skip; k_end_dispatch; k_discard |]
+
+(* For the last agent seen (physically: a run writes the same few names on
+   every line), its name with its key as JSON, and that followed by each of
+   [event_parts]. *)
+let agent_json = ref ("", ",\"agent\":\"\"", Array.map (fun k -> ",\"agent\":\"\"" ^ k) event_parts)
+
+let agent_parts agent =
+  match !agent_json with
+  | (a, _, _) as r when a == agent -> r
+  | _ ->
+    let t = new_out 16 in
+    put_str t ",\"agent\":" agent;
+    let j = Bytes.sub_string t.b 0 t.p in
+    let r = (agent, j, Array.map (fun k -> j ^ k) event_parts) in
+    agent_json := r;
+    r
+
+let put_agent o agent = let (_, j, _) = agent_parts agent in add_raw o j
+
+(* The agent and the constant part [event_parts.(k)] after it. *)
+let put_agent_event o agent k = let (_, _, a) = agent_parts agent in add_raw o (Array.unsafe_get a k)
+
+(* The line after its step number: [step] is only for the events that go
+   through the JSON tree. *)
+let encode_after o ~step ~agent event =
+  (* the line up to the agent's name included *)
+  let start () = put_agent o agent in
+  (* ... and its event name and action, for the events without a constant *)
   let head () =
-    put_int b "{\"step\":" l.step;
-    Buffer.add_string b ",\"agent\":";
-    (match !agent_json with
-     | (a, j) when a == l.agent -> Buffer.add_string b j
-     | _ ->
-       let j = Buffer.create 16 in
-       write_string j l.agent;
-       agent_json := (l.agent, Buffer.contents j);
-       Buffer.add_string b (Buffer.contents j));
-    (* event names and the actions of this module need no escape *)
-    Buffer.add_string b ",\"event\":\"";
-    Buffer.add_string b (event_name l.event);
-    (match l.event, action l.event with
-     | Body _, Some a -> put_str b "\",\"action\":" a
-     | _, Some a -> Buffer.add_string b "\",\"action\":\""; Buffer.add_string b a; Buffer.add_char b '"'
-     | _, None -> Buffer.add_string b "\",\"action\":null") in
-  match l.event with
-  | Notify { entry; _ } | Transfer_one entry | Dequeue entry ->
-    head (); put_entry b "," entry; Buffer.add_char b '}'
+    start ();
+    add_raw o ",\"event\":\"";
+    add_raw o (event_name event);
+    (match event, action event with
+     | Body _, Some a -> put_str o "\",\"action\":" a
+     | _, Some a -> add_raw o "\",\"action\":\""; add_raw o a; add_char o '"'
+     | _, None -> add_raw o "\",\"action\":null") in
+  match event with
+  | Notify { entry; overridden } ->
+    put_agent_event o agent (if overridden then 1 else 0);
+    write_string o entry.percept; put_entry_rest o entry; add_char o '}'
+  | Transfer_one entry ->
+    put_agent_event o agent 2; write_string o entry.percept; put_entry_rest o entry; add_char o '}'
+  | Dequeue entry ->
+    put_agent_event o agent 3; write_string o entry.percept; put_entry_rest o entry; add_char o '}'
   | Refused { percept; reason } ->
-    head (); put_str b ",\"percept\":" percept; put_str b ",\"reason\":" reason; Buffer.add_char b '}'
+    head (); put_str o ",\"percept\":" percept; put_str o ",\"reason\":" reason; add_char o '}'
   | Put { obj; index } ->
-    head (); put_str b ",\"object\":" obj; put_int b ",\"index\":" index; Buffer.add_char b '}'
+    head (); put_str o ",\"object\":" obj; put_int o ",\"index\":" index; add_char o '}'
   | Deliver { message; seq } ->
-    head (); put_message b "," message; put_int b ",\"seq\":" seq; Buffer.add_char b '}'
+    head (); put_message o "," message; put_int o ",\"seq\":" seq; add_char o '}'
   | Undeliverable { receiver; performative; content } ->
-    head (); put_str b ",\"to\":" receiver; put_str b ",\"performative\":" performative;
-    put_str b ",\"content\":" content; Buffer.add_char b '}'
-  | Transfer n -> head (); put_int b ",\"moved\":" n; Buffer.add_char b '}'
-  | Transfer_spin o -> head (); put_str b ",\"object\":" o; Buffer.add_char b '}'
-  | Transfer_end | Next_iteration | Idle | Destroy -> head (); Buffer.add_char b '}'
+    head (); put_str o ",\"to\":" receiver; put_str o ",\"performative\":" performative;
+    put_str o ",\"content\":" content; add_char o '}'
+  | Transfer n -> head (); put_int o ",\"moved\":" n; add_char o '}'
+  | Transfer_spin ob -> head (); put_str o ",\"object\":" ob; add_char o '}'
+  | Transfer_end | Next_iteration | Idle | Destroy -> head (); add_char o '}'
   | Handle { instance; behaviour; handler; percept; seq; effects = e } ->
-    head ();
-    put_int b ",\"instance\":" instance; put_str b ",\"behaviour\":" behaviour;
-    put_int b ",\"handler\":" handler; put_str b ",\"percept\":" percept;
-    put_int b ",\"seq\":" seq; put_effects b ",\"effects\":" e;
-    Buffer.add_char b '}'
+    put_agent_event o agent 4; write_int o instance;
+    put_str o ",\"behaviour\":" behaviour;
+    put_int o ",\"handler\":" handler; put_str o ",\"percept\":" percept;
+    put_int o ",\"seq\":" seq;
+    (match e with [] -> add_raw o ",\"effects\":[]" | _ -> put_effects o ",\"effects\":" e);
+    add_char o '}'
   | Skip { instance; behaviour; handler } ->
-    head ();
-    put_int b ",\"instance\":" instance; put_str b ",\"behaviour\":" behaviour;
-    put_int b ",\"handler\":" handler;
-    Buffer.add_char b '}'
-  | End_dispatch { seq; _ } -> head (); put_int b ",\"seq\":" seq; Buffer.add_char b '}'
+    put_agent_event o agent 5; write_int o instance;
+    put_str o ",\"behaviour\":" behaviour;
+    put_int o ",\"handler\":" handler;
+    add_char o '}'
+  | End_dispatch { seq; discarded } ->
+    put_agent_event o agent (if discarded then 7 else 6); write_int o seq; add_char o '}'
   | Behaviour_step { instance; behaviour; taken; action_effects; handler } ->
     head ();
-    put_int b ",\"instance\":" instance; put_str b ",\"behaviour\":" behaviour;
+    put_int o ",\"instance\":" instance; put_str o ",\"behaviour\":" behaviour;
     (match taken with
-     | None -> Buffer.add_string b ",\"message\":null"
+     | None -> add_raw o ",\"message\":null"
      | Some (Took_message (m, seq)) ->
-       Buffer.add_string b ",\"message\":{"; put_message b "" m; put_int b ",\"seq\":" seq;
-       Buffer.add_char b '}'
+       add_raw o ",\"message\":{"; put_message o "" m; put_int o ",\"seq\":" seq;
+       add_char o '}'
      | Some (Took_percept e) ->
-       Buffer.add_string b ",\"message\":{"; put_entry b "" e; Buffer.add_char b '}');
-    (match action_effects with Some e -> put_effects b ",\"action_effects\":" e | None -> ());
+       add_raw o ",\"message\":{"; put_entry o "" e; add_char o '}');
+    (match action_effects with Some e -> put_effects o ",\"action_effects\":" e | None -> ());
     (match handler with
-     | Some (h, e) -> put_int b ",\"handler\":" h; put_effects b ",\"effects\":" e
+     | Some (h, e) -> put_int o ",\"handler\":" h; put_effects o ",\"effects\":" e
      | None -> ());
-    Buffer.add_char b '}'
+    add_char o '}'
   | Body { body; _ } ->
     head ();
     (match body with
-     | Log s -> put_str b ",\"text\":" s
+     | Log s -> put_str o ",\"text\":" s
      | Invoke { meth; obj; args; result } ->
-       put_str b ",\"method\":" meth; put_str b ",\"object\":" obj;
-       put_list b ",\"args\":" (write_string b) args; put_str b ",\"result\":" result
+       put_str o ",\"method\":" meth; put_str o ",\"object\":" obj;
+       put_list o ",\"args\":" (write_string o) args; put_str o ",\"result\":" result
      | Send { performative; content; receivers } ->
-       put_str b ",\"performative\":" performative; put_str b ",\"content\":" content;
-       put_list b ",\"to\":" (write_string b) receivers
-     | Activate beh -> put_str b ",\"behaviour\":" beh
-     | Deactivate id -> put_int b ",\"instance\":" id
-     | Error { at; message } -> put_str b ",\"at\":" at; put_str b ",\"message\":" message);
-    Buffer.add_char b '}'
-  | _ -> Yojson.Safe.to_buffer b (line_to_json l)
+       put_str o ",\"performative\":" performative; put_str o ",\"content\":" content;
+       put_list o ",\"to\":" (write_string o) receivers
+     | Activate beh -> put_str o ",\"behaviour\":" beh
+     | Deactivate id -> put_int o ",\"instance\":" id
+     | Error { at; message } -> put_str o ",\"at\":" at; put_str o ",\"message\":" message);
+    add_char o '}'
+  | Create _ | Refused_put _ ->
+    (* the tree's line after its step number (which holds no comma) *)
+    let j = Yojson.Safe.to_string (line_to_json { step; agent; event }) in
+    let k = String.index j ',' in
+    add_raw o (String.sub j k (String.length j - k))
+
+let step_key = "{\"step\":"
+
+let line_to_buffer b l =
+  let o = new_out 256 in
+  add_raw o step_key;
+  write_int o l.step;
+  encode_after o ~step:l.step ~agent:l.agent l.event;
+  Buffer.add_subbytes b o.b 0 o.p
 
 (* ------------------------------------------------------------- writing *)
 
-type writer = { emit : (string -> unit) option; mutable lines : int; buf : Buffer.t;
-                oc : out_channel option (* to_channel's: lines go from [buf] to it *) }
+(* A writer to a channel keeps the lines in [out] and hands them to the
+   channel [chunk] bytes at a time, in one [output] each; [complete] is
+   where the last whole line ends (a signal may stop the program in the
+   middle of one: only whole lines are ever written). *)
+type writer = { emit : (string -> unit) option; mutable lines : int; out : out;
+                mutable complete : int;
+                oc : out_channel option (* to_channel's *);
+                digits : Bytes.t; mutable first : int
+                (* [lines] in decimal: [digits] from [first] on *) }
 
-let writer emit = { emit = Some emit; lines = 0; buf = Buffer.create 256; oc = None }
+let chunk = 65536
+
+let new_writer emit out oc =
+  { emit; lines = 0; out; complete = 0; oc; digits = Bytes.make 20 '0'; first = 19 }
+
+let writer emit = new_writer (Some emit) (new_out 256) None
+
+(* [lines + 1], and its decimal digits, without a division *)
+let next_line w =
+  w.lines <- w.lines + 1;
+  let d = w.digits in
+  let rec carry i =
+    if Bytes.unsafe_get d i = '9' then begin
+      Bytes.unsafe_set d i '0';
+      if i = w.first then w.first <- i - 1;
+      carry (i - 1)
+    end else Bytes.unsafe_set d i (Char.unsafe_chr (Char.code (Bytes.unsafe_get d i) + 1)) in
+  carry 19
+
+(* The whole lines not yet handed to the channel, handed over. They are
+   dropped from [out] first: a channel that fails is not given them twice. *)
+let pending w =
+  match w.oc with
+  | Some oc when w.complete > 0 ->
+    let n = w.complete and o = w.out in
+    let rest = o.p - n in
+    if rest = 0 then begin w.complete <- 0; o.p <- 0; output oc o.b 0 n end
+    else begin
+      (* the start of a line is there too (a signal's exit during it); the
+         copy is made before anything is dropped (an allocation is where a
+         signal's handler may run) *)
+      let whole = Bytes.sub o.b 0 n in
+      w.complete <- 0;
+      Bytes.blit o.b n o.b 0 rest;
+      o.p <- rest;
+      output oc whole 0 n
+    end
+  | _ -> ()
+
+(* After a flush the bytes are given back (a process that runs many
+   traced runs, a test or the fuzz campaign, keeps every writer to a
+   channel until it exits); a later line takes new ones. *)
+let flush w =
+  pending w;
+  match w.oc with
+  | Some oc -> if w.out.p = 0 then w.out.b <- Bytes.empty; Stdlib.flush oc
+  | None -> ()
+
 let to_channel oc =
-  (* buffered; flushed by the channel when its buffer fills, and when the
-     program ends: normally, by [exit] (a signal handler may call it), or by
-     an uncaught exception *)
-  at_exit (fun () -> try flush oc with Sys_error _ -> ());
-  { (writer (output_string oc)) with oc = Some oc }
-let nowhere () = { emit = None; lines = 0; buf = Buffer.create 1; oc = None }
+  let w = new_writer (Some (output_string oc)) (new_out 4096) (Some oc) in
+  (* flushed when the program ends: normally, by [exit] (a signal handler
+     may call it), or by an uncaught exception *)
+  at_exit (fun () -> try flush w with Sys_error _ -> ());
+  w
+
+let nowhere () = new_writer None (new_out 1) None
+
+(* The line just encoded in [w.out], with its newline, handed on. *)
+let line_done w =
+  add_char w.out '\n';
+  match w.oc, w.emit with
+  | Some _, _ -> w.complete <- w.out.p; if w.complete >= chunk then pending w
+  | None, Some emit -> emit (Bytes.sub_string w.out.b 0 w.out.p); w.out.p <- 0
+  | None, None -> w.out.p <- 0
 
 let write_header w h =
   match w.emit with
-  | Some emit -> emit (Yojson.Safe.to_string (header_to_json h) ^ "\n")
+  | Some _ -> add_raw w.out (Yojson.Safe.to_string (header_to_json h)); line_done w
   | None -> ()
 
 let write w ~agent event =
-  w.lines <- w.lines + 1;
   match w.emit with
-  | Some emit ->
-    Buffer.clear w.buf;
-    line_to_buffer w.buf { step = w.lines; agent; event };
-    Buffer.add_char w.buf '\n';
-    (match w.oc with
-     | Some oc -> Buffer.output_buffer oc w.buf
-     | None -> emit (Buffer.contents w.buf))
-  | None -> ()
+  | Some _ ->
+    next_line w;
+    let o = w.out in
+    add_raw o step_key;
+    let n = 20 - w.first in
+    room o n;
+    Bytes.unsafe_blit w.digits w.first o.b o.p n;
+    o.p <- o.p + n;
+    encode_after o ~step:w.lines ~agent event;
+    line_done w
+  | None -> w.lines <- w.lines + 1
 
 let lines_written w = w.lines
 

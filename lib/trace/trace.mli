@@ -125,10 +125,17 @@ type writer
 
 val writer : (string -> unit) -> writer
 val to_channel : out_channel -> writer
-(** Writes to the channel, buffered, and flushes it when the program ends,
+(** Writes to the channel, buffered (whole lines only, 64 kB at a time),
+    and flushes it when the program ends,
     however it ends ([exit], an uncaught exception; a command that turns
     signals into [exit], as [run] does, too): a run that dies leaves every
     event before its death. *)
+
+val flush : writer -> unit
+(** A writer to a channel holds its last lines (up to 64 kB, handed to the
+    channel in one [output]): [flush] hands them over and flushes the
+    channel. Nothing for other writers. Done at exit too (see
+    {!to_channel}). *)
 
 val nowhere : unit -> writer
 (** Numbers the lines and writes nothing. *)

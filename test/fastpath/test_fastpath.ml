@@ -23,6 +23,9 @@ let program_text = String.concat "\n" [
     "\tpredicate who(a as aid) extends percept";
     "\tproposition falling extends percept with priority = 10";
     "\tpredicate tags(l as list of integer) extends percept";
+    "\tpredicate code(c as text, n as integer, d as text) extends percept";
+    "\tproposition qrCodeReadX extends percept";
+    "\tproposition aVeryLongPerceptName extends percept";
     "";
     "ontology Other";
     "\tproposition hidden extends percept";
@@ -81,7 +84,10 @@ let quick_taken () =
       ({|{"agent":"a","notify":"reading(-1.5e3, 0.1)"}|}, "notify a reading(-1500.0, 0.1) (reading) 0 -");
       ({|{"agent":"a","notify":"seen(\"x y#\", true)"}|}, "notify a seen(\"x y#\", true) (seen) 0 -");
       ({|{"agent":"a","notify":"at(point(1,  2))"}|}, "notify a at(point(1, 2)) (at) 0 -");
-      ({|{"agent":"b","notify":"hidden"}|}, "notify b hidden (hidden) 0 -") ]
+      ({|{"agent":"b","notify":"hidden"}|}, "notify b hidden (hidden) 0 -");
+      ({|{"agent":"a","notify":"code(\"x\", 12 ,\"\")"}|}, "notify a code(\"x\", 12, \"\") (code) 0 -");
+      ({|{"agent":"a","notify":"code(\"x\", 12 ,\"\")"}|}, "notify a code(\"x\", 12, \"\") (code) 0 -");
+      ({|{"agent":"a","notify":"code(\"x\", 2147483647, \"y\")"}|}, "notify a code(\"x\", 2147483647, \"y\") (code) 0 -") ]
 
 (* Lines it must leave to the full path: other fields, escapes, forms it
    does not know, and every line that is an error. *)
@@ -101,6 +107,16 @@ let quick_refused () =
       {|{"agent":"a","notify":"position(\"x\")"}|};
       {|{"agent":"a","notify":"position(99999999999999999999)"}|};
       {|{"agent":"a","notify":"position(1.)"}|};
+      {|{"agent":"a","notify":"code(\"x\", 2147483648, \"y\")"}|};
+      {|{"agent":"a","notify":"code(\"x\", 1)"}|};
+      {|{"agent":"a","notify":"position()"}|};
+      {|{"agent":"a","notify":"falling()"}|};
+      {|{"agent":"a","notify":"fallinh"}|};
+      {|{"agent":"a","notify":"fallings"}|};
+      {|{"agent":"a","notify":"positions(1)"}|};
+      {|{"agent":"a","notify":"positiom(1)"}|};
+      {|{"agenu":"a","notify":"position(1)"}|};
+      {|{"agent":"a","notifz":"position(1)"}|};
       {|{"agent":"a","notify":"position (1)"}|};
       {|{"agent":"a","notify":"position(1) "}|};
       {|{"agent":"a","notify":"position(1) # c"}|};
@@ -132,6 +148,35 @@ let to_line_round_trip () =
       {|{"agent":"a","message":"position(1)","performative":"request"}|};
       {|{"run":3}|}; {|{"run":"idle"}|} ]
 
+(* The events file's lines are those input_line reads, whatever their
+   lengths (one longer than the reader's 64 kB buffer, lines across its
+   edges), with or without a last newline. *)
+let lines_as_input_line (pieces, last_newline) =
+  let text = String.concat "\n" pieces ^ (if last_newline then "\n" else "") in
+  let file = Filename.temp_file "jsref_lines" ".jsonl" in
+  let oc = open_out_bin file in
+  output_string oc text; close_out oc;
+  let expected =
+    let ic = open_in_bin file in
+    let rec go acc = match input_line ic with l -> go (l :: acc) | exception End_of_file -> List.rev acc in
+    let r = go [] in close_in ic; r in
+  let got = List.rev (Ev.fold_lines file (fun acc n l ->
+      if n <> List.length acc + 1 then QCheck.Test.fail_reportf "line %d numbered %d" (List.length acc + 1) n;
+      `Continue (l :: acc)) []) in
+  Sys.remove file;
+  if got <> expected then
+    QCheck.Test.fail_reportf "%d lines read, %d by input_line (lengths %s)" (List.length got) (List.length expected)
+      (String.concat "," (List.map (fun p -> string_of_int (String.length p)) pieces));
+  true
+
+let arb_pieces =
+  let open QCheck.Gen in
+  let piece = oneof [ string_size ~gen:(oneofl [ 'a'; '\r'; ' ' ]) (int_range 0 40);
+                      map (fun n -> String.make n 'x') (oneofl [ 65535; 65536; 65537; 200_000 ]);
+                      map (fun n -> String.make n 'y') (int_range 1000 30000) ] in
+  QCheck.make ~print:(fun (l, b) -> Printf.sprintf "%d pieces %s" (List.length l) (if b then "+newline" else ""))
+    (pair (list_size (int_range 0 12) piece) bool)
+
 (* Random lines: well-formed ones of every shape the quick path knows and
    some it does not, then, one time in two, a few characters changed. *)
 let gen_line =
@@ -152,8 +197,11 @@ let gen_line =
   let call name n = map2 (fun args s -> name ^ "(" ^ String.concat s args ^ ")") (list_repeat n value) sep in
   let any_percept = oneof [
       call "position" 1; call "reading" 2; call "seen" 2; call "at" 1; call "who" 1; call "tags" 1;
-      call "point" 2; call "position" 2;
-      oneofl [ "falling"; "hidden"; "falling()"; "position"; "aid(\"a\")"; "tags([1, 2])" ] ] in
+      call "point" 2; call "position" 2; call "code" 3; call "code" 2;
+      oneofl [ "falling"; "hidden"; "falling()"; "position"; "aid(\"a\")"; "tags([1, 2])";
+               "qrCodeReadX"; "qrCodeReadY"; "qrCodeRdadX"; "aVeryLongPerceptName"; "aVeryLongPerceptNamf";
+               "aVeryLongPercfptName"; "aVeryLongPerceptNam"; "fallinh"; "hiddem"; "positiom(1)"; "fallinG";
+               "fallings"; "falling_"; "falling2"; "positions(1)"; "aVeryLongPerceptNameX" ] ] in
   (* percepts of the right types, so that most lines are good ones *)
   let small_int = map2 (fun neg n -> (if neg then "-" else "") ^ string_of_int n) bool (int_range 0 1000) in
   let good_text = map (fun l -> "\"" ^ String.of_seq (List.to_seq l) ^ "\"")
@@ -163,6 +211,7 @@ let gen_line =
       map3 (fun a s b -> "reading(" ^ a ^ s ^ b ^ ")") signed sep signed;
       map3 (fun t s b -> "seen(" ^ t ^ s ^ b ^ ")") good_text sep (oneofl [ "true"; "false" ]);
       map2 (fun a b -> Printf.sprintf "at(point(%s, %s))" a b) small_int small_int;
+      map3 (fun a n b -> "code(" ^ a ^ ", " ^ n ^ "," ^ b ^ ")") good_text (oneof [ small_int; int_text ]) good_text;
       return "falling" ] in
   let percept = frequency [ 3, well_typed; 2, any_percept ] in
   let json_string s = Yojson.Safe.to_string (`String s) in
@@ -240,6 +289,23 @@ let direct_equals_tree (l : Trace.line) =
   if direct <> tree then QCheck.Test.fail_reportf "direct: %s\ntree:   %s" direct tree;
   true
 
+(* A writer numbers its lines itself (their step, in decimal, counted
+   without a division): each line it hands over is the direct encoding of
+   the line of that number, across 9, 99, 999 and 9999. *)
+let writer_numbers () =
+  let got = ref [] in
+  let w = Trace.writer (fun l -> got := l :: !got) in
+  let event k = if k mod 2 = 0 then Trace.Transfer k else Trace.Skip { instance = k; behaviour = "B"; handler = 1 } in
+  for k = 1 to 10_050 do Trace.write w ~agent:"a" (event k) done;
+  Alcotest.(check int) "lines written" 10_050 (Trace.lines_written w);
+  List.iteri (fun i l ->
+      let k = i + 1 in
+      let b = Buffer.create 64 in
+      Trace.line_to_buffer b { Trace.step = k; agent = "a"; event = event k };
+      Buffer.add_char b '\n';
+      if l <> Buffer.contents b then Alcotest.failf "line %d: %S, not %S" k l (Buffer.contents b))
+    (List.rev !got)
+
 (* Every constructor at least once, whatever QCheck draws. *)
 let every_event () =
   let e = { Trace.percept = "p(\"\\\"\")"; priority = 2; seq = 7 } in
@@ -267,6 +333,84 @@ let every_event () =
     Body { action = "Handle"; body = Error { at = "f:1:2"; message = "m\"" } } ] in
   List.iteri (fun i event -> ignore (direct_equals_tree { Trace.step = i + 1; agent = "a"; event })) events
 
+(* ------------------------------------------ a value's literal text *)
+
+(* Values of every kind, nested: the trace writer's literal text
+   (Value.to_literal_quick) = Value.to_literal. *)
+let gen_value =
+  let open QCheck.Gen in
+  let int = oneof [ int_range 0 20; int_range (-0x8000_0000) 0x7FFF_FFFF;
+                    oneofl [ 0; 9; 10; 99; 100; -1; -10; 0x7FFF_FFFF; -0x8000_0000 ] ] in
+  let text = string_size ~gen:(oneofl [ '"'; '\\'; '\n'; '\x00'; '\x7f'; 'a'; ' '; ',' ]) (int_range 0 5) in
+  let leaf = oneof [
+      map (fun i -> V.Int i) int; map (fun b -> V.Bool b) bool; map (fun s -> V.Text s) text;
+      map (fun f -> V.Double f) (oneofl [ 0.; 1.5; -2.25; 1e10; nan ]);
+      map (fun f -> V.Float (V.float32 f)) (oneofl [ 0.; 0.1; 3.5 ]);
+      map (fun s -> V.Aid s) text; return V.Unit ] in
+  sized_size (int_range 0 3) @@ fix (fun self n ->
+      if n = 0 then leaf
+      else oneof [
+          leaf;
+          map (fun vs -> V.Schema { sname = "p"; slots = Array.of_list (List.mapi (fun i v -> (string_of_int i, ref v)) vs) })
+            (list_size (int_range 0 3) (self (n - 1)));
+          map (fun vs -> V.list_of vs) (list_size (int_range 0 3) (self (n - 1)));
+          map (fun kvs -> match V.map_empty () with
+              | V.Map mv as m -> List.iter (fun (k, v) -> V.map_set mv k v) kvs; m
+              | m -> m)
+            (list_size (int_range 0 2) (pair leaf (self (n - 1)))) ])
+
+let quick_literal_equal v =
+  let q = V.to_literal_quick v and l = V.to_literal v in
+  if q <> l then QCheck.Test.fail_reportf "quick:   %s\nliteral: %s" q l;
+  true
+
+(* The trace keeps a percept's text from one line to the next only while
+   its slots hold the same values: a handler that sets a slot of its
+   percept changes the text of the handle lines after it. *)
+let percept_text_follows_its_slots () =
+  let text = String.concat "\n" [
+      "ontology O";
+      "\tpredicate position(k as integer, t as text) extends percept";
+      "";
+      "agent A uses ontology O";
+      "\ton create do";
+      "\t\tactivate behaviour B1";
+      "\t\tactivate behaviour B2";
+      "";
+      "cyclic behaviour B1 for agent A";
+      "\ton percept when content matches position(k, t) do";
+      "\t\tk of content = k + 1";
+      "";
+      "cyclic behaviour B2 for agent A";
+      "\ton percept when content matches position(k, t) do";
+      "\t\tlog \"seen \" + k";
+      "" ] in
+  let env, _ = Typing.check [ Parse.string ~file:"m.jade" text ] in
+  let file = Filename.temp_file "jsref_text" ".jsonl" in
+  let oc = open_out_bin file in
+  let opts = { Interp.Runtime.params = Mc.default_params; seed = None; fuel = 500; max_steps = 1000;
+               trace = Some oc; on_log = (fun _ _ -> ()); on_error = (fun _ _ _ -> ()) } in
+  let rt = Interp.Runtime.create env opts [ ("a", "A", []) ] in
+  List.iter (fun p ->
+      let (v, default) = Interp.Eval.percept_value env ~agent_type:"A" (Parse.expr ~file:"e" p) in
+      match Interp.Runtime.notify rt ~agent:"a" v ~default ~priority:None with
+      | Ok () -> ()
+      | Error m -> Alcotest.fail m) [ {|position(1, "x")|}; {|position(7, "y")|} ];
+  Interp.Runtime.run_until_idle rt;
+  Interp.Runtime.finish rt;
+  close_out oc;
+  let percepts = List.filter_map (fun l ->
+      match Yojson.Safe.from_string l with
+      | `Assoc f ->
+        (match List.assoc_opt "event" f, List.assoc_opt "percept" f with
+         | Some (`String ("dequeue" | "handle" as e)), Some (`String p) -> Some (e ^ " " ^ p)
+         | _ -> None)
+      | _ -> None) (String.split_on_char '\n' (String.trim (read_file file))) in
+  Sys.remove file;
+  Alcotest.(check (list string)) "dequeue, then each handle line after B1 set k"
+    [ {|dequeue position(1, "x")|}; {|handle position(2, "x")|}; {|handle position(2, "x")|};
+      {|dequeue position(7, "y")|}; {|handle position(8, "y")|}; {|handle position(8, "y")|} ] percepts
+
 (* --------------------------------------- a run without a trace *)
 
 let literal_of = Test_support.Event_gen.small_literal
@@ -276,8 +420,31 @@ let literal_of = Test_support.Event_gen.small_literal
    the same logs and errors in the same order, the same number of steps
    (--max-steps stops at the same rule), the same properties and the same
    configuration at the end. *)
-let same_without_trace (prog, seed) =
+let rec same_without_trace (prog, seed) = same_runs `Quiet (prog, seed)
+
+(* D34: with a trace, a percept's dispatch is the derived rule Dispatch too
+   when no body sends a message (the generated program's send statements
+   are made [do nothing]): the trace, byte for byte, the logs and errors and
+   the configuration at the end are those of the run that takes every rule
+   as a step of its own (hooks other than the reference's: each rule by
+   [hooks.step]). *)
+and same_traced_by_dispatch (prog, seed) = same_runs (`Traced true) (prog, seed)
+
+(* ... and the programs as generated, most of which send: then every rule
+   is a step of its own (each rule's messages are delivered, with their
+   lines, right after it) *)
+and same_traced_with_sends (prog, seed) = same_runs (`Traced false) (prog, seed)
+
+and same_runs mode (prog, seed) =
   let text = Print.program prog in
+  let text = match mode with
+    | `Quiet | `Traced false -> text
+    | `Traced true ->
+      String.concat "\n" (List.map (fun l ->
+          let t = String.trim l in
+          if String.length t >= 5 && String.sub t 0 5 = "send " then
+            String.sub l 0 (String.index l 's') ^ "do nothing"
+          else l) (String.split_on_char '\n' text)) in
   let env, diags = Typing.check [ Parse.string ~file:"gen.jade" text ] in
   if List.exists (fun d -> d.Diag.severity = Diag.Error) diags then
     QCheck.Test.fail_reportf "the generated program does not check";
@@ -299,6 +466,10 @@ let same_without_trace (prog, seed) =
   let max_steps = if seed mod 3 = 0 then 3_000 else 1 + Random.State.int rand 150 in
   let variant = List.nth [ Mc.Reference; Mc.Budgeted; Mc.Reference ] (seed mod 3) in
   let run traced =
+    (* `Quiet: traced, then not; `Traced: the reference's hooks, then a copy *)
+    let hooks = if traced || mode = `Quiet then Interp.Runtime.reference_hooks
+      else { Interp.Runtime.reference_hooks with step = Interp.Runtime.reference_hooks.step } in
+    let traced = traced || mode <> `Quiet in
     let out = ref [] in
     let file = Filename.temp_file "jsref_fast" ".jsonl" in
     let oc = if traced then Some (open_out_bin file) else None in
@@ -308,7 +479,7 @@ let same_without_trace (prog, seed) =
                  on_error = (fun _ at m -> out := Printf.sprintf "error %s %s" (Source.string_of_region at) m :: !out) } in
     (* the generated bodies send to aid("Bob") and aid("provider"): two
        agents of those names receive them, one its own messages *)
-    let rt = Interp.Runtime.create env opts [ ("provider", "Ag", args); ("Bob", "Ag", args) ] in
+    let rt = Interp.Runtime.create ~hooks env opts [ ("provider", "Ag", args); ("Bob", "Ag", args) ] in
     List.iter (function
         | `Run k -> Interp.Runtime.run_rounds rt k
         | `Idle -> Interp.Runtime.run_until_idle rt
@@ -334,9 +505,13 @@ let same_without_trace (prog, seed) =
         (String.concat " / " (Array.to_list (Array.map show_agent (Interp.Runtime.platform rt).agents))) in
     Interp.Runtime.finish rt;
     Option.iter close_out oc;
+    let trace = if traced then read_file file else "" in
     Sys.remove file;
-    (List.rev !out, state) in
+    (List.rev !out, state ^ "\n" ^ trace) in
   let (o1, s1) = run true and (o2, s2) = run false in
+  let (s1, s2) = match mode with
+    | `Quiet -> (List.hd (String.split_on_char '\n' s1), List.hd (String.split_on_char '\n' s2))
+    | `Traced _ -> (s1, s2) in
   if o1 <> o2 then
     QCheck.Test.fail_reportf "logs and errors differ (max-steps %d):\ntraced: %s\nquiet:  %s\n%s"
       max_steps (String.concat " | " o1) (String.concat " | " o2) text;
@@ -350,11 +525,20 @@ let () =
         Alcotest.test_case "quick path takes percept literals" `Quick quick_taken;
         Alcotest.test_case "quick path leaves the rest to the full path" `Quick quick_refused;
         Alcotest.test_case "to_line reads back as the same event" `Quick to_line_round_trip;
-        qcheck ~count:3000 "events: quick path = full path" arb_line quick_agrees ]);
+        qcheck ~count:3000 "events: quick path = full path" arb_line quick_agrees;
+        qcheck ~count:200 "events: lines as input_line reads them" arb_pieces lines_as_input_line ]);
     ("trace", [
         Alcotest.test_case "direct encoding = JSON tree, every event" `Quick every_event;
+        Alcotest.test_case "a writer numbers its lines" `Quick writer_numbers;
+        Alcotest.test_case "a percept's text follows its slots" `Quick percept_text_follows_its_slots;
         qcheck ~count:3000 "trace: direct encoding = JSON tree" (QCheck.make gen_trace_line) direct_equals_tree ]);
+    ("value", [
+        qcheck ~count:3000 "value: quick literal = to_literal" (QCheck.make gen_value) quick_literal_equal ]);
     ("run", [
         qcheck ~count:60 "run: the same without a trace"
-          (QCheck.pair Typed_gen.arb_program QCheck.small_nat) same_without_trace ]);
+          (QCheck.pair Typed_gen.arb_program QCheck.small_nat) same_without_trace;
+        qcheck ~count:60 "run: a traced dispatch = rule by rule (D34)"
+          (QCheck.pair Typed_gen.arb_program QCheck.small_nat) same_traced_by_dispatch;
+        qcheck ~count:60 "run: a traced dispatch that may send = rule by rule (D34)"
+          (QCheck.pair Typed_gen.arb_program QCheck.small_nat) same_traced_with_sends ]);
   ]
