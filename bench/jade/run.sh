@@ -2,7 +2,7 @@
 # JADE O2A percept-handling baseline (see README.md). Builds with Maven (fetches
 # net.sf.ingenias:jade:4.3 from Maven Central by coordinates) and runs the
 # scenarios, one JVM each. Result lines:
-#   JADE steady percepts_per_second=<float> handled=<int> seconds=<float> peak_mb=<float>
+#   JADE steady percepts_per_second=<float> handled=<int> seconds=<float> peak_mb=<float> cpu_seconds=<float>
 #   JADE flood percepts_per_second=<float> handled=<int> seconds=<float> peak_mb=<float> windows=<rates>
 # Every other line is commentary (starts with '#') or a supplementary result
 # (JADE flood_concurrent, JADE sweep, CONTROL ...).

@@ -200,10 +200,10 @@ let shortest_path g target =
     | (p, l) -> back p ((l, i) :: acc) in
   if target < n && seen.(target) then back target [] else []
 
-(* ------------------------------------------------- fingerprints (D31, D37) *)
+(* ------------------------------------------------- fingerprints (D31, D36) *)
 
 (* A 63-bit fingerprint of a configuration, from the same values as its
-   canonical key [key] (without building the string), in two levels (D37).
+   canonical key [key] (without building the string), in two levels (D36).
    Each part of the configuration that is a structure (the O2A queue, the
    priority queue, the message queue, the active behaviours, the ready and
    blocked lists, the dispatch in progress and the two ghosts) has a part
@@ -214,7 +214,7 @@ let shortest_path g target =
    value as the parent's, its part hash is the parent's, and only the parts
    that the rule changed are hashed again ([node_after]). Physical equality
    implies equality, so the result is the fingerprint computed from scratch
-   whatever the rules did (test "D37 incremental fingerprint = from
+   whatever the rules did (test "D36 incremental fingerprint = from
    scratch").
 
    Every int is folded into an accumulator by xor and a multiply by a dense
@@ -366,7 +366,7 @@ let node_after n (c : Model.M.t) =
 
 (* The successors by the host rules, before they are made: their part
    hashes and fingerprints from the parent's and what the rule changes, as
-   Machine.notify_effect, put and send change it (test "D37 incremental
+   Machine.notify_effect, put and send change it (test "D36 incremental
    fingerprint = from scratch" holds the two equal on every transition of
    every model). [wake] is Machine.wake_idle's phase. *)
 let wake (c : Model.M.t) = if c.phase = Idle_phase then 0 else phase_int c.phase

@@ -40,14 +40,14 @@ val shortest_path : graph -> int -> (string * int) list
 (** The labelled path from an initial state to the state, as (action, state)
     steps; the first element is ("Init", initial state). *)
 
-(** {2 Counting with fingerprints (D31, D37)}
+(** {2 Counting with fingerprints (D31, D36)}
 
     The counting path ([explore --fingerprints]): the same reachable states as
     {!explore}, found depth first. The visited set holds only a 63-bit
     fingerprint of each state (8 bytes, in a table at most three quarters full, outside
     the OCaml heap), and only the configurations found and not yet expanded
     are kept; no graph. A state is marked seen when it is generated, and the
-    fingerprints of one state's successors are looked up together (D37). As in TLC, two different states
+    fingerprints of one state's successors are looked up together (D36). As in TLC, two different states
     with the same fingerprint would be taken for one and the second (with what
     only it leads to) missed: the probability of that is at most
     [distinct * generated / 2^63] ({!collision_probability}), about 6e-7 for
@@ -59,14 +59,14 @@ val shortest_path : graph -> int -> (string * int) list
 val state_fingerprint : Model.M.t -> int
 (** The 63-bit fingerprint of a configuration (never 0): computed from the
     values its canonical {!key} is made of, without building the key. It is
-    made in two levels (D37): a hash of each part of the configuration that
+    made in two levels (D36): a hash of each part of the configuration that
     is a structure (the queues, the behaviour lists, the dispatch in
     progress, the ghosts), then the fingerprint of those part hashes, the
     numbers and the last action. *)
 
 val fingerprint_after : parent:Model.M.t -> Model.M.t -> int
 (** [fingerprint_after ~parent c] is [state_fingerprint c], computed the way
-    the counting path does for a successor [c] of [parent] (D37): the part
+    the counting path does for a successor [c] of [parent] (D36): the part
     hashes of [parent] are kept for every field of [c] that is physically
     the same value as [parent]'s, and only the other parts are hashed. *)
 
@@ -74,7 +74,7 @@ val count_successors : Model.t -> Model.M.t -> (int * Model.M.t) list
 (** The successors {!count} takes (the configurations of {!successors}, in
     another order; the agent's rules asked by phase and, where it is faster,
     by the fast engine), each with the fingerprint the counting path gives
-    it without hashing it whole (D37): for an agent rule's successor, as
+    it without hashing it whole (D36): for an agent rule's successor, as
     {!fingerprint_after} does; for a host rule's (Notify, NotifyWith, Put,
     Send), from the parent's part hashes and what the rule changes, before
     the successor is made (the counting path makes it only when the

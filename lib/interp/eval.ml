@@ -155,7 +155,7 @@ let bounded_text ~quote at v =
   if not (V.printed_within ~quote max_text v) then too_big at "its text would be too long";
   v
 
-(* D38: a comparison or a hash past V.max_visits values. *)
+(* D37: a comparison or a hash past V.max_visits values. *)
 let too_large_to_compare at =
   raise (Exhaustion (at, Printf.sprintf "value too large: comparing or hashing it would visit more than %d values"
                        V.max_visits))
@@ -309,7 +309,7 @@ let as_float_pair a b = match a, b with
   | V.Double d, V.Float _ -> (V.Float (V.float32 d), b)
   | _ -> (a, b)
 
-(* = and != (D38: past V.max_visits, an exhaustion error at the operator) *)
+(* = and != (D37: past V.max_visits, an exhaustion error at the operator) *)
 let equal_values at a b =
   let (a, b) = as_float_pair a b in
   try V.equal a b with V.Too_large -> too_large_to_compare at

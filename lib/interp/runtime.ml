@@ -40,10 +40,10 @@ type t = {
   mutable steps : int;           (* agent steps so far *)
   rand : Random.State.t option;
   tr : Tracer.t;
-  sends : bool;                  (* has the program a send statement? (D34) *)
+  sends : bool;                  (* has the program a send statement? (D33) *)
 }
 
-(* D34: does any body of the program hold a send statement? Only a body
+(* D33: does any body of the program hold a send statement? Only a body
    that sends makes the platform act inside a dispatch (it delivers each
    rule's messages right after the rule, with a trace line each). *)
 let program_sends env =
@@ -175,18 +175,18 @@ let dispatch_bound (c : M.t) =
    before any other agent runs). It is taken only when the steps left
    cover every rule it may take, so --max-steps stops at the same rule.
    With a trace, the same when no body of the program sends a message
-   (D34): each rule's line is written as the engine reports the rule's
+   (D33): each rule's line is written as the engine reports the rule's
    label; otherwise every rule is a step of its own (its messages are
    delivered, with their lines, right after it). Either way the steps are
    counted here, and the platform keeps no list of them (issue 17; tests
    "run: the same without a trace", "run: a traced dispatch = rule by
-   rule (D34)"). *)
+   rule (D33)"). *)
 let iterate t i =
   let left = t.opts.max_steps - t.steps in
   if left > 0 then begin
     (* D29: without a trace, a percept's dispatch is the engine's one-call
        Dispatch; a defective implementation (hooks) takes its own rules.
-       D34: with a trace too, when no body of the program sends a message:
+       D33: with a trace too, when no body of the program sends a message:
        each rule's line is written as the engine reports its label. *)
     let writes = Trace.writes (Tracer.writer t.tr) in
     let derived = (not writes || not t.sends) && t.hooks == reference_hooks in
@@ -201,10 +201,10 @@ let iterate t i =
           else if writes then
             E.dispatch p c ~observe:(fun l ->
                 incr taken;
-                (* D34 holds only while nothing is sent: a body that sent
+                (* D33 holds only while nothing is sent: a body that sent
                    would be a broken invariant, not a reordered trace *)
                 if c.Mc.world.Eval.outbox <> [] then
-                  Semantics.Fault.crash "Runtime: a message sent in a dispatch traced in one call (D34)";
+                  Semantics.Fault.crash "Runtime: a message sent in a dispatch traced in one call (D33)";
                 match l with
                 | Mc.End_dispatch _ -> ()   (* the platform's step: written by on_event *)
                 | _ -> Tracer.inside t.tr ~agent ~start:c l)

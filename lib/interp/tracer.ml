@@ -207,7 +207,7 @@ let step t ~agent ~before ~after l =
   | [] -> ()
   | _ -> bodies t agent (Mc.action_name l) evs
 
-(* D34: the rules of a derived Dispatch but its last, from the labels
+(* D33: the rules of a derived Dispatch but its last, from the labels
    [Engine.Fast.dispatch ~observe] reports, each as it is taken: [start] is
    the configuration the dispatch started from (its instances name the
    handlers' behaviours), and the bodies' events are the agent's own (its

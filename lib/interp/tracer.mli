@@ -39,7 +39,7 @@ val step : t -> agent:string -> before:config -> after:config -> label -> unit
 (** The line of an agent rule, then the events of the bodies it ran. *)
 
 val inside : t -> agent:string -> start:config -> label -> unit
-(** D34: the line of a rule taken inside the derived rule Dispatch
+(** D33: the line of a rule taken inside the derived rule Dispatch
     ([Engine.Fast.dispatch ~observe]: Dequeue, Handle, Skip; not its last,
     EndDispatch, which the platform sees as the step), then the events of
     the body it ran; [start] is the configuration the dispatch started

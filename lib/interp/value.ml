@@ -37,7 +37,7 @@ let tag = function
 
 let num = function Int i -> float_of_int i | Float f | Double f -> f | _ -> nan
 
-(* D38: one comparison of two values, or one hash of a value, visits at
+(* D37: one comparison of two values, or one hash of a value, visits at
    most [max_visits] values: each call of [cmp] or [hsh] below is a visit,
    each time a shared part is reached again, so a value built by sharing
    (a list of two copies of a list of two copies of ...) cannot make an
@@ -92,7 +92,7 @@ and hsh v =
   | Behaviour_ref i -> i
   | Unit -> 0
 
-(* Each comparison and each hash starts with a budget of its own (D38). *)
+(* Each comparison and each hash starts with a budget of its own (D37). *)
 let compare a b = visits := 0; cmp a b
 let equal a b = compare a b = 0
 let hash v = visits := 0; hsh v

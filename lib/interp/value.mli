@@ -54,7 +54,7 @@ val float32 : float -> float
 (** Rounds to the nearest binary32. *)
 
 exception Too_large
-(** D38: a comparison or a hash would visit more than {!max_visits} values. *)
+(** D37: a comparison or a hash would visit more than {!max_visits} values. *)
 
 val max_visits : int
 (** 10,000,000. Every value a comparison ({!compare}, {!equal}) or a hash
@@ -63,11 +63,11 @@ val max_visits : int
     map ({!map_find}, {!map_set}) is one hash of the key and one comparison
     with each stored key of the same hash. Past the bound the call raises
     {!Too_large}: the evaluator makes it an exhaustion error at the
-    operator (docs/semantics.md, D38). *)
+    operator (docs/semantics.md, D37). *)
 
 val compare : t -> t -> int
 (** Structural, with integers, floats and doubles compared by value.
-    @raise Too_large past {!max_visits} (D38). *)
+    @raise Too_large past {!max_visits} (D37). *)
 
 val equal : t -> t -> bool
 

@@ -238,7 +238,7 @@ let shapes () =
       let has t s = if not (contains t s) then Alcotest.failf "expected %S in:\n%s" s t in
       let at l c = Printf.sprintf "\"%s:%d:%d\"" f l c in
       (* the right operand of a comparison first, after the operator's
-         position (D38: a comparison too large is an error there) *)
+         position (D37: a comparison too large is an error there) *)
       has a (Printf.sprintf "Ops.eqRL(%s, Integer.valueOf(2), Ops.local(%s, \"k\", k))" (at 9 16) (at 9 16));
       (* for: the item, then the tick, then the body in a labelled block (continue) *)
       has a (Printf.sprintf "tick(%s);   // the loop's item" (at 8 9));

@@ -422,7 +422,7 @@ let literal_of = Test_support.Event_gen.small_literal
    configuration at the end. *)
 let rec same_without_trace (prog, seed) = same_runs `Quiet (prog, seed)
 
-(* D34: with a trace, a percept's dispatch is the derived rule Dispatch too
+(* D33: with a trace, a percept's dispatch is the derived rule Dispatch too
    when no body sends a message (the generated program's send statements
    are made [do nothing]): the trace, byte for byte, the logs and errors and
    the configuration at the end are those of the run that takes every rule
@@ -537,8 +537,8 @@ let () =
     ("run", [
         qcheck ~count:60 "run: the same without a trace"
           (QCheck.pair Typed_gen.arb_program QCheck.small_nat) same_without_trace;
-        qcheck ~count:60 "run: a traced dispatch = rule by rule (D34)"
+        qcheck ~count:60 "run: a traced dispatch = rule by rule (D33)"
           (QCheck.pair Typed_gen.arb_program QCheck.small_nat) same_traced_by_dispatch;
-        qcheck ~count:60 "run: a traced dispatch that may send = rule by rule (D34)"
+        qcheck ~count:60 "run: a traced dispatch that may send = rule by rule (D33)"
           (QCheck.pair Typed_gen.arb_program QCheck.small_nat) same_traced_with_sends ]);
   ]

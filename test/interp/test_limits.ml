@@ -144,14 +144,14 @@ let d21_sizes () =
           Alcotest.(check string) "the run carried on" (Printf.sprintf "a: still here %d\n" Interp.Eval.max_map_size) out;
           Alcotest.(check bool) "the trace is JSON" true json))
 
-(* ---------------------------------------------------------------- D38 *)
+(* ---------------------------------------------------------------- D37 *)
 
 (* A list of two copies of a list of two copies of ... d levels above [1]:
    d + 1 lists in memory, 3 * 2^d - 1 parts (the innermost list and its 1
    are 2). Comparing two such (built apart, so that no part is physically
    shared between them) visits every pair of parts, and hashing one every
    part: 3 * 2^d - 1 visits each. At d = 21 that is 6,291,455, within the
-   10,000,000 of D38; at d = 22, 12,582,911, past it. *)
+   10,000,000 of D37; at d = 22, 12,582,911, past it. *)
 let rec shared_list d = if d = 0 then Interp.Value.list_of [ Interp.Value.Int 1 ]
   else let x = shared_list (d - 1) in Interp.Value.list_of [ x; x ]
 
@@ -334,7 +334,7 @@ let () =
         Alcotest.test_case "D20 rounds end when nothing can change" `Quick d20_rounds;
         Alcotest.test_case "D21 texts and maps bounded" `Quick d21_sizes;
         Alcotest.test_case "D22 --max-memory" `Quick d22_memory;
-        Alcotest.test_case "D38 comparisons bounded" `Quick d38_bound ]);
+        Alcotest.test_case "D37 comparisons bounded" `Quick d38_bound ]);
     ("edges", [
         Alcotest.test_case "run: bad command-line values" `Quick cli_values;
         Alcotest.test_case "run: bad events values" `Quick events_values;

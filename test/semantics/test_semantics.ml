@@ -602,7 +602,7 @@ let d38_fingerprints_count_exactly () =
   one_line "--fingerprints --against-tlc" (Printf.sprintf "%s explore %s --fingerprints --against-tlc" exe path);
   one_line "--fingerprints --all" (Printf.sprintf "%s explore --all --fingerprints" exe)
 
-(* D37: the counting path's fingerprint of a successor, made from its
+(* D36: the counting path's fingerprint of a successor, made from its
    parent's part hashes and only the parts the rule changed (an agent rule:
    the fields that are not physically the parent's; a host rule: predicted
    from the action before the successor is made), is the fingerprint
@@ -641,7 +641,7 @@ let d37_incremental_fingerprint () =
     (Conformance.models ~full:true ());
   Alcotest.(check bool) (Printf.sprintf "checked %d transitions" !checked) true (!checked > 100_000)
 
-(* D31 and D37 beyond spec/models: on random models (any variant, tie
+(* D31 and D36 beyond spec/models: on random models (any variant, tie
    policy, overrides, objects, messages and behaviours), the count is the
    exact explorer's and the counting path's fingerprint of every transition
    is the one computed from scratch. Models over 20,000 states are left
@@ -688,8 +688,8 @@ let () =
         Alcotest.test_case "R5f round robin" `Quick scheduler_round_robin ]);
     ("limits", [ Alcotest.test_case "explore: model ranges, --max-states" `Quick explore_limits;
                  Alcotest.test_case "D31 fingerprints count exactly" `Quick d38_fingerprints_count_exactly;
-                 Alcotest.test_case "D37 incremental fingerprint = from scratch" `Quick d37_incremental_fingerprint;
-                 qcheck ~count:40 "D37 random models: count = exact, fingerprints = from scratch"
+                 Alcotest.test_case "D36 incremental fingerprint = from scratch" `Quick d37_incremental_fingerprint;
+                 qcheck ~count:40 "D36 random models: count = exact, fingerprints = from scratch"
                    arb_random_model d37_random_models ]);
     ("decisions", [
         Alcotest.test_case "D1 one-shot deactivated, not blocked" `Quick d1_oneshot_not_blocked;

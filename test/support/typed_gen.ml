@@ -592,7 +592,7 @@ let limit_body kind size =
          ^ i ^ "\t\tk = 0\n" ^ i ^ "\t\twhile k < " ^ string_of_int size ^ " do\n" ^ i ^ "\t\t\tk = k + 1\n"
          ^ i ^ "\t\t\ta = a + x * y\n" ^ i ^ "log \"a \" + a\n")
   | "shared parts" ->
-    (* D38: two lists of two copies of ... [size] levels deep, 3 * 2^size - 1
+    (* D37: two lists of two copies of ... [size] levels deep, 3 * 2^size - 1
        parts each, compared, hashed as a map key, printed *)
     let chain x = i ^ x ^ "0 = [n]\n"
                   ^ String.concat "" (List.init size (fun k ->

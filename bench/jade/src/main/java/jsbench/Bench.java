@@ -145,6 +145,7 @@ public final class Bench {
         System.gc();
         Mem.reset();
         long h0 = probe.handled.get(), l0 = probe.loopSteps.get();
+        long c0 = processCpuNanos();
         long t0 = System.nanoTime();
         long sent = 0;
         while (sent < n) {
@@ -154,14 +155,25 @@ public final class Bench {
             awaitHandled(h0 + sent);
         }
         long t1 = System.nanoTime();
+        long c1 = processCpuNanos();
         long handled = probe.handled.get() - h0;
         double s = (t1 - t0) / 1e9;
         long loops = probe.loopSteps.get() - l0;
         System.out.printf("# steady: %d percepts in batches of %d (host notifies a batch, waits until handled), "
                 + "%d loop-behaviour steps (%.1f percepts per step)%n", handled, batch, loops, (double) handled / loops);
         System.out.printf("# steady: peak live heap after GC %.1f MB; %s%n", Mem.peakLiveMb(), Mem.gcSummary());
-        System.out.printf("%s %s percepts_per_second=%.1f handled=%d seconds=%.3f peak_mb=%.1f%n",
-                tag, name == null ? "steady" : name, handled / s, handled, s, Mem.peakMb());
+        // cpu_seconds: the process's processor time over the measured window,
+        // every thread (host, agent, JIT compiler, collector); -1 if unknown
+        System.out.printf("%s %s percepts_per_second=%.1f handled=%d seconds=%.3f peak_mb=%.1f cpu_seconds=%.3f%n",
+                tag, name == null ? "steady" : name, handled / s, handled, s, Mem.peakMb(),
+                c0 < 0 || c1 < 0 ? -1.0 : (c1 - c0) / 1e9);
+    }
+
+    /** The JVM process's processor time so far, in nanoseconds, or -1. */
+    static long processCpuNanos() {
+        java.lang.management.OperatingSystemMXBean os = java.lang.management.ManagementFactory.getOperatingSystemMXBean();
+        if (os instanceof com.sun.management.OperatingSystemMXBean sun) return sun.getProcessCpuTime();
+        return -1;
     }
 
     // ----------------------------------------------------------------- flood

@@ -36,7 +36,7 @@ public final class JMap implements java.io.Serializable {
   /** A map from alternating values and keys, in the order the interpreter
       evaluates a map literal ({@code {k1: v1, k2: v2}}: {@code v1, k1, v2, k2}).
       A comparison or hash of a key past {@link Ops#MAX_VISITS} is an error
-      at the literal (D38).
+      at the literal (D37).
       @param at position of the literal
       @param valueKeys {@code v1, k1, v2, k2, ...}
       @return the new map */

@@ -244,7 +244,7 @@ public final class Literals {
           Object v = value(e.kids.get(i + 1), program, file);   // the value first, as the interpreter
           Object k = value(e.kids.get(i), program, file);
           try { m.put(k, v); }
-          catch (Ops.TooLarge x) {   // D38
+          catch (Ops.TooLarge x) {   // D37
             throw new LiteralError(e.col, "value too large: comparing or hashing it would visit more than "
                 + Ops.MAX_VISITS + " values");
           }

@@ -110,7 +110,7 @@ public final class Ops {
       @return negative, zero or positive */
   public static int compare(Object a, Object b) { return compare(a, b, new int[1]); }
 
-  /** D38: a comparison or a hash visits at most this many values
+  /** D37: a comparison or a hash visits at most this many values
       ({@code Value.max_visits}): every value reached counts one, each time
       it is reached; each call has a budget of its own. */
   public static final int MAX_VISITS = 10_000_000;
@@ -126,7 +126,7 @@ public final class Ops {
 
   private static void visit(int[] visits) { if (++visits[0] > MAX_VISITS) throw TOO_LARGE; }
 
-  /** The error of D38 at a position.
+  /** The error of D37 at a position.
       @param at position
       @return the error */
   public static JadescriptError tooLargeToCompare(String at) {
@@ -374,7 +374,7 @@ public final class Ops {
       @return the result */
   public static Object eqRL(Object r, Object l) { return equal(asFloatBeside(l, r), asFloatBeside(r, l)); }
 
-  /** {@code l = r} at a position, operands given right first (D38).
+  /** {@code l = r} at a position, operands given right first (D37).
       @param at position of the operator
       @param r right
       @param l left
@@ -390,7 +390,7 @@ public final class Ops {
       @return the result */
   public static Object neqRL(Object r, Object l) { return !equal(asFloatBeside(l, r), asFloatBeside(r, l)); }
 
-  /** {@code l != r} at a position, operands given right first (D38).
+  /** {@code l != r} at a position, operands given right first (D37).
       @param at position of the operator
       @param r right
       @param l left
