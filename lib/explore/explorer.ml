@@ -470,8 +470,9 @@ module Fp_set = struct
   let create () = { slots = make 65536; mask = 65535; count = 0 }
   let bytes t = Array1.dim t.slots * 8
 
-  (* true when [h] was absent (it is now present); linear probing *)
-  let add_raw (a : slots) mask h =
+  (* true when [h] was absent (it is now present); linear probing;
+     inlined where it is called: [add] runs once for every state generated *)
+  let[@inline always] add_raw (a : slots) mask h =
     let i = ref (h land mask) and r = ref 2 in      (* 2: still probing *)
     while !r = 2 do
       let x = Array1.unsafe_get a !i in
@@ -491,18 +492,9 @@ module Fp_set = struct
     done;
     t.slots <- a; t.mask <- n - 1
 
-  (* [add_raw] written out: this runs once for every state generated *)
   let add t h =
     if 4 * (t.count + 1) > 3 * (t.mask + 1) then grow t;
-    let a = t.slots and mask = t.mask in
-    let i = ref (h land mask) and r = ref 2 in      (* 2: still probing *)
-    while !r = 2 do
-      let x = Array1.unsafe_get a !i in
-      if x = 0 then (Array1.unsafe_set a !i h; r := 1)
-      else if x = h then r := 0
-      else i := (!i + 1) land mask
-    done;
-    !r = 1 && (t.count <- t.count + 1; true)
+    add_raw t.slots t.mask h && (t.count <- t.count + 1; true)
 end
 
 type count = {

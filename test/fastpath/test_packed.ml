@@ -315,48 +315,11 @@ let packed_equals_reference x =
 (* The bench's workload (bench/programs/percepts.jade): four percept types,
    three behaviours; and a fifth type of two texts (a record of two boxes)
    and one of a double (boxed whole). *)
-let bench_program = {|ontology Load
-	proposition falling extends percept with priority = 10
-	predicate obstacle(d as integer) extends percept with priority = 8
-	predicate qrCodeRead(qrCode as text) extends percept with priority = 4
-	predicate position(k as integer) extends percept with priority = 2
-	predicate note(a as text, n as integer, b as text) extends percept with priority = 4
-	predicate level(x as double) extends percept with priority = 8
-
-agent Ag uses ontology Load
-	property counts as map of integer:integer = {}
-	property falls as integer = 0
-
-	on create do
-		activate behaviour Positions
-		activate behaviour Others
-		activate behaviour Watch
-
-cyclic behaviour Positions for agent Ag
-	on percept when content matches position(k) do
-		counts[k] = k
-		log "position " + k
-
-cyclic behaviour Others for agent Ag
-	on percept when content matches obstacle(d) do
-		counts[d] = d
-		log "obstacle " + d
-
-	on percept when content matches qrCodeRead(q) do
-		falls = falls + 1
-		log "qr " + q
-
-	on percept when content matches note(a, n, b) do
-		log a + n + b
-
-	on percept when content matches level(x) do
-		log "level " + x
-
-cyclic behaviour Watch for agent Ag
-	on percept when content matches falling do
-		falls = falls + 1
-		log "falling"
-|}
+let bench_program =
+  Support.bench_workload
+    ~types:[ "predicate note(a as text, n as integer, b as text) extends percept with priority = 4";
+             "predicate level(x as double) extends percept with priority = 8" ]
+    ~handlers:[ ("note(a, n, b)", "log a + n + b"); ("level(x)", "log \"level \" + x") ] ()
 
 let packed_bench_program () =
   let prog = (Parse.string ~file:"bench.jade" bench_program).program in

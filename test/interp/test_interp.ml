@@ -612,40 +612,7 @@ let wrong_pretest_caught () =
    beside its handlers (lib/engine/fast.ml). A fixed program that does: 3
    behaviours, 4 handlers, the bench's workload (bench/programs/percepts.jade)
    with logs, compared over 20 seeds of random percepts. *)
-let several_behaviours_program = {|ontology Load
-	proposition falling extends percept with priority = 10
-	predicate obstacle(d as integer) extends percept with priority = 8
-	predicate qrCodeRead(qrCode as text) extends percept with priority = 4
-	predicate position(k as integer) extends percept with priority = 2
-
-agent Ag uses ontology Load
-	property counts as map of integer:integer = {}
-	property falls as integer = 0
-
-	on create do
-		activate behaviour Positions
-		activate behaviour Others
-		activate behaviour Watch
-
-cyclic behaviour Positions for agent Ag
-	on percept when content matches position(k) do
-		counts[k] = k
-		log "position " + k
-
-cyclic behaviour Others for agent Ag
-	on percept when content matches obstacle(d) do
-		counts[d] = d
-		log "obstacle " + d
-
-	on percept when content matches qrCodeRead(q) do
-		falls = falls + 1
-		log "qr " + q
-
-cyclic behaviour Watch for agent Ag
-	on percept when content matches falling do
-		falls = falls + 1
-		log "falling"
-|}
+let several_behaviours_program = Support.bench_workload ()
 
 let derived_dispatch_several_behaviours () =
   let prog = (Parse.string ~file:"several.jade" several_behaviours_program).program in

@@ -47,3 +47,45 @@ let run_command cmd =
   (status, o, e)
 
 let exe = Filename.concat root (build_dir ^ "/default/bin/main.exe")
+
+(* The bench's workload (bench/programs/percepts.jade) with a log in each
+   handler, for the tests that hold the engine equal to the rules; [types]
+   and [handlers] (of the behaviour Others) are added to it. *)
+let bench_workload ?(types = []) ?(handlers = []) () =
+  String.concat "\n" ([
+    "ontology Load";
+    "\tproposition falling extends percept with priority = 10";
+    "\tpredicate obstacle(d as integer) extends percept with priority = 8";
+    "\tpredicate qrCodeRead(qrCode as text) extends percept with priority = 4";
+    "\tpredicate position(k as integer) extends percept with priority = 2" ]
+    @ List.map (fun t -> "\t" ^ t) types
+    @ [ "";
+        "agent Ag uses ontology Load";
+        "\tproperty counts as map of integer:integer = {}";
+        "\tproperty falls as integer = 0";
+        "";
+        "\ton create do";
+        "\t\tactivate behaviour Positions";
+        "\t\tactivate behaviour Others";
+        "\t\tactivate behaviour Watch";
+        "";
+        "cyclic behaviour Positions for agent Ag";
+        "\ton percept when content matches position(k) do";
+        "\t\tcounts[k] = k";
+        "\t\tlog \"position \" + k";
+        "";
+        "cyclic behaviour Others for agent Ag";
+        "\ton percept when content matches obstacle(d) do";
+        "\t\tcounts[d] = d";
+        "\t\tlog \"obstacle \" + d";
+        "";
+        "\ton percept when content matches qrCodeRead(q) do";
+        "\t\tfalls = falls + 1";
+        "\t\tlog \"qr \" + q" ]
+    @ List.concat_map (fun (head, body) -> [ ""; "\ton percept when content matches " ^ head ^ " do"; "\t\t" ^ body ]) handlers
+    @ [ "";
+        "cyclic behaviour Watch for agent Ag";
+        "\ton percept when content matches falling do";
+        "\t\tfalls = falls + 1";
+        "\t\tlog \"falling\"";
+        "" ])

@@ -20,3 +20,10 @@ val run_command : string -> int * string * string
 
 val exe : string
 (** The jadescript-ref executable built by dune. *)
+
+val bench_workload : ?types:string list -> ?handlers:(string * string) list -> unit -> string
+(** The bench's workload ([bench/programs/percepts.jade]: four percept
+    types, three behaviours, four handlers) with a [log] in each handler,
+    as one source text; [types] (ontology lines, such as ["predicate
+    level(x as double) extends percept"]) and [handlers] (pattern and
+    one-line body, added to the behaviour [Others]) are added to it. *)
