@@ -146,10 +146,7 @@ let fuel_exhausted () =
 
 (* --------------------------------------------------------- the CLI *)
 
-let with_file name text f =
-  let p = Filename.concat (Filename.get_temp_dir_name ()) name in
-  let oc = open_out_bin p in output_string oc text; close_out oc;
-  Fun.protect ~finally:(fun () -> Sys.remove p) (fun () -> f p)
+let with_file = Support.with_file
 
 let robome = Filename.concat root "examples/paper/robome_completed.jade"
 

@@ -7,10 +7,7 @@
 open Test_support
 open Support
 
-let with_file name text f =
-  let p = Filename.concat (Filename.get_temp_dir_name ()) name in
-  let oc = open_out_bin p in output_string oc text; close_out oc;
-  Fun.protect ~finally:(fun () -> Sys.remove p) (fun () -> f p)
+let with_file = Support.with_file
 
 let lines s = List.filter (( <> ) "") (String.split_on_char '\n' s)
 

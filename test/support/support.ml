@@ -89,3 +89,14 @@ let bench_workload ?(types = []) ?(handlers = []) () =
         "\t\tfalls = falls + 1";
         "\t\tlog \"falling\"";
         "" ])
+
+(* A file of this name and text in a directory of its own (so that two
+   test processes running at once never share it), removed after [f]. *)
+let with_file name text f =
+  let dir = Filename.temp_file "jsref_test" "" in
+  Sys.remove dir;
+  Unix.mkdir dir 0o700;
+  let p = Filename.concat dir name in
+  let oc = open_out_bin p in output_string oc text; close_out oc;
+  Fun.protect ~finally:(fun () -> (try Sys.remove p with Sys_error _ -> ()); (try Unix.rmdir dir with Unix.Unix_error _ -> ()))
+    (fun () -> f p)

@@ -27,3 +27,8 @@ val bench_workload : ?types:string list -> ?handlers:(string * string) list -> u
     as one source text; [types] (ontology lines, such as ["predicate
     level(x as double) extends percept"]) and [handlers] (pattern and
     one-line body, added to the behaviour [Others]) are added to it. *)
+
+val with_file : string -> string -> (string -> 'a) -> 'a
+(** [with_file name text f]: [f] of the path of a file [name] holding
+    [text], in a fresh temporary directory of its own (two test processes
+    at once never share it), removed afterwards. *)
