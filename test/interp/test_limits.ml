@@ -152,7 +152,7 @@ let d21_sizes () =
 let rec shared_list d = if d = 0 then Interp.Value.list_of [ Interp.Value.Int 1 ]
   else let x = shared_list (d - 1) in Interp.Value.list_of [ x; x ]
 
-let d38_bound () =
+let d37_bound () =
   let module V = Interp.Value in
   Alcotest.(check int) "the bound" 10_000_000 V.max_visits;
   let too_large f = match f () with _ -> false | exception V.Too_large -> true in
@@ -331,7 +331,7 @@ let () =
         Alcotest.test_case "D20 rounds end when nothing can change" `Quick d20_rounds;
         Alcotest.test_case "D21 texts and maps bounded" `Quick d21_sizes;
         Alcotest.test_case "D22 --max-memory" `Quick d22_memory;
-        Alcotest.test_case "D37 comparisons bounded" `Quick d38_bound ]);
+        Alcotest.test_case "D37 comparisons bounded" `Quick d37_bound ]);
     ("edges", [
         Alcotest.test_case "run: bad command-line values" `Quick cli_values;
         Alcotest.test_case "run: bad events values" `Quick events_values;

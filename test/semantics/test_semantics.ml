@@ -573,7 +573,7 @@ let explore_limits () =
 (* D31: the counting path (fingerprints, frontier only) finds exactly the
    states, transitions and final states of the exact explorer on every
    model, and no two states of a model share a fingerprint. *)
-let d38_fingerprints_count_exactly () =
+let d31_fingerprints_count_exactly () =
   List.iter (fun p ->
       let m = Model.load p in
       let g = Explorer.explore m in
@@ -610,7 +610,7 @@ let d38_fingerprints_count_exactly () =
    too), by the reference's rules and by the counting path's own successors
    (the fast engine shares fields differently). And the counting path's
    successors are the exact explorer's, as a multiset of keys. *)
-let d37_incremental_fingerprint () =
+let d36_incremental_fingerprint () =
   let checked = ref 0 in
   List.iter (fun p ->
       let m = Model.load p in
@@ -646,7 +646,7 @@ let d37_incremental_fingerprint () =
    exact explorer's and the counting path's fingerprint of every transition
    is the one computed from scratch. Models over 20,000 states are left
    out (assumed away). *)
-let d37_random_models cs =
+let d36_random_models cs =
   let m = Model.of_constants ~name:"MCRandom" ~dir:"." cs in
   match Explorer.explore ~max_states:20_000 m with
   | exception Failure _ -> QCheck.assume_fail ()
@@ -687,10 +687,10 @@ let () =
         Alcotest.test_case "R3a objects stay; printed spins" `Quick objects_stay_reference_spin_printed;
         Alcotest.test_case "R5f round robin" `Quick scheduler_round_robin ]);
     ("limits", [ Alcotest.test_case "explore: model ranges, --max-states" `Quick explore_limits;
-                 Alcotest.test_case "D31 fingerprints count exactly" `Quick d38_fingerprints_count_exactly;
-                 Alcotest.test_case "D36 incremental fingerprint = from scratch" `Quick d37_incremental_fingerprint;
+                 Alcotest.test_case "D31 fingerprints count exactly" `Quick d31_fingerprints_count_exactly;
+                 Alcotest.test_case "D36 incremental fingerprint = from scratch" `Quick d36_incremental_fingerprint;
                  qcheck ~count:40 "D36 random models: count = exact, fingerprints = from scratch"
-                   arb_random_model d37_random_models ]);
+                   arb_random_model d36_random_models ]);
     ("decisions", [
         Alcotest.test_case "D1 one-shot deactivated, not blocked" `Quick d1_oneshot_not_blocked;
         Alcotest.test_case "D2 snapshot ids reserved" `Quick d2_snapshot_ids_reserved;
