@@ -153,52 +153,6 @@ let codec_round_trip () =
 
 (* ------------------------------------------------ the packed agent *)
 
-(* The configurations compared field by field, as the reference's:
-   O2A in order, the priority queue as its set of entries in dequeue order. *)
-let show_entry (e : V.t Mc.entry) = Printf.sprintf "%s/%d/%d" (V.to_literal e.p) e.prio e.seq
-
-let show_label (l : RM.lbl) =
-  Mc.action_name l ^ (match l with
-      | Mc.Dequeue e | Mc.Notify e | Mc.Notify_with e -> "(" ^ show_entry e ^ ")"
-      | Mc.Handle { id; h; seq; p } -> Printf.sprintf "(%d,%d,%d,%s)" id h seq (V.to_literal p)
-      | Mc.Skip { id; h } -> Printf.sprintf "(%d,%d)" id h
-      | Mc.End_dispatch { seq; discarded } -> Printf.sprintf "(%d,%b)" seq discarded
-      | Mc.Behaviour_step { id; _ } -> Printf.sprintf "(%d)" id
-      | Mc.Transfer n -> Printf.sprintf "(%d)" n
-      | Mc.Put o -> "(" ^ V.to_literal o ^ ")"
-      | _ -> "")
-
-let show_config (c : RM.t) =
-  Printf.sprintf "phase=%s o2a=[%s] pq=[%s] msgq=%d next_seq=%d msg_seq=%d puts=%d dispatched=%d \
-                  active=[%s] ready=[%s] blocked=[%s] pos=%d cur=%s done=%d waits=%d last=%s"
-    (match c.phase with Mc.Transfer_phase -> "transfer" | Dispatch_phase -> "dispatch"
-                      | Handle_phase -> "handle" | Idle_phase -> "idle")
-    (String.concat ";" (List.map (function Mc.O_percept e -> show_entry e | Mc.O_object o -> "obj " ^ V.to_literal o)
-                          (Semantics.Fqueue.to_list c.o2a)))
-    (String.concat ";" (List.map show_entry (Semantics.Pqueue.to_sorted_list c.pq)))
-    (Semantics.Fqueue.length c.msgq) c.next_seq c.msg_seq c.puts c.dispatched
-    (String.concat ";" (List.map (fun (a : Interp.Eval.beh Mc.instance) ->
-         Printf.sprintf "%d:%s" a.id (Interp.Eval.beh_type a.beh)) c.active))
-    (String.concat ";" (List.map string_of_int c.ready))
-    (String.concat ";" (List.map string_of_int c.blocked)) c.pos
-    (match c.cur with
-     | None -> "-"
-     | Some d -> Printf.sprintf "%s todo=%s applied=%b" (show_entry d.e)
-                   (String.concat "," (List.map (fun (i, h) -> Printf.sprintf "%d.%d" i h) d.todo)) d.applied)
-    (Mc.Int_set.cardinal c.done_) (List.length c.waits) (show_label c.last)
-
-let show_event = function
-  | Interp.Eval.Log s -> "log " ^ s
-  | Interp.Eval.Invoke { meth; _ } -> "invoke " ^ meth
-  | Interp.Eval.Sent { perf; content; receivers } ->
-    Printf.sprintf "send %s %s to %s" perf (V.to_literal content) (String.concat "," receivers)
-  | Interp.Eval.Activated b -> "activate " ^ b
-  | Interp.Eval.Deactivated i -> "deactivate " ^ string_of_int i
-  | Interp.Eval.Error (_, at, m) -> Printf.sprintf "error %s %s" (Source.string_of_region at) m
-  | Interp.Eval.Ran { handler; effects } ->
-    Printf.sprintf "ran %s: %d effects" (if handler > 0 then string_of_int handler else "action")
-      (List.length effects)
-
 (* A random host drives two copies of the same agent: the reference
    machine ([RM.step], one rule at a time, on a persistent configuration)
    and the packed agent (its [step], or the derived rule [dispatch], which
@@ -243,7 +197,7 @@ let packed_equals_reference_exn (prog, seed) =
     List.map (fun (_, ty) -> Interp.Eval.literal_value env (Parse.expr ~file:"a" (Event_gen.small_literal rand ty))) params in
   let (ar, behs_r) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:(args_for ()) ~fuel:500 in
   let (ap, behs_p) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:(args_for ()) ~fuel:500 in
-  let events a = List.map show_event (Interp.Eval.take_events a) in
+  let events a = List.map Show.event (Interp.Eval.take_events a) in
   if events ar <> events ap then QCheck.Test.fail_reportf "on create differs";
   let c = ref (RM.init p ~world:ar behs_r) in
   (* every percept packed; a mix (packed once two wait); the default
@@ -257,7 +211,7 @@ let packed_equals_reference_exn (prog, seed) =
         (match p.o2a_capacity with Some k -> string_of_int k | None -> "-") pack_above (Pk.packed t) text) fmt in
   let compare_now what =
     Buffer.add_string history (what ^ " | ");
-    let r = show_config !c and k = show_config (Pk.to_config t) in
+    let r = Show.config !c and k = Show.config (Pk.to_config t) in
     if r <> k then fail "configurations differ after %s:\nreference: %s\npacked:    %s" what r k;
     let er = events ar and ep = events ap in
     if er <> ep then fail "events differ after %s:\n%s\n%s" what (String.concat "|" er) (String.concat "|" ep) in
@@ -288,17 +242,17 @@ let packed_equals_reference_exn (prog, seed) =
       | Steps n ->
         for _ = 1 to n do
           let lr = ref_step () and lk = Pk.step t in
-          let show = function Some l -> show_label l | None -> "none" in
+          let show = function Some l -> Show.label l | None -> "none" in
           if show lr <> show lk then fail "step: reference %s, packed %s" (show lr) (show lk);
           compare_now ("step " ^ show lr)
         done
       | Dispatches n ->
         for _ = 1 to n do
           let labels = ref [] in
-          if Pk.dispatch ~observe:(fun l -> labels := show_label l :: !labels) t then begin
+          if Pk.dispatch ~observe:(fun l -> labels := Show.label l :: !labels) t then begin
             let taken = List.rev !labels in
             let followed = List.map (fun _ -> match ref_step () with
-                | Some l -> show_label l | None -> "none") taken in
+                | Some l -> Show.label l | None -> "none") taken in
             if taken <> followed then
               fail "dispatch: %s; the reference: %s" (String.concat " " taken) (String.concat " " followed);
             compare_now ("dispatch " ^ String.concat " " taken)
@@ -337,7 +291,7 @@ let packed_agent_unit () =
   let agent p =
     let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
     Pk.of_config ~pack_above:0 p (RM.init p ~world:a behs) in
-  let o2a_of t = List.map (function Mc.O_percept e -> show_entry e | Mc.O_object o -> V.to_literal o)
+  let o2a_of t = List.map (function Mc.O_percept e -> Show.entry e | Mc.O_object o -> V.to_literal o)
       (Semantics.Fqueue.to_list (Pk.to_config t).o2a) in
   (* objects between percepts, at their places *)
   let t = agent Mc.default_params in
@@ -350,9 +304,9 @@ let packed_agent_unit () =
   Pk.put t (V.Int 4);
   Alcotest.(check (list string)) "O2A in order"
     [ "1"; "position(5)/2/1"; "2"; "3"; "qrCodeRead(\"A7\")/9/2"; "falling/10/3"; "4" ] (o2a_of t);
-  Alcotest.(check (option string)) "transfer" (Some "Transfer(3)") (Option.map show_label (Pk.step t));
+  Alcotest.(check (option string)) "transfer" (Some "Transfer(3)") (Option.map Show.label (Pk.step t));
   Alcotest.(check (list string)) "objects stay" [ "1"; "2"; "3"; "4" ] (o2a_of t);
-  Alcotest.(check (option string)) "highest first" (Some "Dequeue(falling/10/3)") (Option.map show_label (Pk.step t));
+  Alcotest.(check (option string)) "highest first" (Some "Dequeue(falling/10/3)") (Option.map Show.label (Pk.step t));
   (* a flood: growth and wrap-around, ties in seq order *)
   let t = agent Mc.default_params in
   for k = 1 to 5000 do
@@ -371,11 +325,11 @@ let packed_agent_unit () =
   let t = agent { Mc.default_params with o2a_capacity = Some 2 } in
   Pk.put t (V.Int 1);
   ignore (Pk.notify_event t (pv "position(1)") ~default:2 ~priority:None);
-  let before = show_config (Pk.to_config t) in
+  let before = Show.config (Pk.to_config t) in
   Alcotest.(check bool) "full" true (Pk.notify_event t (pv "position(2)") ~default:2 ~priority:None = Error Mc.O2a_full);
   Alcotest.(check bool) "negative" true
     (Pk.notify_event t (pv "position(2)") ~default:2 ~priority:(Some (-1)) = Error (Mc.Negative_priority (-1)));
-  Alcotest.(check string) "refusals change nothing" before (show_config (Pk.to_config t));
+  Alcotest.(check string) "refusals change nothing" before (Show.config (Pk.to_config t));
   (* Budgeted, budget 1, every behaviour blocked while percepts wait: the
      rules the packed agent leaves to Fast (BehaviourStep, NextIteration)
      see that the priority queue is not empty *)
@@ -390,13 +344,13 @@ let packed_agent_unit () =
   done;
   let rec run n acc_r acc_k =
     if n = 0 then (List.rev acc_r, List.rev acc_k) else
-    let lr = match RM.step p !c with [] -> "none" | (l, c') :: _ -> c := c'; show_label l in
-    let lk = match Pk.step t with None -> "none" | Some l -> show_label l in
+    let lr = match RM.step p !c with [] -> "none" | (l, c') :: _ -> c := c'; Show.label l in
+    let lk = match Pk.step t with None -> "none" | Some l -> Show.label l in
     run (n - 1) (lr :: acc_r) (lk :: acc_k) in
   let (lr, lk) = run 80 [] [] in
   Alcotest.(check bool) "NextIteration taken with percepts waiting" true (List.mem "NextIteration" lr);
   Alcotest.(check (list string)) "budgeted: the same rules" lr lk;
-  Alcotest.(check string) "budgeted: the same configuration" (show_config !c) (show_config (Pk.to_config t));
+  Alcotest.(check string) "budgeted: the same configuration" (Show.config !c) (Show.config (Pk.to_config t));
   (* not packable: the plain configuration *)
   let t = agent { Mc.default_params with tie = Mc.Unstable } in
   Alcotest.(check bool) "unstable ties: not packed" false (Pk.packed t);

@@ -482,40 +482,6 @@ let random_run_validates =
 module RM = Interp.Runtime.P.M
 module FE = Interp.Runtime.E
 
-let show_label (l : RM.lbl) =
-  Mc.action_name l ^ (match l with
-      | Mc.Dequeue e | Mc.Notify e -> Printf.sprintf "(%s,%d,%d)" (V.to_literal e.p) e.prio e.seq
-      | Mc.Handle { id; h; seq; _ } -> Printf.sprintf "(%d,%d,%d)" id h seq
-      | Mc.Skip { id; h } -> Printf.sprintf "(%d,%d)" id h
-      | Mc.End_dispatch { seq; discarded } -> Printf.sprintf "(%d,%b)" seq discarded
-      | Mc.Behaviour_step { id; _ } -> Printf.sprintf "(%d)" id
-      | _ -> "")
-
-let show_event = function
-  | Interp.Eval.Log s -> "log " ^ s
-  | Interp.Eval.Invoke { meth; _ } -> "invoke " ^ meth
-  | Interp.Eval.Sent { perf; content; receivers } ->
-    Printf.sprintf "send %s %s to %s" perf (V.to_literal content) (String.concat "," receivers)
-  | Interp.Eval.Activated b -> "activate " ^ b
-  | Interp.Eval.Deactivated i -> "deactivate " ^ string_of_int i
-  | Interp.Eval.Error (_, at, m) -> Printf.sprintf "error %s %s" (Source.string_of_region at) m
-  | Interp.Eval.Ran { handler; effects } ->
-    Printf.sprintf "ran %s: %d effects" (if handler > 0 then string_of_int handler else "action")
-      (List.length effects)
-
-let show_config (c : RM.t) =
-  Printf.sprintf "phase=%s o2a=%d pq=[%s] next_seq=%d dispatched=%d active=[%s] ready=[%s] blocked=[%s] pos=%d last=%s"
-    (match c.phase with Mc.Transfer_phase -> "transfer" | Dispatch_phase -> "dispatch"
-                      | Handle_phase -> "handle" | Idle_phase -> "idle")
-    (Semantics.Fqueue.length c.o2a)
-    (String.concat ";" (List.map (fun (e : V.t Mc.entry) -> Printf.sprintf "%d/%d" e.prio e.seq)
-                          (Semantics.Pqueue.to_sorted_list c.pq)))
-    c.next_seq c.dispatched
-    (String.concat ";" (List.map (fun (a : Interp.Eval.beh Mc.instance) ->
-         Printf.sprintf "%d:%s" a.id (Interp.Eval.beh_type a.beh)) c.active))
-    (String.concat ";" (List.map string_of_int c.ready))
-    (String.concat ";" (List.map string_of_int c.blocked)) c.pos (show_label c.last)
-
 (* The engine's Dispatch, or that of an engine given other bodies. *)
 type dispatch = { dispatch : ?observe:(RM.lbl -> unit) -> Mc.params -> RM.t -> RM.t option }
 
@@ -539,20 +505,20 @@ let derived_dispatch_on_programs_exn ?(engine = { dispatch = FE.dispatch }) =
       let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args ~fuel:500 in
       let out = ref [] in
       let note s = out := s :: !out in
-      let body () = List.iter (fun e -> note (show_event e)) (Interp.Eval.take_events a) in
+      let body () = List.iter (fun e -> note (Show.event e)) (Interp.Eval.take_events a) in
       body ();
       (* [n] rules at most, counted the same way in both runs: a run stops
          only between dispatches (the derived rule takes a whole one) *)
       let rec go (c : RM.t) n =
         if n <= 0 && c.phase <> Mc.Handle_phase then c else
         let k = ref 0 in
-        match (if derived then engine.dispatch ~observe:(fun l -> incr k; note (show_label l)) p c else None) with
+        match (if derived then engine.dispatch ~observe:(fun l -> incr k; note (Show.label l)) p c else None) with
         | Some c -> body (); go c (n - !k)
         | None ->
           match (if derived then FE.step p c else RM.step p c) with
           | [] -> c
           | (l, c) :: _ ->
-            note (show_label l);
+            note (Show.label l);
             (* the derived rule hands the bodies' events over at the end of
                the dispatch, in order; the steps are compared the same way *)
             if c.phase <> Mc.Handle_phase then body ();
@@ -566,7 +532,7 @@ let derived_dispatch_on_programs_exn ?(engine = { dispatch = FE.dispatch }) =
       let props = List.map (fun (pr : Typing.Tenv.property) ->
           pr.p_name ^ "=" ^ (match Interp.Eval.property a pr.p_name with Some v -> V.to_literal v | None -> "?"))
           (Typing.Tenv.agent_properties env "Ag") in
-      (List.rev !out, show_config c, List.map (fun (r, (m : Interp.Eval.message)) -> r ^ ":" ^ m.perf) outbox, props) in
+      (List.rev !out, Show.config c, List.map (fun (r, (m : Interp.Eval.message)) -> r ^ ":" ^ m.perf) outbox, props) in
     let (o1, c1, m1, p1) = run false and (o2, c2, m2, p2) = run true in
     if o1 <> o2 then
       QCheck.Test.fail_reportf "labels and events differ:\nsteps:   %s\nderived: %s\n%s"
