@@ -527,6 +527,13 @@ let wrong_run_rejected () =
 
 (* ------------------------------------------ explore's limits (issue 15) *)
 
+(* A command that must fail with one line on stderr and exit status 1. *)
+let one_line what cmd =
+  let (status, _, err) = run_command cmd in
+  Alcotest.(check int) (what ^ ": exit 1") 1 status;
+  Alcotest.(check int) (what ^ ": one line: " ^ err) 1
+    (List.length (List.filter (( <> ) "") (String.split_on_char '\n' err)))
+
 (* A model's constants out of range are one error naming the constant; the
    state count is bounded by --max-states (an exhaustion error, not an
    out-of-memory death). *)
@@ -561,11 +568,6 @@ let explore_limits () =
     (Array.length (Explorer.explore ~max_states:1869 m).states);
   (* through the command *)
   let path = List.find (fun p -> Filename.basename p = "MCReference.tla") (Lazy.force model_paths) in
-  let one_line what cmd =
-    let (status, _, err) = run_command cmd in
-    Alcotest.(check int) (what ^ ": exit 1") 1 status;
-    Alcotest.(check int) (what ^ ": one line: " ^ err) 1
-      (List.length (List.filter (( <> ) "") (String.split_on_char '\n' err))) in
   one_line "--max-states 100" (Printf.sprintf "%s explore %s --max-states 100" exe path);
   one_line "--max-states 0" (Printf.sprintf "%s explore %s --max-states 0" exe path);
   one_line "--max-states -5" (Printf.sprintf "%s explore %s --max-states=-5" exe path)
@@ -593,11 +595,6 @@ let d31_fingerprints_count_exactly () =
    | _ -> Alcotest.fail "100 states: counted anyway"
    | exception Failure e ->
      Alcotest.(check bool) ("exhaustion: " ^ e) true (String.sub e 0 11 = "exhaustion:"));
-  let one_line what cmd =
-    let (status, _, err) = run_command cmd in
-    Alcotest.(check int) (what ^ ": exit 1") 1 status;
-    Alcotest.(check int) (what ^ ": one line: " ^ err) 1
-      (List.length (List.filter (( <> ) "") (String.split_on_char '\n' err))) in
   one_line "--fingerprints --max-states 100" (Printf.sprintf "%s explore %s --fingerprints --max-states 100" exe path);
   one_line "--fingerprints --against-tlc" (Printf.sprintf "%s explore %s --fingerprints --against-tlc" exe path);
   one_line "--fingerprints --all" (Printf.sprintf "%s explore --all --fingerprints" exe)
