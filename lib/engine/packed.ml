@@ -64,21 +64,9 @@ module Ring = struct
     r.head <- (r.head + n) land r.mask;
     r.len <- r.len - n
 
-  (* The front record of [src], a header and [w] ints, moved to the back of
-     [dst] with the header [h] instead: Transfer's inner loop, in one piece. *)
-  let[@inline] move_record src dst h w =
-    while dst.len + 1 + w > dst.mask + 1 do grow dst done;
-    let a = dst.ints and m = dst.mask and b = src.ints and ms = src.mask in
-    let at = dst.head + dst.len and from = src.head + 1 in
-    A.unsafe_set a (at land m) h;
-    for k = 0 to w - 1 do
-      A.unsafe_set a ((at + 1 + k) land m) (A.unsafe_get b ((from + k) land ms))
-    done;
-    dst.len <- dst.len + 1 + w;
-    src.head <- (from + w) land ms;
-    src.len <- src.len - 1 - w
-
-  let move_front src dst n ~skip =
+  (* [n] ints from the front of [src], after skipping [skip] of them, to
+     the back of [dst]. *)
+  let[@inline] move_front src dst n ~skip =
     while dst.len + n > dst.mask + 1 do grow dst done;
     let a = dst.ints and m = dst.mask and b = src.ints and ms = src.mask in
     let at = dst.head + dst.len and from = src.head + skip in
@@ -88,6 +76,12 @@ module Ring = struct
     dst.len <- dst.len + n;
     src.head <- (from + n) land ms;
     src.len <- src.len - n - skip
+
+  (* The front record of [src], a header and [w] ints, moved to the back of
+     [dst] with the header [h] instead: Transfer's inner loop. *)
+  let[@inline] move_record src dst h w =
+    push dst h;
+    move_front src dst w ~skip:1
 
   (* The side ring is made with its first value as the filler of its empty
      places. *)
