@@ -256,9 +256,8 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
   (* Dequeue's pop (R3b): the highest bucket's oldest record, decoded. *)
   let pop t =
     let b = top_bucket t in
-    let h = Ring.get b.ring 0 in
-    let tag = tag_of h in
-    let e = { p = C.read t.codec tag b.ring ~pos:1 ~box:0; prio = b.bprio; seq = high h } in
+    let e = front_entry t b in
+    let tag = tag_of (Ring.get b.ring 0) in
     Ring.drop b.ring (1 + tag_width tag);
     for _ = 1 to tag_boxes tag do Ring.drop_box b.ring done;
     Ring.shrink b.ring;
