@@ -319,7 +319,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
   let maybe_pack t =
     if t.can_pack && not t.is_packed && backlog t.c >= t.pack_above then pack_now t
 
-  (* Nothing waits any more (and nothing is pending): plain again. The
+  (* Nothing waits any more: plain again. The
      configuration is then the plain one: its O2A holds the objects, its
      priority queue is empty ([after] is rewritten by the next [pack_now]). *)
   let maybe_unpack t =

@@ -40,7 +40,7 @@ let unchanging = function
 let rec all_unchanging slots i = i < 0 || (unchanging !(snd slots.(i)) && all_unchanging slots (i - 1))
 let rec same_leaves slots leaves i = i < 0 || (!(snd slots.(i)) == leaves.(i) && same_leaves slots leaves (i - 1))
 
-(* [V.to_literal v] (by [V.to_literal_quick]); with [keep] (a dequeue: its
+(* [V.to_literal v] (by [V.to_literal]); with [keep] (a dequeue: its
    handle lines follow) kept for the next lines *)
 let percept_text ?(keep = false) t (v : V.t) =
   let k = t.kept in
@@ -49,7 +49,7 @@ let percept_text ?(keep = false) t (v : V.t) =
                     && same_leaves s.slots k.leaves (Array.length s.slots - 1) ->
     k.text
   | V.Schema s when keep ->
-    let text = V.to_literal_quick v in
+    let text = V.to_literal v in
     let n = Array.length s.slots in
     if all_unchanging s.slots (n - 1) then begin
       let leaves = if Array.length k.leaves = n then k.leaves else Array.make n V.Unit in
@@ -57,7 +57,7 @@ let percept_text ?(keep = false) t (v : V.t) =
       k.value <- v; k.leaves <- leaves; k.text <- text
     end;
     text
-  | _ -> V.to_literal_quick v
+  | _ -> V.to_literal v
 
 (* The names of an agent, [None] if none noted yet: the last agent's
    without hashing (a run writes the same agent's lines in a row). *)
@@ -89,7 +89,7 @@ let header t env (p : Mc.params) ~seed agents =
 let entry ?keep t (e : V.t Mc.entry) = { Trace.percept = percept_text ?keep t e.p; priority = e.prio; seq = e.seq }
 
 let message (m : Eval.message) =
-  { Trace.performative = m.perf; content = V.to_literal_quick m.content; from = m.sender }
+  { Trace.performative = m.perf; content = V.to_literal m.content; from = m.sender }
 
 let effect = function
   | Mc.Activate b -> Trace.Activated (Eval.beh_type b)
@@ -99,9 +99,9 @@ let body (e : Eval.event) : Trace.body option =
   match e with
   | Eval.Log s -> Some (Trace.Log s)
   | Eval.Invoke { meth; cls; args; result } ->
-    Some (Trace.Invoke { meth; obj = cls; args = List.map V.to_literal_quick args; result = V.to_literal_quick result })
+    Some (Trace.Invoke { meth; obj = cls; args = List.map V.to_literal args; result = V.to_literal result })
   | Eval.Sent { perf; content; receivers } ->
-    Some (Trace.Send { performative = perf; content = V.to_literal_quick content; receivers })
+    Some (Trace.Send { performative = perf; content = V.to_literal content; receivers })
   | Eval.Activated b -> Some (Trace.Activate b)
   | Eval.Deactivated id -> Some (Trace.Deactivate id)
   | Eval.Error (_, at, message) -> Some (Trace.Error { at = Syntax.Source.string_of_region at; message })
@@ -147,7 +147,7 @@ let ran which evs =
       | _ -> None) evs
 
 let created t ~agent ~agent_type args behs a =
-  Trace.write t.w ~agent (Trace.Create { agent_type; args = List.map V.to_literal_quick args;
+  Trace.write t.w ~agent (Trace.Create { agent_type; args = List.map V.to_literal args;
                                           behaviours = List.map Eval.beh_type behs });
   bodies t agent "Init" (Eval.take_events a)
 
@@ -156,11 +156,11 @@ let label_event t agent (c : config) (l : label) evs : Trace.event =
   | Mc.Init -> Semantics.Fault.crash "Tracer: Init is not a rule of the run"
   | Mc.Notify e -> Trace.Notify { entry = entry t e; overridden = false }
   | Mc.Notify_with e -> Trace.Notify { entry = entry t e; overridden = true }
-  | Mc.Put o -> Trace.Put { obj = V.to_literal_quick o; index = c.puts }
+  | Mc.Put o -> Trace.Put { obj = V.to_literal o; index = c.puts }
   | Mc.Send (m, seq) -> Trace.Deliver { message = message m; seq }
   | Mc.Transfer n -> Trace.Transfer n
   | Mc.Transfer_one e -> Trace.Transfer_one (entry t e)
-  | Mc.Transfer_spin o -> Trace.Transfer_spin (V.to_literal_quick o)
+  | Mc.Transfer_spin o -> Trace.Transfer_spin (V.to_literal o)
   | Mc.Transfer_end -> Trace.Transfer_end
   | Mc.Dequeue e -> Trace.Dequeue (entry ~keep:true t e)
   | Mc.Handle { id; h; p; seq } ->
@@ -185,14 +185,14 @@ let label_event t agent (c : config) (l : label) evs : Trace.event =
 let host t ~agent (c : config) = Trace.write_with t.w ~agent (fun () -> label_event t agent c c.last [])
 
 let refused t ~agent v =
-  Trace.write t.w ~agent (Trace.Refused { percept = V.to_literal_quick v; reason = "the O2A queue is full (R2d)" })
+  Trace.write t.w ~agent (Trace.Refused { percept = V.to_literal v; reason = "the O2A queue is full (R2d)" })
 
 let refused_put t ~agent v =
-  Trace.write t.w ~agent (Trace.Refused_put { obj = V.to_literal_quick v; reason = "the O2A queue is full (R2d)" })
+  Trace.write t.w ~agent (Trace.Refused_put { obj = V.to_literal v; reason = "the O2A queue is full (R2d)" })
 
 let undeliverable t ~sender ~receiver (m : Eval.message) =
   Trace.write t.w ~agent:sender
-    (Trace.Undeliverable { receiver; performative = m.perf; content = V.to_literal_quick m.content })
+    (Trace.Undeliverable { receiver; performative = m.perf; content = V.to_literal m.content })
 
 (* Without a trace (a writer from [Trace.nowhere]) nothing but the bodies'
    logs and errors is wanted, and the lines are only counted: no event is

@@ -161,30 +161,9 @@ let java_text ~single f =
 let float_text f = java_text ~single:false f
 let float32_text f = java_text ~single:true f
 
-let rec show ~quote v = match v with
-  | Bool b -> if b then "true" else "false"
-  | Int i -> string_of_int i
-  | Float f -> float32_text f
-  | Double f -> float_text f
-  | Text s -> if quote then Syntax.Print.text_literal s else s
-  | Aid a -> "aid(" ^ Syntax.Print.text_literal a ^ ")"
-  | List l -> "[" ^ String.concat ", " (List.map (show ~quote:true) (list_items l)) ^ "]"
-  | Map m -> "{" ^ String.concat ", " (List.map (fun (k, v) -> show ~quote:true k ^ ": " ^ show ~quote:true v) (map_bindings m)) ^ "}"
-  | Schema s when Array.length s.slots = 0 -> s.sname
-  | Schema s -> s.sname ^ "(" ^ String.concat ", " (List.map (fun (_, v) -> show ~quote:true !v) (Array.to_list s.slots)) ^ ")"
-  | Native n -> "<" ^ n.cls ^ ">"
-  | Agent_ref a -> "agent " ^ a
-  | Behaviour_ref i -> "behaviour #" ^ string_of_int i
-  | Unit -> "nothing"
-
-let to_text v = show ~quote:false v
-let to_literal v = show ~quote:true v
-
-(* [to_literal] without its intermediate strings (issue 17: the trace
-   writes a percept's text three times per percept: notify, dequeue,
-   handle): integers by a digit loop, schemas and lists into one buffer;
-   every other value as [show] writes it. The test "value: quick literal =
-   to_literal" holds the two equal. *)
+(* A value's text, written into a buffer: integers by a digit loop, no
+   intermediate strings for lists, maps and schema values (the trace
+   writes a percept's text on its notify, dequeue and handle lines). *)
 let int_digits = Bytes.create 20
 
 let add_int b i =
@@ -198,35 +177,55 @@ let add_int b i =
     Buffer.add_subbytes b int_digits first (20 - first)
   end else Buffer.add_string b (string_of_int i)
 
-let rec add_literal b v = match v with
+let rec add_show b ~quote v = match v with
+  | Bool x -> Buffer.add_string b (if x then "true" else "false")
   | Int i -> add_int b i
+  | Float f -> Buffer.add_string b (float32_text f)
+  | Double f -> Buffer.add_string b (float_text f)
+  | Text s -> Buffer.add_string b (if quote then Syntax.Print.text_literal s else s)
+  | Aid a -> Buffer.add_string b "aid("; Buffer.add_string b (Syntax.Print.text_literal a); Buffer.add_char b ')'
+  | List l ->
+    Buffer.add_char b '[';
+    for i = 0 to l.len - 1 do
+      if i > 0 then Buffer.add_string b ", ";
+      add_show b ~quote:true l.items.(i)
+    done;
+    Buffer.add_char b ']'
+  | Map m ->
+    Buffer.add_char b '{';
+    List.iteri (fun i (k, x) ->
+        if i > 0 then Buffer.add_string b ", ";
+        add_show b ~quote:true k; Buffer.add_string b ": "; add_show b ~quote:true x) (map_bindings m);
+    Buffer.add_char b '}'
   | Schema s when Array.length s.slots = 0 -> Buffer.add_string b s.sname
   | Schema s ->
     Buffer.add_string b s.sname;
     Buffer.add_char b '(';
     for i = 0 to Array.length s.slots - 1 do
       if i > 0 then Buffer.add_string b ", ";
-      add_literal b !(snd (Array.unsafe_get s.slots i))
+      add_show b ~quote:true !(snd (Array.unsafe_get s.slots i))
     done;
     Buffer.add_char b ')'
-  | List l ->
-    Buffer.add_char b '[';
-    for i = 0 to l.len - 1 do
-      if i > 0 then Buffer.add_string b ", ";
-      add_literal b l.items.(i)
-    done;
-    Buffer.add_char b ']'
-  | v -> Buffer.add_string b (show ~quote:true v)
+  | Native n -> Buffer.add_char b '<'; Buffer.add_string b n.cls; Buffer.add_char b '>'
+  | Agent_ref a -> Buffer.add_string b "agent "; Buffer.add_string b a
+  | Behaviour_ref i -> Buffer.add_string b "behaviour #"; add_int b i
+  | Unit -> Buffer.add_string b "nothing"
 
-let literal_buffer = Buffer.create 64
+(* one buffer, reused: [add_show] never comes back here *)
+let show_buffer = Buffer.create 64
 
-let to_literal_quick v =
-  match v with
+let show ~quote v = match v with
   | Schema s when Array.length s.slots = 0 -> s.sname
+  | Text s when not quote -> s
   | _ ->
-    Buffer.clear literal_buffer;
-    add_literal literal_buffer v;
-    Buffer.contents literal_buffer
+    Buffer.clear show_buffer;
+    add_show show_buffer ~quote v;
+    let text = Buffer.contents show_buffer in
+    if Buffer.length show_buffer > 65536 then Buffer.reset show_buffer;   (* give a big one back *)
+    text
+
+let to_text v = show ~quote:false v
+let to_literal v = show ~quote:true v
 
 (* D21: is [show ~quote v] at most [limit] bytes long? Counted as [show]
    builds it, and given up as soon as the count passes the limit, so the

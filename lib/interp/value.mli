@@ -89,11 +89,6 @@ val to_text : t -> string
 val to_literal : t -> string
 (** As a Jadescript literal (texts quoted): used in traces. *)
 
-val to_literal_quick : t -> string
-(** [to_literal], with fewer intermediate strings (integers, schemas and
-    lists written into one buffer): what the trace writer takes (issue
-    17). *)
-
 val printed_within : quote:bool -> int -> t -> bool
 (** [printed_within ~quote n v]: [to_literal v] ([quote]) or [to_text v]
     is at most [n] bytes long (D21). It stops counting past [n]: its cost
