@@ -415,6 +415,10 @@ let interp_flood env total =
     promoted = (gc1.promoted_words -. gc0.promoted_words) /. float_of_int total;
     notify_windows = notify_windows (); windows = windows () }
 
+(* A flood's whole cost per percept: its notify, its share of the one
+   Transfer, its dispatch. *)
+let total_ns f = f.notify_ns +. f.transfer_s *. 1e9 /. float_of_int f.n +. f.dispatch_ns
+
 let print_floods floods =
   let millions l = String.concat " " (List.map (fun r -> Printf.sprintf "%.1f" (r /. 1e6)) l) in
   Printf.printf "  floods: every percept notified at once, then the agent runs until idle\n";
@@ -430,7 +434,6 @@ let print_floods floods =
   let big = List.nth floods (List.length floods - 1) in
   (match floods with
    | small :: _ :: _ ->
-     let total_ns f = f.notify_ns +. f.transfer_s *. 1e9 /. float_of_int f.n +. f.dispatch_ns in
      Printf.printf "    flat: per-percept cost at %dM / at %dM: notify %.2f, dispatch %.2f, all of it %.2f; live memory per waiting percept %.2f\n"
        (big.n / 1_000_000) (small.n / 1_000_000) (big.notify_ns /. small.notify_ns)
        (big.dispatch_ns /. small.dispatch_ns) (total_ns big /. total_ns small) (big.live_words /. small.live_words)
@@ -579,7 +582,6 @@ let interp_bench () =
   let bytes = big.live_words *. float_of_int (Sys.word_size / 8) in
   Goals.record ~met:(bytes <= 64.) "2 floods: at most 64 bytes live per waiting percept"
     (Printf.sprintf "%.0f bytes at %dM (%.1f words)" bytes (big.n / 1_000_000) big.live_words);
-  let total_ns f = f.notify_ns +. f.transfer_s *. 1e9 /. float_of_int f.n +. f.dispatch_ns in
   let flat = total_ns big /. total_ns small in
   Goals.record ~met:(flat <= 1.25) "2 floods: cost per percept flat, 1M to 10M (within 1.25)"
     (Printf.sprintf "%dM / %dM: %.2f by wall clock" (big.n / 1_000_000) (small.n / 1_000_000) flat);
