@@ -415,6 +415,9 @@ let interp_flood env total =
     promoted = (gc1.promoted_words -. gc0.promoted_words) /. float_of_int total;
     notify_windows = notify_windows (); windows = windows () }
 
+(* The middle of the figures (the upper one of two); nan when there are none. *)
+let median l = match List.sort compare l with [] -> nan | l -> List.nth l (List.length l / 2)
+
 (* A flood's whole cost per percept: its notify, its share of the one
    Transfer, its dispatch. *)
 let total_ns f = f.notify_ns +. f.transfer_s *. 1e9 /. float_of_int f.n +. f.dispatch_ns
@@ -619,7 +622,6 @@ let interp_bench () =
          | None -> Printf.printf "  round %d: jadescript-ref %.0f percepts/s; the JADE run failed\n%!" (i + 1) ours);
         cpu_ratios := (match theirs_cpu with Some jc -> (ours_cpu /. jc) :: !cpu_ratios | None -> !cpu_ratios);
         (ours, theirs)) in
-    let median l = let a = Array.of_list (List.sort compare l) in a.(Array.length a / 2) in
     let ratios = List.filter_map (fun (o, t) -> Option.map (fun j -> o /. j) t) rounds in
     if ratios <> [] then
       Printf.printf "  %-46s %12.0f percepts/s  JADE median %.0f; ratio median %.2fx (lowest %.2fx, highest %.2fx)\n%!"
@@ -757,7 +759,6 @@ let jade_backend_bench () =
         (i + 1) (show ours) (show direct) (show native)
         (match ours, direct with Some o, Some d -> Printf.sprintf "; JADE direct / compiled = %.2fx" (d /. o) | _ -> "");
       (ours, direct, native)) in
-  let median l = match List.sort compare l with [] -> nan | l -> List.nth l (List.length l / 2) in
   let ratios = List.filter_map (function (Some o, Some d, _) -> Some (d /. o) | _ -> None) rounds in
   Printf.printf "  %-46s compiled %.0f, direct %.0f, Jadescript 1.0 %.0f percepts/s\n"
     "steady, medians of the rounds"
@@ -800,7 +801,6 @@ let sim_bench () =
         let c0 = Sys.time () in
         let (sim_s, wall_s) = Corridor_sim.Run.bench ?agent () in
         (sim_s, wall_s, Sys.time () -. c0)) in
-  let median l = let a = Array.of_list (List.sort compare l) in a.(Array.length a / 2) in
   let show ?(short = "") what rs =
     let sim_s = (fun (s, _, _) -> s) (List.hd rs) in
     let walls = List.map (fun (_, w, _) -> sim_s /. w) rs and cpus = List.map (fun (_, _, c) -> sim_s /. c) rs in
