@@ -266,10 +266,18 @@ let new_agent env =
 (* Run the packed agent until idle, one [PK.step] at a time except that each
    percept's dispatch (Dequeue, Handle or Skip per handler, EndDispatch) is
    taken as the derived rule [PK.dispatch]; count the percepts that left and
-   call [window] every [every] of them. *)
+   call [window] every [every] of them. Without [every], the dispatches of
+   one iteration are taken as one run ([PK.dispatch_run]), the bodies'
+   events read after it. *)
 let drain ?(every = 0) ?(window = fun _ -> ()) t =
   let handled = ref 0 in
   let rec go () =
+    let n = if every = 0 then PK.dispatch_run t else 0 in
+    if n > 0 then begin
+      ignore (Interp.Eval.take_events (PK.world t));
+      handled := !handled + n;
+      go ()
+    end else
     if PK.dispatch t then begin
       (* a caller reads the bodies' events after each dispatch *)
       ignore (Interp.Eval.take_events (PK.world t));

@@ -51,6 +51,10 @@ module Bodies = struct
 
   (* the fast engine's pre-test: handler h takes one percept kind *)
   let percept_may_apply _ () h (p : Agent.percept) = snd (percept_applicable () ~id:0 () h p)
+
+  (* the pre-test's answer depends on the percept's constructor only *)
+  let percept_kind : Agent.percept -> int = function
+    | Falling -> 0 | Obstacle -> 1 | Qr_code_read _ -> 2 | Position _ -> 3
 end
 
 module E = Engine.Fast.Make (Bodies)

@@ -9,6 +9,7 @@ module Fqueue = Semantics.Fqueue
 module type BODIES = sig
   include Semantics.Machine.BODIES
   val percept_may_apply : world -> beh -> int -> percept -> bool
+  val percept_kind : percept -> int
 end
 
 module Make (B : BODIES) = struct
@@ -39,7 +40,23 @@ module Make (B : BODIES) = struct
      the list is immutable and most dequeues share it. Beside each entry,
      the behaviour of its instance, which [dispatch] uses while [active] is
      unchanged. One record, handed out as it is (no pair per dispatch). *)
-  type snapshot = { of_active : B.beh instance list; todo : (int * int) list; behs : B.beh list }
+  type snapshot = {
+    of_active : B.beh instance list;
+    todo : (int * int) list;
+    behs : B.beh list;
+    mutable plans : plan array;
+      (* by percept kind ({!B.percept_kind}): the handlers the pre-test
+         leaves, made when a percept of that kind is first dispatched *)
+  }
+
+  (* The handlers of the snapshot that the pre-test does not rule out for
+     one kind of percept: for each, the snapshot's [todo] from it on (its
+     head is the handler; the rest is what the rules would still try, which
+     ApplyEffects reserves) and its instance's behaviour. The handlers left
+     out would each be a Skip that changes nothing. *)
+  and plan = { from : (int * int) list list; pbehs : B.beh list }
+
+  let no_plan = { from = []; pbehs = [] }
 
   let handlers_cache : snapshot option ref = ref None
 
@@ -49,9 +66,30 @@ module Make (B : BODIES) = struct
     | _ ->
       let pairs = List.concat_map (fun (a : B.beh instance) ->
           List.init (B.percept_handlers a.beh) (fun j -> ((a.id, j + 1), a.beh))) c.active in
-      let k = { of_active = c.active; todo = List.map fst pairs; behs = List.map snd pairs } in
+      let k = { of_active = c.active; todo = List.map fst pairs; behs = List.map snd pairs; plans = [||] } in
       handlers_cache := Some k;
       k
+
+  (* The plan of percept [pe], of kind [kind] (>= 0), for snapshot [k]. *)
+  let plan_for k world kind pe =
+    if kind < Array.length k.plans && k.plans.(kind) != no_plan then k.plans.(kind)
+    else begin
+      let rec keep todo behs = match todo, behs with
+        | ((_, h) :: rest as from), b :: brest ->
+          if B.percept_may_apply world b h pe then
+            let (f, bs) = keep rest brest in (from :: f, b :: bs)
+          else keep rest brest
+        | _ -> ([], []) in
+      let (from, pbehs) = keep k.todo k.behs in
+      let plan = { from; pbehs } in
+      if kind >= Array.length k.plans then begin
+        let a = Array.make (max (kind + 1) (2 * Array.length k.plans)) no_plan in
+        Array.blit k.plans 0 a 0 (Array.length k.plans);
+        k.plans <- a
+      end;
+      k.plans.(kind) <- plan;
+      plan
+    end
 
   (* The ghosts, asked of the reference only when they are kept. *)
   let bump_waits p (c : M.t) e = if p.ghosts && not p.flood then M.bump_waits p c e else c.waits
@@ -146,11 +184,35 @@ module Make (B : BODIES) = struct
 
   (* Dequeue of [e], already taken from the priority queue (which is now
      [pq]), then its handlers and EndDispatch. *)
+  (* The handlers of a plan, unobserved: the ones left out are Skips that
+     change nothing and write no label. Once a body has effects, the rest
+     of the snapshot from that handler on is taken by [dispatch_handlers]
+     (an instance may have left; ApplyEffects reserves the ids still to be
+     tried). *)
+  let rec dispatch_plan p (c : M.t) e world applied from behs =
+    match from, behs with
+    | ((id, h) :: rest as todo) :: from', b :: behs' ->
+      let (world, ok) = B.percept_applicable world ~id b h e.p in
+      if not ok then dispatch_plan p c e world applied from' behs'
+      else begin
+        let (world, effs) = B.run_percept_handler world ~id b h e.p in
+        match effs with
+        | [] -> dispatch_plan p c e world true from' behs'
+        | _ ->
+          let s = M.apply_effects p (M.bs_of c) id effs (List.map fst todo) in
+          dispatch_handlers None p c e world true (Some s) rest []
+      end
+    | _ -> (world, applied, None)
+
   let dispatch_popped observe p (c : M.t) e pq =
     (match observe with Some f -> f (Dequeue e) | None -> ());
     let k = handlers_and_behs c in
+    let kind = match observe with None -> B.percept_kind e.p | Some _ -> -1 in
     dispatch_end observe p c e ~pq ~waits:(bump_waits p c e) ~dispatched:(c.dispatched + 1)
-      (dispatch_handlers observe p c e c.world false None k.todo k.behs)
+      (if kind >= 0 then
+         let plan = plan_for k c.world kind e.p in
+         dispatch_plan p c e c.world false plan.from plan.pbehs
+       else dispatch_handlers observe p c e c.world false None k.todo k.behs)
 
   let dispatch ?observe p (c : M.t) : M.t option =
     match c.phase, c.cur with
@@ -165,6 +227,42 @@ module Make (B : BODIES) = struct
     | _ -> None
 
   let dispatch_entry ?observe p c e ~pq = dispatch_popped observe p c e pq
+
+  (* Dispatch while it is enabled, unobserved (no ghosts): while no body
+     has effects, the behaviour part and the snapshot stay [c]'s, and what
+     each dispatch changes (the priority queue, the world, the count, the
+     last label) is kept in local variables; the configuration is built
+     once at the end, or when a body had effects (then the run goes on from
+     it, with a new snapshot). *)
+  let rec dispatch_run_from p (c : M.t) n =
+    let k = handlers_and_behs c in
+    let budget = if p.variant = Budgeted then p.budget else max_int in
+    let rec go pq world dispatched last n =
+      if Pqueue.is_empty pq || dispatched >= budget then
+        ({ c with pq; world; dispatched; cur = None; phase = Dispatch_phase; last }, n)
+      else begin
+        let e = Pqueue.first pq and pq = Pqueue.drop_first pq in
+        let kind = B.percept_kind e.p in
+        let (world, applied, bs) =
+          if kind >= 0 then
+            let plan = plan_for k world kind e.p in
+            dispatch_plan p c e world false plan.from plan.pbehs
+          else dispatch_handlers None p c e world false None k.todo k.behs in
+        let last = End_dispatch { seq = e.seq; discarded = not applied } in
+        match bs with
+        | None -> go pq world (dispatched + 1) last (n + 1)
+        | Some s ->
+          let c' = M.with_bs { c with pq; world; dispatched = dispatched + 1; cur = None;
+                                      phase = Dispatch_phase; last } s in
+          if M.dispatch_over p c' then (c', n + 1) else dispatch_run_from p c' (n + 1)
+      end in
+    go c.pq c.world c.dispatched c.last n
+
+  let dispatch_run p (c : M.t) =
+    match c.phase, c.cur with
+    | Dispatch_phase, None when single_candidate p && not p.ghosts && not (M.dispatch_over p c) ->
+      Some (dispatch_run_from p c 0)
+    | _ -> None
 
   let dequeue_entry p c e ~pq = dequeue_top p c e pq
 end

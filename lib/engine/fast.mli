@@ -13,7 +13,9 @@
       HandlersOf every time;
     - the derived rule {!Make.dispatch}: Dequeue, every Handle or Skip and
       EndDispatch in one call, on local variables, with the bodies' pre-test
-      {!BODIES.percept_may_apply} deciding Skips without evaluating guards.
+      {!BODIES.percept_may_apply} deciding Skips without evaluating guards,
+      asked once per kind of percept ({!BODIES.percept_kind}) and snapshot
+      of the handlers when no one observes the labels.
 
     docs/semantics.md, "A derived rule: Dispatch" and "The fast engine". *)
 
@@ -25,6 +27,15 @@ module type BODIES = sig
       [false] for handler [h] of the behaviour and this percept, leaving the
       world as it is and recording nothing. [fun _ _ _ _ -> true] is always
       correct. *)
+
+  val percept_kind : percept -> int
+  (** A key for the pre-test: two percepts of the same kind [k >= 0] get
+      the same answer from [percept_may_apply] for every behaviour and
+      handler of one agent, whatever its world. {!Make.dispatch} then asks
+      the pre-test once per kind and snapshot of the handlers, and tries
+      only the handlers it leaves. [-1]: no key (every handler is tried);
+      [fun _ -> -1] is always correct. Kinds are small: they index an
+      array. *)
 end
 
 module Make (B : BODIES) : sig
@@ -50,6 +61,14 @@ module Make (B : BODIES) : sig
       time (each is then the only rule enabled), without building the
       configurations in between; [observe] sees their labels in order.
       [None] in any other configuration. *)
+
+  val dispatch_run : Semantics.Machine.params -> M.t -> (M.t * int) option
+  (** {!dispatch}, unobserved, again and again while it is enabled, from
+      phase Dispatch (stable ties, no flood abstraction, no ghosts, not
+      [Native]): the configuration that many calls of [dispatch] reach, and
+      how many percepts left. The configurations between two percepts are
+      not built while no body has effects. [None] where [dispatch] would
+      not start from phase Dispatch, or where there is nothing to dispatch. *)
 
   val dequeue_entry : Semantics.Machine.params -> M.t -> B.percept Semantics.Machine.entry ->
     pq:B.percept Semantics.Pqueue.t -> M.lbl * M.t

@@ -97,6 +97,32 @@ let percept_may_apply a (b : Eval.beh) h p =
   | Resolved r -> may_apply a r.(h - 1) p
   | _ -> may_apply a (resolve a b).(h - 1) p
 
+(* Kinds (Fast.BODIES.percept_kind): a number per schema name, the same
+   for every agent (the pre-test's answer depends on the name, the
+   behaviour and the handler only). The names are usually the type
+   environment's own strings: found by address first. *)
+let kind_numbers : (string, int) Hashtbl.t = Hashtbl.create 16
+let kinds_by_address : (string * int) list ref = ref []
+
+let rec kind_by_address n = function
+  | (m, k) :: rest -> if m == n then k else kind_by_address n rest
+  | [] -> -1
+
+let kind_of_name n =
+  let k = kind_by_address n !kinds_by_address in
+  if k >= 0 then k
+  else begin
+    let k = match Hashtbl.find_opt kind_numbers n with
+      | Some k -> k
+      | None -> let k = Hashtbl.length kind_numbers in Hashtbl.add kind_numbers n k; k in
+    if List.length !kinds_by_address < 16 then kinds_by_address := (n, k) :: !kinds_by_address;
+    k
+  end
+
+let percept_kind = function
+  | V.Schema s -> kind_of_name s.sname
+  | _ -> -1
+
 let percept_applicable (a : Eval.agent) ~id b h p =
   let hd = b.Eval.phandlers.(h - 1) in
   let i = match b.kept with Resolved r -> r.(h - 1) | _ -> (resolve a b).(h - 1) in

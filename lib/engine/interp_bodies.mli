@@ -12,6 +12,9 @@
       per percept type is remembered (a memo by the type name's address, the
       lexer interning names). [percept_applicable] itself answers [false] at
       once there, leaving the world as it is.
+    - A percept's {e kind} ({!Fast.BODIES.percept_kind}) is a number for its
+      schema's name, the same in every agent: the pre-test's answer depends
+      on the name only.
 
     Everything else is [Eval.Bodies]'. Tested against [Eval.Bodies] (which
     has no memo and no resolved guard) on random programs, rule for rule. *)

@@ -310,6 +310,9 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
         push_record t (bucket_for t e.prio).ring e.seq e.p;
         t.pq_n <- t.pq_n + 1)
       (Pqueue.to_sorted_list c.pq);
+    (* the buckets outlive a plain interval, [top] with them: a record may
+       now wait in a bucket before it *)
+    t.top <- 0;
     t.c <- { c with o2a = Fqueue.of_list (List.rev !objects); pq = Pqueue.empty };
     t.is_packed <- true
 
@@ -493,4 +496,16 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
       | Dispatch_phase when not (dispatch_over t) ->
         t.c <- F.dispatch_entry ?observe t.p t.c (pop t) ~pq:Pqueue.empty; maybe_unpack t; true
       | _ -> false
+
+  let dispatch_run t =
+    sync t;
+    if not t.is_packed then
+      match F.dispatch_run t.p t.c with
+      | Some (c, n) -> t.c <- c; n
+      | None -> 0
+    else begin
+      let n = ref 0 in
+      while t.c.phase = Dispatch_phase && dispatch t do incr n done;
+      !n
+    end
 end

@@ -241,4 +241,9 @@ module Make (B : Fast.BODIES) (_ : CODEC with type percept = B.percept) : sig
   (** The derived rule Dispatch ({!Fast.Make.dispatch}): [true] when it
       was taken, [false] (nothing changes) where {!Fast.Make.dispatch}
       answers [None]. *)
+
+  val dispatch_run : t -> int
+  (** {!dispatch}, unobserved, while it is enabled from phase Dispatch
+      ({!Fast.Make.dispatch_run} on the plain agent): how many percepts
+      left; [0] (nothing changes) where it is not enabled. *)
 end

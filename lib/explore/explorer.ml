@@ -38,6 +38,8 @@ let successors ?(rules = Model.M.rules) m c = successors_by (Model.M.step_by rul
 module Fast_bodies = struct
   include Model.Bodies
   let percept_may_apply () (b : Model.beh) h p = List.mem p b.percept_handlers.(h - 1).accepts
+  (* a model's percepts are numbered from 0: the number is the kind *)
+  let percept_kind p = if p >= 0 && p < 4096 then p else -1
 end
 
 module FE = Engine.Fast.Make (Fast_bodies)

@@ -247,8 +247,33 @@ let packed_equals_reference_exn (prog, seed) =
           compare_now ("step " ^ show lr)
         done
       | Dispatches n ->
-        for _ = 1 to n do
+        for i = 1 to n do
           let labels = ref [] in
+          if (seed + i) mod 2 = 1 then begin
+            (* unobserved: the handlers by plan (Fast.BODIES.percept_kind);
+               the reference takes its rules up to the EndDispatch. Where
+               no dispatch is enabled, a step first (at most 3). *)
+            let run = (seed + i) mod 4 = 3 in
+            let rec attempt k =
+              (* one Dispatch, or a run of them (Packed.dispatch_run) *)
+              let n = if run then Pk.dispatch_run t else if Pk.dispatch t then 1 else 0 in
+              if n > 0 then begin
+                let rec follow k = match ref_step () with
+                  | Some (Mc.End_dispatch _) -> ()
+                  | Some _ when k < 100_000 -> follow (k + 1)
+                  | l -> fail "unobserved dispatch: the reference's rules end with %s"
+                           (match l with Some l -> Show.label l | None -> "none") in
+                for _ = 1 to n do follow 0 done;
+                compare_now (if run then Printf.sprintf "a run of %d dispatches" n else "unobserved dispatch")
+              end else if k < 3 then begin
+                let lr = ref_step () and lk = Pk.step t in
+                let show = function Some l -> Show.label l | None -> "none" in
+                if show lr <> show lk then fail "step: reference %s, packed %s" (show lr) (show lk);
+                compare_now ("step " ^ show lr);
+                if lk <> None then attempt (k + 1)
+              end in
+            attempt 0
+          end else
           if Pk.dispatch ~observe:(fun l -> labels := Show.label l :: !labels) t then begin
             let taken = List.rev !labels in
             let followed = List.map (fun _ -> match ref_step () with
@@ -375,6 +400,87 @@ let packed_agent_unit () =
   ignore (Pk.notify_event t (pv "position(7)") ~default:2 ~priority:None);
   Alcotest.(check (list string)) "plain again, a notify after the object" [ "0"; "position(7)/2/4096" ] (o2a_of t)
 
+(* Packed, plain again, packed again with a percept already in the
+   priority queue: it goes to a bucket before the one the last dispatch
+   left off at, and Dequeue must find it there (the random hosts found
+   this: an index out of bounds). *)
+let packed_again_finds_top () =
+  let env, _ = Typing.check [ Parse.string ~file:"bench.jade" bench_program ] in
+  let pv text = fst (Interp.Eval.percept_value env ~agent_type:"Ag" (Parse.expr ~file:"e" text)) in
+  let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
+  let p = Mc.default_params in
+  let t = Pk.of_config ~pack_above:2 p (RM.init p ~world:a behs) in
+  let notify text prio = ignore (Pk.notify_event t (pv text) ~default:prio ~priority:None) in
+  let dispatched = ref [] in
+  let drain () =
+    let rec go () =
+      if Pk.dispatch ~observe:(function Mc.Dequeue e -> dispatched := Show.entry e :: !dispatched | _ -> ()) t
+      then go () else match Pk.step t with Some _ -> go () | None -> () in
+    go () in
+  (* packed: falling and position; both dispatched, falling's bucket first *)
+  notify "falling" 10; notify "position(1)" 2;
+  Alcotest.(check bool) "packed at 2 waiting" true (Pk.packed t);
+  drain ();
+  Alcotest.(check bool) "plain again" false (Pk.packed t);
+  (* plain: falling transferred into the priority queue, then a notify packs *)
+  notify "falling" 10;
+  (match Pk.step t with Some (Mc.Transfer 1) -> () | _ -> Alcotest.fail "a Transfer of one percept");
+  notify "position(2)" 2;
+  Alcotest.(check bool) "packed again" true (Pk.packed t);
+  drain ();
+  Alcotest.(check (list string)) "every percept, highest priority first"
+    [ "falling/10/1"; "position(1)/2/2"; "falling/10/3"; "position(2)/2/4" ] (List.rev !dispatched)
+
+(* An unobserved dispatch takes the handlers by plan; a body with effects
+   hands the rest to the rules with the ids they reserve: here instance 1
+   leaves and activates C while its handler is still the head of the
+   snapshot, so C gets id 3, not 1 (ApplyEffects, NewId; R5g). *)
+let plan_reserves_ids () =
+  let text = String.concat "\n" [
+      "ontology O";
+      "\tproposition ping extends percept with priority = 3";
+      "";
+      "agent Ag uses ontology O";
+      "\tproperty n as integer = 0";
+      "\ton create do";
+      "\t\tactivate behaviour A";
+      "\t\tactivate behaviour B";
+      "";
+      "cyclic behaviour A for agent Ag";
+      "\ton percept when content matches ping do";
+      "\t\tdeactivate this";
+      "\t\tactivate behaviour C";
+      "";
+      "cyclic behaviour B for agent Ag";
+      "\ton percept when content matches ping do";
+      "\t\tn = n + 1";
+      "";
+      "cyclic behaviour C for agent Ag";
+      "\ton percept when content matches ping do";
+      "\t\tn = n + 10";
+      "" ] in
+  let env, diags = Typing.check [ Parse.string ~file:"ids.jade" text ] in
+  if Typing.has_errors diags then Alcotest.fail "the program does not check";
+  let pv = fst (Interp.Eval.percept_value env ~agent_type:"Ag" (Parse.expr ~file:"e" "ping")) in
+  let p = Mc.default_params in
+  let agent () = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
+  let (ar, br) = agent () and (ak, bk) = agent () in
+  let c = ref (RM.init p ~world:ar br) in
+  let t = Pk.of_config p (RM.init p ~world:ak bk) in
+  let ref_step () = match RM.step p !c with [] -> None | (l, c') :: _ -> c := c'; Some l in
+  c := RM.notify p !c pv 3; ignore (Pk.notify_event t pv ~default:3 ~priority:None);
+  (match ref_step (), Pk.step t with
+   | Some (Mc.Transfer 1), Some (Mc.Transfer 1) -> ()
+   | _ -> Alcotest.fail "a Transfer of one percept on both");
+  Alcotest.(check bool) "a dispatch, unobserved" true (Pk.dispatch t);
+  let rec follow () = match ref_step () with
+    | Some (Mc.End_dispatch _) -> () | Some _ -> follow () | None -> Alcotest.fail "no EndDispatch" in
+  follow ();
+  let ids (c : RM.t) = List.map (fun (a : Interp.Eval.beh Mc.instance) ->
+      Printf.sprintf "%d:%s" a.id (Interp.Eval.beh_type a.beh)) c.active in
+  Alcotest.(check (list string)) "the reference's ids" [ "2:B"; "3:C" ] (ids !c);
+  Alcotest.(check string) "the same configuration" (Show.config !c) (Show.config (Pk.to_config t))
+
 let () =
   Alcotest.run "packed" [
     ("rings", [
@@ -384,6 +490,8 @@ let () =
     ("codec", [ Alcotest.test_case "D32 every kind of value round-trips" `Quick codec_round_trip ]);
     ("agent", [
         Alcotest.test_case "objects, growth, order, refusals" `Quick packed_agent_unit;
+        Alcotest.test_case "D32 packed again, Dequeue finds the top bucket" `Quick packed_again_finds_top;
+        Alcotest.test_case "a dispatch by plan reserves the ids the rules reserve" `Quick plan_reserves_ids;
         Alcotest.test_case "= reference, the bench's program and two more types, 60 hosts" `Quick packed_bench_program;
         qcheck ~count:150 ~long_factor:10 "D32 packed = reference after every operation"
           (QCheck.pair Typed_gen.arb_program QCheck.small_nat) packed_equals_reference ]);

@@ -388,6 +388,7 @@ let agreement_cases () =
 module Fast_model_bodies = struct
   include Model.Bodies
   let percept_may_apply () (b : Model.beh) h p = List.mem p b.percept_handlers.(h - 1).accepts
+  let percept_kind p = if p >= 0 && p < 4096 then p else -1
 end
 
 module FE = Engine.Fast.Make (Fast_model_bodies)
