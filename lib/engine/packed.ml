@@ -187,6 +187,9 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     mutable pend_p : B.percept array;   (* [||] until the first notify *)
     mutable pend_prio : int;
     mutable pend_with : bool;
+    mutable plain_pend : (B.percept, B.obj) o2a_item list;
+      (* plain (and packable): the [pend] notifies' O2A items, newest
+         first, not yet in [c.o2a] *)
   }
 
   let packable p =
@@ -199,8 +202,12 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     if t.pend > 0 then begin
       let c = t.c in
       let seq = c.next_seq + t.pend in
-      let e = { p = t.pend_p.(0); prio = t.pend_prio; seq } in
-      t.c <- { c with next_seq = seq;
+      let (o2a, e) = match t.plain_pend with
+        | (O_percept e :: _) as items ->
+          t.plain_pend <- [];
+          (Fqueue.append_newest_first items t.pend c.o2a, e)
+        | _ -> (c.o2a, { p = t.pend_p.(0); prio = t.pend_prio; seq }) in
+      t.c <- { c with next_seq = seq; o2a;
                       phase = (if c.phase = Idle_phase then Transfer_phase else c.phase);
                       last = (if t.pend_with then Notify_with e else Notify e) };
       t.pend <- 0
@@ -277,7 +284,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
   let empty_state ~pack_above p c =
     { p; can_pack = packable p; is_packed = false; pack_above; c; codec = C.create (); o2a = Ring.create (); o2a_n = 0; after = Fqueue.empty;
       buckets = [||]; pq_n = 0; by_prio = Array.make small_prios no_bucket; top = 0;
-      pend = 0; pend_p = [||]; pend_prio = 0; pend_with = false }
+      pend = 0; pend_p = [||]; pend_prio = 0; pend_with = false; plain_pend = [] }
 
   (* A record pushed onto [ring]: its header ([x], a priority or a seq, with
      the tag the codec answers), then what the codec writes. *)
@@ -320,7 +327,8 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
   let backlog (c : M.t) = Fqueue.length c.o2a + Pqueue.size c.pq
 
   let maybe_pack t =
-    if t.can_pack && not t.is_packed && backlog t.c >= t.pack_above then pack_now t
+    if t.can_pack && not t.is_packed && backlog t.c + t.pend >= t.pack_above then begin
+      sync t; pack_now t end
 
   (* Nothing waits any more: plain again. The
      configuration is then the plain one: its O2A holds the objects, its
@@ -376,6 +384,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     end
 
   let waiting t =
+    sync t;
     if t.is_packed then t.o2a_n + t.pq_n
     else Fqueue.fold (fun n x -> match x with O_percept _ -> n + 1 | O_object _ -> n) 0 t.c.o2a
          + Pqueue.size t.c.pq
@@ -387,7 +396,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
 
   (* R2d: the O2A ring's percepts and the objects. *)
   let o2a_has_room t =
-    if not t.is_packed then M.o2a_has_room t.p t.c
+    if not t.is_packed then (sync t; M.o2a_has_room t.p t.c)
     else match t.p.o2a_capacity with
       | None -> true
       | Some cap -> t.o2a_n + Fqueue.length t.c.o2a < cap
@@ -403,13 +412,26 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     t.pend_prio <- prio;
     t.pend_with <- with_
 
+  (* The same, plain: the O2A item is made now (its seq is known) and
+     waits in [plain_pend] until [sync] appends the run to [c.o2a]; the
+     label is the last item's. Only where packing could be: the reference's
+     NotifyEffect there neither merges seqs (flood) nor keeps waits
+     (ghosts). *)
+  let notify_plain t percept prio ~with_ =
+    let e = { p = percept; prio; seq = t.c.next_seq + t.pend + 1 } in
+    t.plain_pend <- O_percept e :: t.plain_pend;
+    t.pend <- t.pend + 1;
+    t.pend_with <- with_
+
   let notify t percept prio =
     if t.is_packed then notify_effect t percept prio ~with_:false
-    else begin t.c <- M.notify t.p t.c percept prio; maybe_pack t end
+    else if t.can_pack then begin notify_plain t percept prio ~with_:false; maybe_pack t end
+    else t.c <- M.notify t.p t.c percept prio
 
   let notify_with t percept prio =
     if t.is_packed then notify_effect t percept prio ~with_:true
-    else begin t.c <- M.notify_with t.p t.c percept prio; maybe_pack t end
+    else if t.can_pack then begin notify_plain t percept prio ~with_:true; maybe_pack t end
+    else t.c <- M.notify_with t.p t.c percept prio
 
   let notify_event t percept ~default ~priority =
     match priority with
