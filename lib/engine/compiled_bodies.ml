@@ -27,9 +27,9 @@ type ctx = {
   mutable content : V.t;
   sf : Eval.frame;
   mutable id : int;
-  mutable pend : (int * int * Eval.frame) option;
-      (* what [ag.pending] holds while this handler's guard bindings wait for
-         its body (R3b): compared by address *)
+  mutable armed : int;
+      (* the guard's bindings wait for the body (R3b) while [armed] is the
+         number of the last guard evaluated ({!guards}) *)
 }
 
 (* A local that has no value yet (compared by address, never shown). *)
@@ -384,12 +384,15 @@ and assign ce (lv : Ast.lvalue) : ctx -> V.t -> unit =
 (* A handler compiled for a behaviour type and an agent type. *)
 type code = {
   nslots : int;
+  reset : int array;
+      (* the slots a guard must find without a value: all but those its
+         leftmost [content matches S(x, ...)] binds whenever it holds *)
   prop_names : string array;          (* the cells a run needs, by number *)
   guard : (ctx -> bool) option;
   body : ctx -> unit;
-  required : (string * (string * bool) list ref) option;
+  required : string option;
       (* the pre-test, as Interp_bodies': the schema the guard's leftmost
-         conjunct requires of content, and the answer per percept type *)
+         conjunct requires of content *)
 }
 
 let rec required_schema (e : Ast.expr) = match e.it with
@@ -422,9 +425,23 @@ let compile env (bt : T.behaviour) (at : T.agent) (h : T.handler) : code option 
     let required = match h.h_guard with
       | None -> None
       | Some g -> (match required_schema g with
-          | Some x when T.schema env x <> None -> Some (x, ref [])
+          | Some x when T.schema env x <> None -> Some x
           | _ -> None) in
-    Some { nslots = Hashtbl.length ce.locals; prop_names = Array.of_list (List.rev ce.prop_names);
+    (* the variables of the guard's leftmost conjunct, when that is
+       [content matches S(x1, ...)]: bound by any percept it holds for *)
+    let rec head (e : Ast.expr) = match e.it with
+      | Matches ({ it = Content; _ }, { it = PCons (_, ps); _ }) ->
+        List.filter_map (fun (q : Ast.pattern) -> match q.it with
+            | PName y when is_var ce y -> Some (bind ce y) | _ -> None) ps
+        @ (if List.for_all (fun (q : Ast.pattern) -> match q.it with
+            | PWild -> true | PName y -> is_var ce y | _ -> false) ps then [] else [ -1 ])
+      | Binop (And, l, _) -> head l
+      | _ -> [ -1 ] in
+    let bound = match h.h_guard with Some g -> head g | None -> [] in
+    let n = Hashtbl.length ce.locals in
+    let reset = if List.mem (-1) bound then Array.init n Fun.id
+      else Array.of_list (List.filter (fun i -> not (List.mem i bound)) (List.init n Fun.id)) in
+    Some { nslots = n; reset; prop_names = Array.of_list (List.rev ce.prop_names);
            guard; body; required }
 
 (* Handlers compiled, by the handler and the agent type (both by address):
@@ -450,7 +467,17 @@ type handler = Compiled of code * ctx | Fallback
 (* Kept with the instance (Eval.keep): its handlers, and what
    Interp_bodies keeps there for the handlers that fall back, which is put
    back in place while they run. *)
-type kept = { handlers : handler array; mutable inner : Eval.engine_slot; mutable self : Eval.engine_slot }
+type kept = {
+  handlers : handler array;
+  req : string array;
+      (* per handler, the schema its pre-test requires of content, or
+         {!no_pretest}, or {!falls_back} *)
+  memo : (string * bool) list array;
+      (* per handler, the pre-test's answer per percept type, by the type
+         name's address (the lexer and the type environment intern names) *)
+  mutable inner : Eval.engine_slot;
+  mutable self : Eval.engine_slot;
+}
 type Eval.engine_slot += Kept of kept
 
 (* The cell of property x for the instance: Eval.prop_cell's answer. *)
@@ -464,20 +491,7 @@ let make_ctx (a : Eval.agent) (b : Eval.beh) ~id (code : code) =
   if Array.exists Option.is_none cells then None   (* an initialiser failed: fall back *)
   else
     Some { ag = a; beh = b; slots = Array.make code.nslots unset; cells = Array.map Option.get cells;
-           content = V.Unit; sf = Eval.guard_frame a ~id b V.Unit; id; pend = None }
-
-let install (a : Eval.agent) ~id (b : Eval.beh) =
-  let handlers = Array.map (fun h ->
-      match code_for a.env b.btype a.atype h with
-      | None -> Fallback
-      | Some code -> (match make_ctx a b ~id code with Some c -> Compiled (code, c) | None -> Fallback))
-      b.phandlers in
-  let k = { handlers; inner = b.kept; self = Eval.Nothing_kept } in
-  k.self <- Kept k;
-  Eval.keep b k.self;
-  k
-
-let[@inline] kept a ~id (b : Eval.beh) = match b.kept with Kept k -> k | _ -> install a ~id b
+           content = V.Unit; sf = Eval.guard_frame a ~id b V.Unit; id; armed = -1 }
 
 (* Interp_bodies on the instance, its own slot in place. *)
 let with_inner (b : Eval.beh) k f =
@@ -486,78 +500,111 @@ let with_inner (b : Eval.beh) k f =
   | r -> k.inner <- b.kept; Eval.keep b k.self; r
   | exception x -> k.inner <- b.kept; Eval.keep b k.self; raise x
 
+(* Marks in [req] (compared by address). *)
+let no_pretest = String.make 1 '-'
+let falls_back = String.make 1 '*'
+
+let install (a : Eval.agent) ~id (b : Eval.beh) =
+  let handlers = Array.map (fun h ->
+      match code_for a.env b.btype a.atype h with
+      | None -> Fallback
+      | Some code -> (match make_ctx a b ~id code with Some c -> Compiled (code, c) | None -> Fallback))
+      b.phandlers in
+  let req = Array.map (function
+      | Compiled ({ required = Some x; _ }, _) -> x
+      | Compiled ({ required = None; _ }, _) -> no_pretest
+      | Fallback -> falls_back) handlers in
+  let k = { handlers; req; memo = Array.map (fun _ -> []) handlers; inner = b.kept; self = Eval.Nothing_kept } in
+  k.self <- Kept k;
+  Eval.keep b k.self;
+  k
+
+let[@inline] kept a ~id (b : Eval.beh) = match b.kept with Kept k -> k | _ -> install a ~id b
+
 (* ----------------------------------------------------- the bodies *)
 
 include (Interp_bodies : Semantics.Machine.BODIES
          with type percept = V.t and type message = Eval.message and type obj = V.t
           and type beh = Eval.beh and type world = Eval.agent)
 
+(* Interp_bodies' pre-test, on this instance's own memo: [false] only
+   where the guard's leftmost [content matches S...] is surely false, with
+   no effect. *)
+let may_apply_slow (a : Eval.agent) b k h p =
+  let x = k.req.(h - 1) in
+  if x == falls_back then with_inner b k (fun () -> Interp_bodies.percept_may_apply a b h p)
+  else if x == no_pretest then true
+  else match p with
+    | V.Schema { sname = n; _ } ->
+      let memo = k.memo.(h - 1) in
+      (match List.find_opt (fun (m, _) -> String.equal m n) memo with
+       | Some (_, r) -> r
+       | None ->
+         let r = String.equal x n || T.subschema a.env n x in
+         k.memo.(h - 1) <- (n, r) :: memo; r)
+    | _ -> true
+
 let rec memo_by_address n = function
   | (m, r) :: rest -> if m == n then (if r then 1 else 0) else memo_by_address n rest
   | [] -> -1
 
-(* Interp_bodies.may_apply, on the compiled handler's own memo. *)
-let may_apply (a : Eval.agent) code (p : V.t) =
-  match code.required, p with
-  | Some (x, memo), V.Schema s ->
-    let n = s.sname in
-    x == n
-    || (match memo_by_address n !memo with
+let percept_may_apply a (b : Eval.beh) h p =
+  match b.kept, p with
+  | Kept k, V.Schema { sname = n; _ } ->
+    n == Array.unsafe_get k.req (h - 1)
+    || (match memo_by_address n (Array.unsafe_get k.memo (h - 1)) with
         | 1 -> true
         | 0 -> false
-        | _ ->
-          match List.find_opt (fun (m, _) -> String.equal m n) !memo with
-          | Some (_, r) -> r
-          | None ->
-            let r = String.equal x n || T.subschema a.env n x in
-            memo := (n, r) :: !memo; r)
-  | _ -> true
+        | _ -> may_apply_slow a b k h p)
+  | Kept k, _ -> may_apply_slow a b k h p
+  | _, _ -> may_apply_slow a b (kept a ~id:0 b) h p
 
-let percept_may_apply a (b : Eval.beh) h p =
-  let k = kept a ~id:0 b in
-  match k.handlers.(h - 1) with
-  | Compiled (code, _) -> may_apply a code p
-  | Fallback -> with_inner b k (fun () -> Interp_bodies.percept_may_apply a b h p)
+(* Guards evaluated so far, compiled or not. A compiled guard that holds
+   records the number of its own evaluation; its bindings are still waiting
+   for the body when no guard was evaluated since (what [a.pending] says in
+   the reference: the machine runs a body right after its guard, in the same
+   rule, on the same agent). D38. *)
+let guards = ref 0
 
 (* R3b, as Eval.Bodies.percept_applicable: the guard in fresh locals; an
-   error makes the handler not applicable and is recorded; the bindings wait
-   in [a.pending] for the body. *)
+   error makes the handler not applicable and is recorded. No pre-test
+   here: a guard whose leftmost [content matches S...] is false is false at
+   once, with no effect, as the pre-test would answer. *)
 let percept_applicable (a : Eval.agent) ~id (b : Eval.beh) h p =
   let k = kept a ~id b in
-  match k.handlers.(h - 1) with
+  incr guards;
+  match Array.unsafe_get k.handlers (h - 1) with
   | Fallback -> with_inner b k (fun () -> Interp_bodies.percept_applicable a ~id b h p)
   | Compiled (code, c) ->
-    if not (may_apply a code p) then begin
-      (match a.pending with None -> () | Some _ -> a.pending <- None);
-      (a, false)
-    end else begin
-      Array.fill c.slots 0 (Array.length c.slots) unset;
-      c.content <- p;
-      let ok = match code.guard with
-        | None -> true
-        | Some g -> (try g c with x when Eval.record_error a x -> false) in
-      c.id <- id;
-      if ok then begin
-        (match c.pend with
-         | Some (i, _, _) as q when i = id -> a.pending <- q
-         | _ -> let q = Some (id, h, c.sf) in c.pend <- q; a.pending <- q)
-      end else (match a.pending with None -> () | Some _ -> a.pending <- None);
-      (a, ok)
-    end
+    (* what the reference leaves in [a.pending] for a body of another
+       handler: nothing it can use (the bindings wait here) *)
+    (match a.pending with None -> () | Some _ -> a.pending <- None);
+    let reset = code.reset in
+    for i = 0 to Array.length reset - 1 do
+      Array.unsafe_set c.slots (Array.unsafe_get reset i) unset
+    done;
+    c.content <- p;
+    c.id <- id;
+    let ok = match code.guard with
+      | None -> true
+      | Some g -> (try g c with x when Eval.record_error a x -> false) in
+    c.armed <- (if ok then !guards else -1);
+    (a, ok)
 
 (* The body in the guard's bindings when they wait for it, else in fresh
    locals (Eval.Bodies.run_percept_handler); a fresh step budget. *)
 let run_percept_handler (a : Eval.agent) ~id (b : Eval.beh) h p =
   let k = kept a ~id b in
-  match k.handlers.(h - 1) with
-  | Fallback -> with_inner b k (fun () -> Interp_bodies.run_percept_handler a ~id b h p)
+  match Array.unsafe_get k.handlers (h - 1) with
+  | Fallback -> incr guards; with_inner b k (fun () -> Interp_bodies.run_percept_handler a ~id b h p)
   | Compiled (code, c) ->
-    (match a.pending with
-     | Some (i, _, _) as q when q == c.pend && i = id && c.content == p -> a.pending <- None
-     | q ->
-       (match q with None -> () | Some _ -> a.pending <- None);
-       Array.fill c.slots 0 (Array.length c.slots) unset;
-       c.content <- p; c.id <- id);
+    if c.armed = !guards && c.id = id && c.content == p then c.armed <- -1
+    else begin
+      (match a.pending with None -> () | Some _ -> a.pending <- None);
+      Array.fill c.slots 0 (Array.length c.slots) unset;
+      c.content <- p; c.id <- id
+    end;
+    incr guards;   (* the bindings are used once *)
     Eval.reset_fuel c.sf;
     (try code.body c with
      | Ret | Brk | Cont -> ()
