@@ -256,6 +256,10 @@ let unit_cases = [
   ("modulo by zero", tick, [ "log 10 % (k - 4)" ], "tick(4)", "division by zero");
   ("D8 32-bit integers", tick, [ "big = big + k * 1000"; "log big * 2" ], "tick(4)", "big=-2147480296");
   ("float and double properties", tick, [ "small = k"; "ratio = k / 3"; "s as double = k"; "log s / 3" ], "tick(4)", "small=");
+  (* Eval applies equal_values to (expr f l) (expr f r): the right side is
+     evaluated first, and its error is the one recorded *)
+  ("= evaluates its right side first", tick, [ "log counts[k] = 10 / (k - 4)" ], "tick(4)", "division by zero");
+  ("< evaluates its right side first", tick, [ "log counts[k] < items[k]" ], "tick(4)", "out of bounds");
   ("comparisons, and, or, not", tick, [ "log (k > 3 and not (k = 5)) or k < 0"; "log k >= 4 and k <= 4 and k != 3" ],
    "tick(4)", "true");
   ("text concatenation", tick, [ "log \"a\" + k + 1.5 + true" ], "tick(4)", "a41.5true");
