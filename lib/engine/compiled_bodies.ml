@@ -27,6 +27,9 @@ type ctx = {
   mutable content : V.t;
   sf : Eval.frame;
   mutable id : int;
+  yes : Eval.agent * bool;      (* what the bodies answer, made once *)
+  no : Eval.agent * bool;
+  ran : Eval.agent * Eval.beh Semantics.Machine.effect list;   (* no effects *)
   mutable armed : int;
       (* the guard's bindings wait for the body (R3b) while [armed] is the
          number of the last guard evaluated ({!guards}) *)
@@ -78,6 +81,13 @@ let prop_of ce x =
       Hashtbl.replace ce.props x j; ce.prop_names <- x :: ce.prop_names; Some j
 
 let is_var ce x = T.schema ce.env x = None
+
+(* The schema name [x] as the type environment spells it, when that is the
+   same text: the string percept values are usually built with
+   (Eval.percept_value), so that most comparisons are one of addresses. *)
+let interned env x = match T.schema env x with
+  | Some s when String.equal s.s_name x -> s.s_name
+  | _ -> x
 
 (* The names that may become locals: pattern variables, [x as T = e],
    [for x in], and [x = e] where x is no property. *)
@@ -251,7 +261,7 @@ and matches ce x (p : Ast.pattern) =
     | _ -> None in
   match p.it with
   | PCons (k, ps) when List.for_all (fun q -> var q <> None) ps ->
-    let k = k.it and vars = Array.of_list (List.map (fun q -> Option.get (var q)) ps) in
+    let k = interned ce.env k.it and vars = Array.of_list (List.map (fun q -> Option.get (var q)) ps) in
     let n = Array.length vars in
     fun c ->
       (match x c with
@@ -263,6 +273,13 @@ and matches ce x (p : Ast.pattern) =
            done;
            vtrue
          end else general c v
+       | v -> general c v)
+  | PName k when not (is_var ce k) ->
+    (* a schema: the value's own is Eval.pattern's first case *)
+    let k = interned ce.env k in
+    fun c ->
+      (match x c with
+       | V.Schema s as v -> if s.sname == k || String.equal s.sname k then vtrue else general c v
        | v -> general c v)
   | _ -> fun c -> general c (x c)
 
@@ -278,6 +295,26 @@ let rec block ce (b : Ast.block) : ctx -> unit =
 and stmt ce (s : Ast.stmt) : ctx -> unit =
   let at = s.at in
   match s.it with
+  | Assign (({ it = LName x; _ } as lv), e) ->
+    (* the common places, each one closure *)
+    let e = expr ce e in
+    (match Hashtbl.find_opt ce.locals x, prop_of ce x with
+     | Some i, None -> fun c -> tick c at; let v = e c in Array.unsafe_set c.slots i v
+     | None, Some j -> fun c -> tick c at; let v = e c in Eval.set_cell (Array.unsafe_get c.cells j) v
+     | _ -> let a = assign ce lv in fun c -> tick c at; a c (e c))
+  | Assign ({ it = LIndex (m, k); at = lat }, e) ->
+    let e = expr ce e and m = expr ce m and k = expr ce k in
+    fun c ->
+      tick c at;
+      let v = e c in
+      let mv = m c in
+      let kv = k c in
+      (match mv, kv with
+       | V.Map mm, _ -> Eval.map_set_bounded lat mm kv v
+       | V.List l, V.Int i ->
+         if i < 0 || i >= l.len then Eval.err lat "index %d is out of bounds (the list has %d elements)" i l.len;
+         l.items.(i) <- v
+       | _ -> Eval.err lat "cannot index a %s" (V.type_name mv))
   | Assign (lv, e) -> let e = expr ce e in let a = assign ce lv in fun c -> tick c at; a c (e c)
   | Local (x, ty, e) ->
     let e = expr ce e and i = slot_of ce x.it in
@@ -425,7 +462,7 @@ let compile env (bt : T.behaviour) (at : T.agent) (h : T.handler) : code option 
     let required = match h.h_guard with
       | None -> None
       | Some g -> (match required_schema g with
-          | Some x when T.schema env x <> None -> Some x
+          | Some x when T.schema env x <> None -> Some (interned env x)
           | _ -> None) in
     (* the variables of the guard's leftmost conjunct, when that is
        [content matches S(x1, ...)]: bound by any percept it holds for *)
@@ -491,7 +528,8 @@ let make_ctx (a : Eval.agent) (b : Eval.beh) ~id (code : code) =
   if Array.exists Option.is_none cells then None   (* an initialiser failed: fall back *)
   else
     Some { ag = a; beh = b; slots = Array.make code.nslots unset; cells = Array.map Option.get cells;
-           content = V.Unit; sf = Eval.guard_frame a ~id b V.Unit; id; armed = -1 }
+           content = V.Unit; sf = Eval.guard_frame a ~id b V.Unit; id; armed = -1;
+           yes = (a, true); no = (a, false); ran = (a, []) }
 
 (* Interp_bodies on the instance, its own slot in place. *)
 let with_inner (b : Eval.beh) k f =
@@ -589,7 +627,7 @@ let percept_applicable (a : Eval.agent) ~id (b : Eval.beh) h p =
       | None -> true
       | Some g -> (try g c with x when Eval.record_error a x -> false) in
     c.armed <- (if ok then !guards else -1);
-    (a, ok)
+    if c.ag != a then (a, ok) else if ok then c.yes else c.no
 
 (* The body in the guard's bindings when they wait for it, else in fresh
    locals (Eval.Bodies.run_percept_handler); a fresh step budget. *)
@@ -609,7 +647,9 @@ let run_percept_handler (a : Eval.agent) ~id (b : Eval.beh) h p =
     (try code.body c with
      | Ret | Brk | Cont -> ()
      | x -> Eval.recover a x);
-    (a, Eval.take_ran a h)
+    match Eval.take_ran a h with
+    | [] when c.ag == a -> c.ran
+    | effs -> (a, effs)
 
 let compiled_handlers a ~id b =
   let k = kept a ~id b in
