@@ -481,21 +481,23 @@ let compile env (bt : T.behaviour) (at : T.agent) (h : T.handler) : code option 
     Some { nslots = n; reset; prop_names = Array.of_list (List.rev ce.prop_names);
            guard; body; required }
 
-(* Handlers compiled, by the handler and the agent type (both by address):
-   a behaviour activated many times is compiled once. The newest few are
-   kept. *)
-let compiled : (T.handler * T.agent * code option) list ref = ref []
+(* Handlers compiled, by the handler, the behaviour type and the agent type
+   (all by address: a handler inherited by a behaviour type is the very one
+   of its super type, and means something else where the subtype declares
+   more properties): a behaviour activated many times is compiled once. The
+   newest few are kept. *)
+let compiled : (T.handler * T.behaviour * T.agent * code option) list ref = ref []
 let cache_size = 64
 
 let code_for env bt at h =
   let rec find = function
     | [] -> None
-    | (h', a', c) :: rest -> if h' == h && a' == at then Some c else find rest in
+    | (h', b', a', c) :: rest -> if h' == h && b' == bt && a' == at then Some c else find rest in
   match find !compiled with
   | Some c -> c
   | None ->
     let c = compile env bt at h in
-    compiled := (h, at, c) :: List.filteri (fun i _ -> i < cache_size - 1) !compiled;
+    compiled := (h, bt, at, c) :: List.filteri (fun i _ -> i < cache_size - 1) !compiled;
     c
 
 (* What one handler of an instance runs: compiled, or Interp_bodies'. *)

@@ -309,9 +309,36 @@ let fallback_case () =
   let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
   Alcotest.(check int) "not compiled" 0 (CB.compiled_handlers a ~id:1 (List.hd behs))
 
+(* A handler inherited by a behaviour subtype is the very handler of its
+   super type; where the subtype declares a property of a name the handler
+   uses as a local, it means the property there. *)
+let inherited_handler () =
+  let text = String.concat "\n" [
+      "ontology W";
+      "\tpredicate tick(n as integer) extends percept with priority = 3";
+      "agent Ag uses ontology W";
+      "\tproperty total as integer = 0";
+      "\ton create do";
+      "\t\tactivate behaviour Parent";
+      "\t\tactivate behaviour Child";
+      "cyclic behaviour Parent for agent Ag";
+      "\ton percept when content matches tick(k) do";
+      "\t\tx = k";
+      "\t\ttotal = total + x";
+      "cyclic behaviour Child extends Parent for agent Ag";
+      "\tproperty x as integer = 0";
+      "" ] in
+  let env = check_program ~file:"inherit.jade" text in
+  let tick n = fst (Interp.Eval.percept_value env ~agent_type:"Ag" (Parse.expr ~file:"e" (Printf.sprintf "tick(%d)" n))) in
+  match compare_runs ~env ~text ~fuel:500 ~params:Mc.default_params ~agent_args:[]
+          [ Notify (tick 3, 3); Dispatches 2; Notify (tick 5, 3); Steps 20 ] with
+  | (n, t) -> Alcotest.(check int) "both instances' handlers compiled" t n
+  | exception QCheck.Test.Test_fail (_, msgs) -> Alcotest.fail (String.concat "\n" msgs)
+
 let () =
   Alcotest.run "compiled" [
-    ("constructs", unit_tests @ [ Alcotest.test_case "a send falls back" `Quick fallback_case ]);
+    ("constructs", unit_tests @ [ Alcotest.test_case "a send falls back" `Quick fallback_case;
+                                  Alcotest.test_case "an inherited handler, a property of the subtype" `Quick inherited_handler ]);
     ("runs", [
         Alcotest.test_case "every construct and error, 300 seeds, fuel tiny to generous" `Quick constructs_over_seeds;
         qcheck ~count:300 ~long_factor:10 "compiled = reference, random programs and events"
