@@ -591,8 +591,8 @@ let rec memo_by_address n = function
 let percept_may_apply a (b : Eval.beh) h p =
   match b.kept, p with
   | Kept k, V.Schema { sname = n; _ } ->
-    n == Array.unsafe_get k.req (h - 1)
-    || (match memo_by_address n (Array.unsafe_get k.memo (h - 1)) with
+    n == k.req.(h - 1)
+    || (match memo_by_address n k.memo.(h - 1) with
         | 1 -> true
         | 0 -> false
         | _ -> may_apply_slow a b k h p)
@@ -613,7 +613,7 @@ let guards = ref 0
 let percept_applicable (a : Eval.agent) ~id (b : Eval.beh) h p =
   let k = kept a ~id b in
   incr guards;
-  match Array.unsafe_get k.handlers (h - 1) with
+  match k.handlers.(h - 1) with
   | Fallback -> with_inner b k (fun () -> Interp_bodies.percept_applicable a ~id b h p)
   | Compiled (code, c) ->
     (* what the reference leaves in [a.pending] for a body of another
@@ -635,7 +635,7 @@ let percept_applicable (a : Eval.agent) ~id (b : Eval.beh) h p =
    locals (Eval.Bodies.run_percept_handler); a fresh step budget. *)
 let run_percept_handler (a : Eval.agent) ~id (b : Eval.beh) h p =
   let k = kept a ~id b in
-  match Array.unsafe_get k.handlers (h - 1) with
+  match k.handlers.(h - 1) with
   | Fallback -> incr guards; with_inner b k (fun () -> Interp_bodies.run_percept_handler a ~id b h p)
   | Compiled (code, c) ->
     if c.armed = !guards && c.id = id && c.content == p then c.armed <- -1
