@@ -592,7 +592,7 @@ let percept_may_apply a (b : Eval.beh) h p =
   match b.kept, p with
   | Kept k, V.Schema { sname = n; _ } ->
     n == k.req.(h - 1)
-    || (match memo_by_address n k.memo.(h - 1) with
+    || (match memo_by_address n (Array.unsafe_get k.memo (h - 1)) with   (* as long as [req] *)
         | 1 -> true
         | 0 -> false
         | _ -> may_apply_slow a b k h p)
