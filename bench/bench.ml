@@ -227,7 +227,7 @@ module V = Interp.Value
 
 (* The packed agent (lib/engine/packed.ml): the fast engine with the waiting
    percepts as ints in rings, what the steady run and the floods drive. *)
-module PK = Engine.Packed.Make (Engine.Interp_bodies) (Engine.Percept_codec)
+module PK = Engine.Packed.Make (Engine.Compiled_bodies) (Engine.Percept_codec)
 
 let load_program file =
   let r = Syntax.Parse.file file in

@@ -787,6 +787,9 @@ let guard_frame a ~id b p = frame a ~beh:b ~id ~content:p ()
 let bind_local (f : frame) x v = local_set f.locals x v
 let condition_part (f : frame) ~(whole : Ast.expr) (part : Ast.expr) = condition_value whole (expr f part)
 
+(* What lib/engine/compiled_bodies.ml reuses of the rules above, unchanged. *)
+let reset_fuel (f : frame) = f.fuel := f.ag.fuel_limit
+
 module Bodies = struct
   type percept = V.t
   type nonrec message = message

@@ -212,6 +212,76 @@ val condition_part : frame -> whole:Syntax.Ast.expr -> Syntax.Ast.expr -> bool
 (** The value of [part], a conjunct of the [when] condition [whole], which
     must be a boolean. @raise Trap *)
 
+(** {2 What the compiled percept handlers reuse}
+
+    [lib/engine/compiled_bodies.ml] compiles percept handlers to closures;
+    every rule it needs is one of these, exactly as the evaluator above uses
+    it. A frame made by {!guard_frame} gives the rules that read a frame
+    (names, [of], patterns, the step budget) the agent and the behaviour. *)
+
+val err : Syntax.Source.region -> ('a, unit, string, 'b) format4 -> 'a
+(** Raises a {!Trap} with the formatted message. *)
+
+val lookup : frame -> Syntax.Source.region -> string -> Value.t
+(** The value of a name: a local of the frame, else a property (the
+    behaviour's, then the agent's), else a schema without slots, else the
+    trap ["unknown name"]. *)
+
+val set_cell : cell -> Value.t -> unit
+(** Assigns a property, converted to its declared type. *)
+
+val coerce : Typing.Types.t -> Value.t -> Value.t
+
+val literal : Syntax.Ast.literal -> Value.t
+
+val pattern : frame -> (string * Value.t) list ref -> Syntax.Ast.pattern -> Value.t -> bool
+(** Does the value match the pattern? Its variables' bindings are added to
+    the list, newest first. *)
+
+val of_ : frame -> Syntax.Source.region -> string -> Value.t -> Value.t
+(** [p of v]. *)
+
+val slot : Syntax.Source.region -> Value.schema_v -> string -> Value.t ref
+
+val construct : Typing.Tenv.t -> Syntax.Source.region -> string -> Value.t list -> Value.t
+(** A schema value built by its constructor (R1c conversions of its slots). *)
+
+val arith : Syntax.Source.region -> Syntax.Ast.binop -> Value.t -> Value.t -> Value.t
+(** [+ - * / %] on numbers (D8: integers are 32-bit). *)
+
+val compare_values : Syntax.Source.region -> Syntax.Ast.binop -> Value.t -> Value.t -> Value.t
+(** [< > <= >=]. *)
+
+val equal_values : Syntax.Source.region -> Value.t -> Value.t -> bool
+(** [=] (D37: an exhaustion error past {!Value.max_visits} values). *)
+
+val map_set_bounded : Syntax.Source.region -> Value.map_v -> Value.t -> Value.t -> unit
+(** [m[k] = v] within D21's and D37's bounds. *)
+
+val too_large_to_compare : Syntax.Source.region -> 'a
+val too_big : Syntax.Source.region -> string -> 'a
+
+val bounded_text : quote:bool -> Syntax.Source.region -> Value.t -> Value.t
+(** The value, when its text (or literal) is at most {!max_text} bytes long;
+    an exhaustion error otherwise. *)
+
+val check_memory : Syntax.Source.region -> unit
+(** D22's comparison of the heap with [--max-memory]. *)
+
+val tick : frame -> Syntax.Source.region -> unit
+(** One statement or loop iteration of the frame's step budget. *)
+
+val reset_fuel : frame -> unit
+(** A fresh step budget for the frame, as a handler body gets. *)
+
+val recover : agent -> exn -> unit
+(** What ends a body: [return], [break] and [continue] nothing, a run-time
+    error recorded, any other exception raised again. *)
+
+val take_ran : agent -> int -> beh Semantics.Machine.effect list
+(** The effects of the body that just ran ([handler], 0 for an action
+    block), recorded in a [Ran] event when the agent records them. *)
+
 (** {1 The bodies}
 
     The reference: every percept guard is evaluated by the general rules,

@@ -1,6 +1,6 @@
 module P = Semantics.Platform.Make (Eval.Bodies)
 module M = P.M
-module E = Engine.Fast.Make (Engine.Interp_bodies)
+module E = Engine.Fast.Make (Engine.Compiled_bodies)   (* issue 17: percept handlers compiled *)
 module Mc = Semantics.Machine
 module T = Typing.Tenv
 

@@ -6,7 +6,7 @@
 module P : module type of Semantics.Platform.Make (Eval.Bodies)
 (** The platform of the reference machine and bodies. *)
 
-module E : module type of Engine.Fast.Make (Engine.Interp_bodies)
+module E : module type of Engine.Fast.Make (Engine.Compiled_bodies)
 (** The fast engine the runs take their rules from (lib/engine). *)
 
 type t

@@ -1,0 +1,662 @@
+(* Percept handlers compiled to OCaml closures (issue 17): the same rules as
+   Eval's, with the names resolved and the dispatch on the syntax done once.
+   Every rule that computes something is Eval's own (arith, compare_values,
+   equal_values, pattern, map_set_bounded, tick, set_cell...); what is here
+   is only the walk over the tree, done once instead of per run.
+   docs/semantics.md, "Compiled percept handlers" (D38). *)
+
+module Eval = Interp_eval.Eval
+module V = Interp_eval.Value
+module T = Typing.Tenv
+module Ty = Typing.Types
+module Ast = Syntax.Ast
+module Names = Syntax.Strtbl
+
+(* ------------------------------------------------------------ runs *)
+
+(* What one handler of one behaviour instance runs on: the slots of its
+   locals (pattern variables and locals, by number), the cells of the
+   properties it names (by number), the percept, and a frame of Eval's for
+   the rules that take one (the step budget, [of], patterns, names not
+   resolved). *)
+type ctx = {
+  ag : Eval.agent;
+  beh : Eval.beh;
+  slots : V.t array;
+  cells : Eval.cell array;
+  mutable content : V.t;
+  sf : Eval.frame;
+  mutable id : int;
+  yes : Eval.agent * bool;      (* what the bodies answer, made once *)
+  no : Eval.agent * bool;
+  ran : Eval.agent * Eval.beh Semantics.Machine.effect list;   (* no effects *)
+  mutable armed : int;
+      (* the guard's bindings wait for the body (R3b) while [armed] is the
+         number of the last guard evaluated ({!guards}) *)
+}
+
+(* A local that has no value yet (compared by address, never shown). *)
+let unset : V.t = V.Text "(unset)"
+
+let vtrue = V.Bool true
+let vfalse = V.Bool false
+let[@inline] vbool b = if b then vtrue else vfalse
+
+(* What ends a compiled body or loop early, as Eval's Return, Break and
+   Continue do there. *)
+exception Ret
+exception Brk
+exception Cont
+
+(* A construct this compiler does not take: the handler falls back. *)
+exception Unsupported
+
+(* ------------------------------------------------------ compiling *)
+
+(* What the compiler knows of the handler's names. A local name has a slot;
+   a property name (declared by the behaviour or the agent) has a cell,
+   found per instance. A name can be both: a local shadows the property
+   once it has a value (Eval.lookup, Eval.assign_name). *)
+type cenv = {
+  env : T.t;
+  bname : string;
+  aname : string;
+  locals : (string, int) Hashtbl.t;
+  props : (string, int) Hashtbl.t;
+  declared : string list;          (* the properties the code may name *)
+  mutable prop_names : string list;  (* by number, newest first *)
+}
+
+let slot_of ce x =
+  match Hashtbl.find_opt ce.locals x with
+  | Some i -> i
+  | None -> let i = Hashtbl.length ce.locals in Hashtbl.replace ce.locals x i; i
+
+let prop_of ce x =
+  if not (List.mem x ce.declared) then None
+  else match Hashtbl.find_opt ce.props x with
+    | Some j -> Some j
+    | None ->
+      let j = Hashtbl.length ce.props in
+      Hashtbl.replace ce.props x j; ce.prop_names <- x :: ce.prop_names; Some j
+
+let is_var ce x = T.schema ce.env x = None
+
+(* The schema name [x] as the type environment spells it, when that is the
+   same text: the string percept values are usually built with
+   (Eval.percept_value), so that most comparisons are one of addresses. *)
+let interned env x = match T.schema env x with
+  | Some s when String.equal s.s_name x -> s.s_name
+  | _ -> x
+
+(* The names that may become locals: pattern variables, [x as T = e],
+   [for x in], and [x = e] where x is no property. *)
+let rec scan_pattern ce (p : Ast.pattern) = match p.it with
+  | PName x when is_var ce x -> ignore (slot_of ce x)
+  | PCons (_, ps) -> List.iter (scan_pattern ce) ps
+  | _ -> ()
+
+let rec scan_expr ce (e : Ast.expr) = match e.it with
+  | Matches (x, p) -> scan_expr ce x; scan_pattern ce p
+  | List es | Call (_, es) -> List.iter (scan_expr ce) es
+  | Map kvs -> List.iter (fun (k, v) -> scan_expr ce k; scan_expr ce v) kvs
+  | Index (a, b) | Binop (_, a, b) -> scan_expr ce a; scan_expr ce b
+  | Of (_, x) | Unop (_, x) -> scan_expr ce x
+  | Invoke i -> scan_expr ce i.target; List.iter (scan_expr ce) i.args
+  | Lit _ | Name _ | This | Agent | Content | Message -> ()
+
+let rec scan_block ce b = List.iter (scan_stmt ce) b
+and scan_stmt ce (s : Ast.stmt) = match s.it with
+  | Assign (lv, e) ->
+    scan_expr ce e;
+    (match lv.it with
+     | LName x -> if not (List.mem x ce.declared) then ignore (slot_of ce x)
+     | LOf (_, e) -> scan_expr ce e
+     | LIndex (a, b) -> scan_expr ce a; scan_expr ce b)
+  | Local (x, _, e) -> scan_expr ce e; ignore (slot_of ce x.it)
+  | For (x, e, b) -> scan_expr ce e; ignore (slot_of ce x.it); scan_block ce b
+  | If (bs, els) ->
+    List.iter (fun (c, b) -> scan_expr ce c; scan_block ce b) bs;
+    Option.iter (scan_block ce) els
+  | While (c, b) -> scan_expr ce c; scan_block ce b
+  | Log e -> scan_expr ce e
+  | Return (Some e) -> scan_expr ce e
+  | _ -> ()
+
+(* Reading a name: Eval.lookup, resolved. *)
+let name ce at x : ctx -> V.t =
+  match Hashtbl.find_opt ce.locals x, prop_of ce x with
+  | Some i, Some j -> fun c -> let v = Array.unsafe_get c.slots i in if v != unset then v else c.cells.(j).Eval.v
+  | Some i, None -> fun c -> let v = Array.unsafe_get c.slots i in if v != unset then v else Eval.lookup c.sf at x
+  | None, Some j -> fun c -> c.cells.(j).Eval.v
+  | None, None ->
+    match T.schema ce.env x with
+    | Some s when s.s_slots = [] ->
+      let v = V.Schema { sname = s.s_name; slots = [||] } in fun _ -> v
+    | _ -> raise Unsupported
+
+(* Binding a pattern variable (Eval's local_set). *)
+let bind ce x = match Hashtbl.find_opt ce.locals x with
+  | Some i -> i
+  | None -> raise Unsupported
+
+(* The messages of the rules written inline in Eval.expr and Eval.stmt
+   (eval.ml), word for word. *)
+let not_boolean at what v = Eval.err at "%s needs booleans, not a %s" what (V.type_name v)
+let condition_not_boolean at v = Eval.err at "a condition is a boolean, not a %s" (V.type_name v)
+
+let rec expr ce (e : Ast.expr) : ctx -> V.t =
+  let at = e.at in
+  match e.it with
+  | Lit l -> let v = Eval.literal l in fun _ -> v
+  | Name x -> name ce at x
+  | This -> fun c -> V.Behaviour_ref c.beh.Eval.uid
+  | Agent -> fun c -> V.Agent_ref c.ag.Eval.name
+  | Content -> fun c -> c.content
+  | Message -> raise Unsupported
+  | List es ->
+    let es = List.map (expr ce) es in
+    fun c -> V.list_of (List.map (fun e -> e c) es)
+  | Map kvs ->
+    let kvs = List.map (fun (k, v) -> (expr ce k, expr ce v)) kvs in
+    fun c ->
+      let m = V.map_empty () in
+      (match m with
+       | V.Map mv ->
+         List.iter (fun (k, v) ->
+             let v = v c in            (* the value before its key *)
+             let k = k c in
+             try V.map_set mv k v with V.Too_large -> Eval.too_large_to_compare at) kvs
+       | _ -> ());
+      m
+  | Call (g, args) ->
+    if T.behaviour_function ce.env ce.bname g.it <> None || T.agent_function ce.env ce.aname g.it <> None
+    then raise Unsupported;
+    let g = g.it and env = ce.env in
+    let args = List.map (expr ce) args in
+    fun c ->
+      (match g, List.map (fun a -> a c) args with
+       | "aid", [ V.Text n ] -> V.Aid n
+       | "aid", [ V.Aid n ] -> V.Aid n
+       | _, args -> Eval.construct env at g args)
+  | Index (m, k) ->
+    let m = expr ce m and k = expr ce k in
+    fun c ->
+      let mv = m c in
+      let kv = k c in
+      (match mv, kv with
+       | V.List l, V.Int i ->
+         if i < 0 || i >= l.len then Eval.err at "index %d is out of bounds (the list has %d elements)" i l.len;
+         l.items.(i)
+       | V.Map m, _ ->
+         (match (try V.map_find m kv with V.Too_large -> Eval.too_large_to_compare at) with
+          | Some v -> v
+          | None -> Eval.err at "the map has no key %s" (V.to_literal kv))
+       | _ -> Eval.err at "cannot index a %s" (V.type_name mv))
+  | Of (p, x) -> let p = p.it and x = expr ce x in fun c -> Eval.of_ c.sf at p (x c)
+  | Matches (x, p) -> matches ce x p
+  | Unop (Not, x) ->
+    let x = expr ce x in
+    fun c -> (match x c with V.Bool b -> vbool (not b) | v -> Eval.err at "not needs a boolean, not a %s" (V.type_name v))
+  | Unop (Neg, x) ->
+    let x = expr ce x in
+    fun c -> (match x c with
+        | V.Int i -> V.int32 (- i) | V.Float x -> V.Float (-. x) | V.Double x -> V.Double (-. x)
+        | v -> Eval.err at "cannot negate a %s" (V.type_name v))
+  | Binop (And, l, r) ->
+    let l = expr ce l and r = expr ce r in
+    fun c -> (match l c with V.Bool false -> vfalse | V.Bool true -> r c | v -> not_boolean at "and" v)
+  | Binop (Or, l, r) ->
+    let l = expr ce l and r = expr ce r in
+    fun c -> (match l c with V.Bool true -> vtrue | V.Bool false -> r c | v -> not_boolean at "or" v)
+  (* Eval applies equal_values and compare_values to (expr f l) (expr f r):
+     OCaml evaluates those arguments right to left, and so does this. *)
+  | Binop (Eq, l, r) ->
+    let l = expr ce l and r = expr ce r in
+    fun c -> let b = r c in let a = l c in vbool (Eval.equal_values at a b)
+  | Binop (Neq, l, r) ->
+    let l = expr ce l and r = expr ce r in
+    fun c -> let b = r c in let a = l c in vbool (not (Eval.equal_values at a b))
+  | Binop ((Lt | Gt | Le | Ge) as op, l, r) ->
+    let l = expr ce l and r = expr ce r in
+    fun c -> let b = r c in let a = l c in Eval.compare_values at op a b
+  | Binop (Add, l, r) ->
+    let l = expr ce l and r = expr ce r in
+    fun c ->
+      let a = l c in
+      let b = r c in
+      (match a, b with
+       | V.Int x, V.Int y -> V.int32 (x + y)   (* Eval.arith's integer case *)
+       | V.Text _, _ | _, V.Text _ ->
+         let a = V.to_text (Eval.bounded_text ~quote:false at a)
+         and b = V.to_text (Eval.bounded_text ~quote:false at b) in
+         if String.length a + String.length b > Eval.max_text then Eval.too_big at "the text would be too long";
+         if String.length a + String.length b > 65536 then Eval.check_memory at;
+         V.Text (a ^ b)
+       | _ -> Eval.arith at Add a b)
+  | Binop (op, l, r) ->
+    let l = expr ce l and r = expr ce r in
+    fun c -> let a = l c in let b = r c in Eval.arith at op a b
+  | Invoke _ -> raise Unsupported
+
+(* [x matches p]: Eval.pattern, the bindings made only when it matches, in
+   order. A constructor pattern of variables and [_] on a value of that
+   very schema binds by position, which is what Eval.pattern does there. *)
+and matches ce x (p : Ast.pattern) =
+  let x = expr ce x in
+  let general c v =
+    let binds = ref [] in
+    if Eval.pattern c.sf binds p v then begin
+      List.iter (fun (y, v) -> c.slots.(bind ce y) <- v) (List.rev !binds); vtrue
+    end else vfalse in
+  (* the slots the variables bind, checked now (bind raises Unsupported) *)
+  let rec check (p : Ast.pattern) = match p.it with
+    | PName y when is_var ce y -> ignore (bind ce y)
+    | PCons (_, ps) -> List.iter check ps
+    | _ -> () in
+  check p;
+  let var (q : Ast.pattern) = match q.it with
+    | PWild -> Some (-1)
+    | PName y when is_var ce y -> Some (bind ce y)
+    | _ -> None in
+  match p.it with
+  | PCons (k, ps) when List.for_all (fun q -> var q <> None) ps ->
+    let k = interned ce.env k.it and vars = Array.of_list (List.map (fun q -> Option.get (var q)) ps) in
+    let n = Array.length vars in
+    fun c ->
+      (match x c with
+       | V.Schema s as v ->
+         if (s.sname == k || String.equal s.sname k) && Array.length s.slots = n then begin
+           for i = 0 to n - 1 do
+             let j = Array.unsafe_get vars i in
+             if j >= 0 then c.slots.(j) <- !(snd (Array.unsafe_get s.slots i))
+           done;
+           vtrue
+         end else general c v
+       | v -> general c v)
+  | PName k when not (is_var ce k) ->
+    (* a schema: the value's own is Eval.pattern's first case *)
+    let k = interned ce.env k in
+    fun c ->
+      (match x c with
+       | V.Schema s as v -> if s.sname == k || String.equal s.sname k then vtrue else general c v
+       | v -> general c v)
+  | _ -> fun c -> general c (x c)
+
+let[@inline] tick c at = Eval.tick c.sf at
+
+let rec block ce (b : Ast.block) : ctx -> unit =
+  match List.map (stmt ce) b with
+  | [] -> fun _ -> ()
+  | [ s ] -> s
+  | [ s1; s2 ] -> fun c -> s1 c; s2 c
+  | ss -> let ss = Array.of_list ss in fun c -> Array.iter (fun s -> s c) ss
+
+and stmt ce (s : Ast.stmt) : ctx -> unit =
+  let at = s.at in
+  match s.it with
+  | Assign (({ it = LName x; _ } as lv), e) ->
+    (* the common places, each one closure *)
+    let e = expr ce e in
+    (match Hashtbl.find_opt ce.locals x, prop_of ce x with
+     | Some i, None -> fun c -> tick c at; let v = e c in Array.unsafe_set c.slots i v
+     | None, Some j -> fun c -> tick c at; let v = e c in Eval.set_cell (Array.unsafe_get c.cells j) v
+     | _ -> let a = assign ce lv in fun c -> tick c at; a c (e c))
+  | Assign ({ it = LIndex (m, k); at = lat }, e) ->
+    let e = expr ce e and m = expr ce m and k = expr ce k in
+    fun c ->
+      tick c at;
+      let v = e c in
+      let mv = m c in
+      let kv = k c in
+      (match mv, kv with
+       | V.Map mm, _ -> Eval.map_set_bounded lat mm kv v
+       | V.List l, V.Int i ->
+         if i < 0 || i >= l.len then Eval.err lat "index %d is out of bounds (the list has %d elements)" i l.len;
+         l.items.(i) <- v
+       | _ -> Eval.err lat "cannot index a %s" (V.type_name mv))
+  | Assign (lv, e) -> let e = expr ce e in let a = assign ce lv in fun c -> tick c at; a c (e c)
+  | Local (x, ty, e) ->
+    let e = expr ce e and i = slot_of ce x.it in
+    (match ty.it with
+     | TName "float" -> fun c -> tick c at; c.slots.(i) <- Eval.coerce Ty.Float (e c)
+     | TName "double" -> fun c -> tick c at; c.slots.(i) <- Eval.coerce Ty.Double (e c)
+     | _ -> fun c -> tick c at; c.slots.(i) <- e c)
+  | Nothing -> fun c -> tick c at
+  | Deactivate ->
+    fun c ->
+      tick c at;
+      let a = c.ag in
+      if List.mem Semantics.Machine.Deactivate a.effects then ()   (* R5h: once *)
+      else begin
+        a.effects <- Semantics.Machine.Deactivate :: a.effects;
+        a.live <- a.live - 1;   (* D19 *)
+        a.events <- Eval.Deactivated c.id :: a.events
+      end
+  | Log e ->
+    let e = expr ce e and at_e = e.at in
+    fun c ->
+      tick c at;
+      let v = Eval.bounded_text ~quote:false at_e (e c) in
+      c.ag.events <- Eval.Log (V.to_text v) :: c.ag.events
+  | If (branches, els) ->
+    let branches = List.map (fun ((k : Ast.expr), b) -> (expr ce k, k.at, block ce b)) branches in
+    let els = match els with Some b -> block ce b | None -> fun _ -> () in
+    let rec go c = function
+      | [] -> els c
+      | (k, kat, b) :: rest ->
+        (match k c with
+         | V.Bool true -> b c
+         | V.Bool false -> go c rest
+         | v -> condition_not_boolean kat v) in
+    fun c -> tick c at; go c branches
+  | While (k, b) ->
+    let k = expr ce k and kat = k.at and b = block ce b in
+    let rec loop c =
+      match k c with
+      | V.Bool true ->
+        (match b c with () -> () | exception Cont -> ());
+        tick c at; loop c
+      | V.Bool false -> ()
+      | v -> condition_not_boolean kat v in
+    fun c -> tick c at; (try loop c with Brk -> ())
+  | For (x, e, b) ->
+    let i = slot_of ce x.it and e = expr ce e and eat = e.at and b = block ce b in
+    fun c ->
+      tick c at;
+      let items = match e c with
+        | V.List l -> V.list_items l
+        | V.Map m -> List.map fst (V.map_bindings m)
+        | v -> Eval.err eat "cannot iterate over a %s" (V.type_name v) in
+      (try List.iter (fun v ->
+           c.slots.(i) <- v;
+           tick c at;
+           match b c with () -> () | exception Cont -> ()) items
+       with Brk -> ())
+  | Return None -> fun c -> tick c at; raise Ret
+  | Return (Some e) -> let e = expr ce e in fun c -> tick c at; ignore (e c); raise Ret
+  | Break -> fun c -> tick c at; raise Brk
+  | Continue -> fun c -> tick c at; raise Cont
+  | Do _ | InvokeS _ | Activate _ | Send _ -> raise Unsupported
+
+(* Eval.assign: the value is computed first, then the place. *)
+and assign ce (lv : Ast.lvalue) : ctx -> V.t -> unit =
+  let at = lv.at in
+  match lv.it with
+  | LName x ->
+    (match Hashtbl.find_opt ce.locals x, prop_of ce x with
+     | Some i, Some j ->
+       fun c v -> if c.slots.(i) != unset then c.slots.(i) <- v else Eval.set_cell c.cells.(j) v
+     | Some i, None -> fun c v -> c.slots.(i) <- v
+     | None, Some j -> fun c v -> Eval.set_cell c.cells.(j) v
+     | None, None -> raise Unsupported)
+  | LIndex (m, k) ->
+    let m = expr ce m and k = expr ce k in
+    fun c v ->
+      let mv = m c in
+      let kv = k c in
+      (match mv, kv with
+       | V.List l, V.Int i ->
+         if i < 0 || i >= l.len then Eval.err at "index %d is out of bounds (the list has %d elements)" i l.len;
+         l.items.(i) <- v
+       | V.Map m, _ -> Eval.map_set_bounded at m kv v
+       | _ -> Eval.err at "cannot index a %s" (V.type_name mv))
+  | LOf (p, e) ->
+    let p = p.it and e = expr ce e in
+    fun c v ->
+      (match e c with
+       | V.Schema s -> (Eval.slot at s p) := v
+       | V.Agent_ref _ as o ->
+         (match Names.find_opt c.ag.props p with
+          | Some cell -> Eval.set_cell cell v
+          | None -> Eval.err at "cannot set %s of a %s" p (V.type_name o))
+       | V.Behaviour_ref u ->
+         (match Names.find_opt c.beh.bprops p with
+          | Some cell when c.beh.uid = u -> Eval.set_cell cell v
+          | _ -> Eval.err at "no such behaviour property %s" p)
+       | o -> Eval.err at "cannot set %s of a %s" p (V.type_name o))
+
+(* ------------------------------------------------------- handlers *)
+
+(* A handler compiled for a behaviour type and an agent type. *)
+type code = {
+  nslots : int;
+  reset : int array;
+      (* the slots a guard must find without a value: all but those its
+         leftmost [content matches S(x, ...)] binds whenever it holds *)
+  prop_names : string array;          (* the cells a run needs, by number *)
+  guard : (ctx -> bool) option;
+  body : ctx -> unit;
+  required : string option;
+      (* the pre-test, as Interp_bodies': the schema the guard's leftmost
+         conjunct requires of content *)
+}
+
+let rec required_schema (e : Ast.expr) = match e.it with
+  | Matches ({ it = Content; _ }, { it = PCons (c, _); _ }) -> Some c.it
+  | Matches ({ it = Content; _ }, { it = PName x; _ }) -> Some x
+  | Binop (And, l, _) -> required_schema l
+  | _ -> None
+
+let compile env (bt : T.behaviour) (at : T.agent) (h : T.handler) : code option =
+  let declared =
+    List.map (fun (p : T.property) -> p.p_name) (T.behaviour_properties env bt.b_name)
+    @ List.map (fun (p : T.property) -> p.p_name) (T.agent_properties env at.a_name) in
+  let ce = { env; bname = bt.b_name; aname = at.a_name; locals = Hashtbl.create 8;
+             props = Hashtbl.create 8; declared; prop_names = [] } in
+  match
+    Option.iter (scan_expr ce) h.h_guard;
+    scan_block ce h.h_body;
+    let guard = match h.h_guard with
+      | None -> None
+      | Some g ->
+        let x = expr ce g and gat = g.at in
+        Some (fun c -> match x c with
+            | V.Bool b -> b
+            | v -> Eval.err gat "a when condition is a boolean, not a %s" (V.type_name v)) in
+    let body = block ce h.h_body in
+    (guard, body)
+  with
+  | exception Unsupported -> None
+  | (guard, body) ->
+    let required = match h.h_guard with
+      | None -> None
+      | Some g -> (match required_schema g with
+          | Some x when T.schema env x <> None -> Some (interned env x)
+          | _ -> None) in
+    (* the variables of the guard's leftmost conjunct, when that is
+       [content matches S(x1, ...)]: bound by any percept it holds for *)
+    let rec head (e : Ast.expr) = match e.it with
+      | Matches ({ it = Content; _ }, { it = PCons (_, ps); _ }) ->
+        List.filter_map (fun (q : Ast.pattern) -> match q.it with
+            | PName y when is_var ce y -> Some (bind ce y) | _ -> None) ps
+        @ (if List.for_all (fun (q : Ast.pattern) -> match q.it with
+            | PWild -> true | PName y -> is_var ce y | _ -> false) ps then [] else [ -1 ])
+      | Binop (And, l, _) -> head l
+      | _ -> [ -1 ] in
+    let bound = match h.h_guard with Some g -> head g | None -> [] in
+    let n = Hashtbl.length ce.locals in
+    let reset = if List.mem (-1) bound then Array.init n Fun.id
+      else Array.of_list (List.filter (fun i -> not (List.mem i bound)) (List.init n Fun.id)) in
+    Some { nslots = n; reset; prop_names = Array.of_list (List.rev ce.prop_names);
+           guard; body; required }
+
+(* Handlers compiled, by the handler, the behaviour type and the agent type
+   (all by address: a handler inherited by a behaviour type is the very one
+   of its super type, and means something else where the subtype declares
+   more properties): a behaviour activated many times is compiled once. The
+   newest few are kept. *)
+let compiled : (T.handler * T.behaviour * T.agent * code option) list ref = ref []
+let cache_size = 64
+
+let code_for env bt at h =
+  let rec find = function
+    | [] -> None
+    | (h', b', a', c) :: rest -> if h' == h && b' == bt && a' == at then Some c else find rest in
+  match find !compiled with
+  | Some c -> c
+  | None ->
+    let c = compile env bt at h in
+    compiled := (h, bt, at, c) :: List.filteri (fun i _ -> i < cache_size - 1) !compiled;
+    c
+
+(* What one handler of an instance runs: compiled, or Interp_bodies'. *)
+type handler = Compiled of code * ctx | Fallback
+
+(* Kept with the instance (Eval.keep): its handlers, and what
+   Interp_bodies keeps there for the handlers that fall back, which is put
+   back in place while they run. *)
+type kept = {
+  handlers : handler array;
+  req : string array;
+      (* per handler, the schema its pre-test requires of content, or
+         {!no_pretest}, or {!falls_back} *)
+  memo : (string * bool) list array;
+      (* per handler, the pre-test's answer per percept type, by the type
+         name's address (the lexer and the type environment intern names) *)
+  mutable inner : Eval.engine_slot;
+  mutable self : Eval.engine_slot;
+}
+type Eval.engine_slot += Kept of kept
+
+(* The cell of property x for the instance: Eval.prop_cell's answer. *)
+let cell_of (a : Eval.agent) (b : Eval.beh) x =
+  match Names.find_opt b.bprops x with
+  | Some _ as c -> c
+  | None -> Names.find_opt a.props x
+
+let make_ctx (a : Eval.agent) (b : Eval.beh) ~id (code : code) =
+  let cells = Array.map (cell_of a b) code.prop_names in
+  if Array.exists Option.is_none cells then None   (* an initialiser failed: fall back *)
+  else
+    Some { ag = a; beh = b; slots = Array.make code.nslots unset; cells = Array.map Option.get cells;
+           content = V.Unit; sf = Eval.guard_frame a ~id b V.Unit; id; armed = -1;
+           yes = (a, true); no = (a, false); ran = (a, []) }
+
+(* Interp_bodies on the instance, its own slot in place. *)
+let with_inner (b : Eval.beh) k f =
+  Eval.keep b k.inner;
+  match f () with
+  | r -> k.inner <- b.kept; Eval.keep b k.self; r
+  | exception x -> k.inner <- b.kept; Eval.keep b k.self; raise x
+
+(* Marks in [req] (compared by address). *)
+let no_pretest = String.make 1 '-'
+let falls_back = String.make 1 '*'
+
+let install (a : Eval.agent) ~id (b : Eval.beh) =
+  let handlers = Array.map (fun h ->
+      match code_for a.env b.btype a.atype h with
+      | None -> Fallback
+      | Some code -> (match make_ctx a b ~id code with Some c -> Compiled (code, c) | None -> Fallback))
+      b.phandlers in
+  let req = Array.map (function
+      | Compiled ({ required = Some x; _ }, _) -> x
+      | Compiled ({ required = None; _ }, _) -> no_pretest
+      | Fallback -> falls_back) handlers in
+  let k = { handlers; req; memo = Array.map (fun _ -> []) handlers; inner = b.kept; self = Eval.Nothing_kept } in
+  k.self <- Kept k;
+  Eval.keep b k.self;
+  k
+
+let[@inline] kept a ~id (b : Eval.beh) = match b.kept with Kept k -> k | _ -> install a ~id b
+
+(* ----------------------------------------------------- the bodies *)
+
+include (Interp_bodies : Semantics.Machine.BODIES
+         with type percept = V.t and type message = Eval.message and type obj = V.t
+          and type beh = Eval.beh and type world = Eval.agent)
+
+(* Interp_bodies' pre-test, on this instance's own memo: [false] only
+   where the guard's leftmost [content matches S...] is surely false, with
+   no effect. *)
+let may_apply_slow (a : Eval.agent) b k h p =
+  let x = k.req.(h - 1) in
+  if x == falls_back then with_inner b k (fun () -> Interp_bodies.percept_may_apply a b h p)
+  else if x == no_pretest then true
+  else match p with
+    | V.Schema { sname = n; _ } ->
+      let memo = k.memo.(h - 1) in
+      (match List.find_opt (fun (m, _) -> String.equal m n) memo with
+       | Some (_, r) -> r
+       | None ->
+         let r = String.equal x n || T.subschema a.env n x in
+         k.memo.(h - 1) <- (n, r) :: memo; r)
+    | _ -> true
+
+let rec memo_by_address n = function
+  | (m, r) :: rest -> if m == n then (if r then 1 else 0) else memo_by_address n rest
+  | [] -> -1
+
+let percept_may_apply a (b : Eval.beh) h p =
+  match b.kept, p with
+  | Kept k, V.Schema { sname = n; _ } ->
+    n == k.req.(h - 1)
+    || (match memo_by_address n (Array.unsafe_get k.memo (h - 1)) with   (* as long as [req] *)
+        | 1 -> true
+        | 0 -> false
+        | _ -> may_apply_slow a b k h p)
+  | Kept k, _ -> may_apply_slow a b k h p
+  | _, _ -> may_apply_slow a b (kept a ~id:0 b) h p
+
+(* Its answer depends on the schema's name, the behaviour and the handler
+   only: the kinds are the interpreter's (Fast.BODIES.percept_kind). *)
+let percept_kind = Interp_bodies.percept_kind
+
+(* Guards evaluated so far, compiled or not. A compiled guard that holds
+   records the number of its own evaluation; its bindings are still waiting
+   for the body when no guard was evaluated since (what [a.pending] says in
+   the reference: the machine runs a body right after its guard, in the same
+   rule, on the same agent). D38. *)
+let guards = ref 0
+
+(* R3b, as Eval.Bodies.percept_applicable: the guard in fresh locals; an
+   error makes the handler not applicable and is recorded. No pre-test
+   here: a guard whose leftmost [content matches S...] is false is false at
+   once, with no effect, as the pre-test would answer. *)
+let percept_applicable (a : Eval.agent) ~id (b : Eval.beh) h p =
+  let k = kept a ~id b in
+  incr guards;
+  match k.handlers.(h - 1) with
+  | Fallback -> with_inner b k (fun () -> Interp_bodies.percept_applicable a ~id b h p)
+  | Compiled (code, c) ->
+    (* what the reference leaves in [a.pending] for a body of another
+       handler: nothing it can use (the bindings wait here) *)
+    (match a.pending with None -> () | Some _ -> a.pending <- None);
+    let reset = code.reset in
+    for i = 0 to Array.length reset - 1 do
+      Array.unsafe_set c.slots (Array.unsafe_get reset i) unset
+    done;
+    c.content <- p;
+    c.id <- id;
+    let ok = match code.guard with
+      | None -> true
+      | Some g -> (try g c with x when Eval.record_error a x -> false) in
+    c.armed <- (if ok then !guards else -1);
+    if c.ag != a then (a, ok) else if ok then c.yes else c.no
+
+(* The body in the guard's bindings when they wait for it, else in fresh
+   locals (Eval.Bodies.run_percept_handler); a fresh step budget. *)
+let run_percept_handler (a : Eval.agent) ~id (b : Eval.beh) h p =
+  let k = kept a ~id b in
+  match k.handlers.(h - 1) with
+  | Fallback -> incr guards; with_inner b k (fun () -> Interp_bodies.run_percept_handler a ~id b h p)
+  | Compiled (code, c) ->
+    if c.armed = !guards && c.id = id && c.content == p then c.armed <- -1
+    else begin
+      (match a.pending with None -> () | Some _ -> a.pending <- None);
+      Array.fill c.slots 0 (Array.length c.slots) unset;
+      c.content <- p; c.id <- id
+    end;
+    incr guards;   (* the bindings are used once *)
+    Eval.reset_fuel c.sf;
+    (try code.body c with
+     | Ret | Brk | Cont -> ()
+     | x -> Eval.recover a x);
+    match Eval.take_ran a h with
+    | [] when c.ag == a -> c.ran
+    | effs -> (a, effs)
+
+let compiled_handlers a ~id b =
+  let k = kept a ~id b in
+  Array.fold_left (fun n -> function Compiled _ -> n + 1 | Fallback -> n) 0 k.handlers

@@ -1,0 +1,358 @@
+(* The compiled percept handlers (lib/engine/compiled_bodies.ml, issue 17,
+   D38) held equal to the reference: the reference machine's steps on the
+   reference bodies (Eval.Bodies) against the fast engine on
+   Compiled_bodies, rule by rule and dispatch by dispatch, on random
+   programs (Typed_gen) and on a fixed program that has every construct the
+   compiler takes and the run-time errors they meet; and each construct
+   alone, one handler against Eval.Bodies. *)
+
+open Syntax
+open Test_support
+open Support
+module V = Interp.Value
+module Mc = Semantics.Machine
+module RM = Interp.Runtime.P.M
+module CB = Engine.Compiled_bodies
+module CE = Engine.Fast.Make (Engine.Compiled_bodies)
+
+let contains s sub =
+  let n = String.length s and m = String.length sub in
+  let rec go i = i + m <= n && (String.sub s i m = sub || go (i + 1)) in
+  go 0
+
+(* Text replacement without Str. *)
+module Str_free = struct
+  let find s sub from =
+    let n = String.length s and m = String.length sub in
+    let rec go i = if i + m > n then None else if String.sub s i m = sub then Some i else go (i + 1) in
+    go from
+  let replace_first sub by s = match find s sub 0 with
+    | Some i -> String.sub s 0 i ^ by ^ String.sub s (i + String.length sub) (String.length s - i - String.length sub)
+    | None -> s
+  let rec replace_all sub by s = match find s sub 0 with
+    | Some _ -> let s' = replace_first sub by s in if s' = s then s else replace_all sub by s'
+    | None -> s
+end
+
+let check_program ~file text =
+  let env, diags = Typing.check [ Parse.string ~file text ] in
+  if List.exists (fun d -> d.Diag.severity = Diag.Error) diags then
+    QCheck.Test.fail_reportf "the program does not check:\n%s" text;
+  env
+
+(* The agent's properties and every active instance's, as text. *)
+let props env (c : RM.t) =
+  let a = c.world in
+  let agent = List.map (fun (pr : Typing.Tenv.property) ->
+      pr.p_name ^ "=" ^ (match Interp.Eval.property a pr.p_name with Some v -> V.to_literal v | None -> "?"))
+      (Typing.Tenv.agent_properties env a.atype.a_name) in
+  let behs = List.map (fun (i : Interp.Eval.beh Mc.instance) ->
+      let l = ref [] in
+      Strtbl.iter (fun x (cell : Interp.Eval.cell) -> l := (x ^ "=" ^ V.to_literal cell.v) :: !l) i.beh.bprops;
+      Printf.sprintf "%d:%s{%s}" i.id (Interp.Eval.beh_type i.beh) (String.concat "," (List.sort compare !l)))
+      c.active in
+  String.concat ";" agent ^ " | " ^ String.concat ";" behs
+
+type op = Notify of V.t * int | Steps of int | Dispatches of int
+
+(* Two copies of the agent, the same host operations: the reference steps
+   one rule at a time; the engine on the compiled bodies takes single steps
+   or whole dispatches (the derived rule), which the reference then follows
+   rule by rule. After each: the same labels, body events, configuration,
+   properties (agent and instances, maps in their order). Returns how many
+   handler runs went through a compiled handler. *)
+let compare_runs ~env ~text ~fuel ~params ~agent_args ops =
+  let (ar, behs_r) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:agent_args ~fuel in
+  let (ac, behs_c) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:agent_args ~fuel in
+  let events a = List.map Show.event (Interp.Eval.take_events a) in
+  if events ar <> events ac then QCheck.Test.fail_reportf "on create differs";
+  let r = ref (RM.init params ~world:ar behs_r) and k = ref (RM.init params ~world:ac behs_c) in
+  let history = Buffer.create 256 in
+  let fail fmt = Printf.ksprintf (fun s ->
+      QCheck.Test.fail_reportf "%s\nafter: %s\nfuel=%d variant=%s\n%s" s (Buffer.contents history) fuel
+        (Mc.string_of_variant params.Mc.variant) text) fmt in
+  let compare_now what =
+    Buffer.add_string history (what ^ " | ");
+    let er = events ar and ec = events ac in
+    if er <> ec then fail "events differ after %s:\nreference: %s\ncompiled:  %s" what (String.concat "|" er) (String.concat "|" ec);
+    let sr = Show.config !r and sc = Show.config !k in
+    if sr <> sc then fail "configurations differ after %s:\nreference: %s\ncompiled:  %s" what sr sc;
+    let pr = props env !r and pc = props env !k in
+    if pr <> pc then fail "properties differ after %s:\nreference: %s\ncompiled:  %s" what pr pc in
+  let ref_step () = match RM.step params !r with
+    | [] -> None
+    | (l, c) :: _ -> r := c; Some l in
+  let show = function Some l -> Show.label l | None -> "none" in
+  List.iter (function
+      | Notify (v, prio) ->
+        r := RM.notify_with params !r v prio; k := RM.notify_with params !k v prio;
+        compare_now ("notify " ^ V.to_literal v)
+      | Steps n ->
+        for _ = 1 to n do
+          let lr = ref_step () in
+          let lk = match CE.step params !k with [] -> None | (l, c) :: _ -> k := c; Some l in
+          if show lr <> show lk then fail "step: reference %s, compiled %s" (show lr) (show lk);
+          compare_now ("step " ^ show lr)
+        done
+      | Dispatches n ->
+        for _ = 1 to n do
+          let labels = ref [] in
+          match CE.dispatch ~observe:(fun l -> labels := Show.label l :: !labels) params !k with
+          | None -> ()
+          | Some c ->
+            k := c;
+            let taken = List.rev !labels in
+            let followed = List.map (fun _ -> show (ref_step ())) taken in
+            if taken <> followed then
+              fail "dispatch: %s; the reference: %s" (String.concat " " taken) (String.concat " " followed);
+            compare_now ("dispatch " ^ String.concat " " taken)
+        done)
+    ops;
+  (* the rest, until idle *)
+  let rec drain n =
+    if n > 0 then
+      match CE.step params !k with
+      | [] -> if ref_step () <> None then fail "the reference goes on after the compiled engine stops"
+      | (l, c) :: _ ->
+        k := c;
+        let lr = ref_step () in
+        if show lr <> Show.label l then fail "step: reference %s, compiled %s" (show lr) (Show.label l);
+        compare_now ("step " ^ Show.label l); drain (n - 1) in
+  drain 2000;
+  List.fold_left (fun (n, t) (i : Interp.Eval.beh Mc.instance) ->
+      (n + CB.compiled_handlers ac ~id:i.id i.beh, t + CB.percept_handlers i.beh)) (0, 0) !k.active
+
+let random_ops rand env =
+  let percept () =
+    let ps = Event_gen.percept_types env in
+    let s = List.nth ps (Random.State.int rand (List.length ps)) in
+    let args = List.map (fun (_, ty) -> Event_gen.small_literal rand ty) s.s_slots in
+    let text = if args = [] then s.s_name else s.s_name ^ "(" ^ String.concat ", " args ^ ")" in
+    Interp.Eval.percept_value env ~agent_type:"Ag" (Parse.expr ~file:"e" text) in
+  List.init (5 + Random.State.int rand 30) (fun _ ->
+      match Random.State.int rand 8 with
+      | 0 | 1 | 2 | 3 ->
+        let (v, prio) = percept () in
+        Notify (v, if Random.State.int rand 4 = 0 then Random.State.int rand 9 else prio)
+      | 4 | 5 -> Steps (1 + Random.State.int rand 20)
+      | _ -> Dispatches (1 + Random.State.int rand 3))
+
+(* Fuel from tiny (the budget runs out in the middle of a body, at every
+   statement in turn over the seeds) to generous. *)
+let random_fuel rand = match Random.State.int rand 4 with
+  | 0 -> 1 + Random.State.int rand 5
+  | 1 -> 5 + Random.State.int rand 40
+  | _ -> 500
+
+let random_params seed rand =
+  let variant = List.nth [ Mc.Reference; Mc.Budgeted; Mc.Printed; Mc.Reference ] (seed mod 4) in
+  { Mc.default_params with variant; budget = 1 + Random.State.int rand 3; ghosts = seed mod 5 = 0 }
+
+let args_for env rand =
+  let params = match Typing.Tenv.agent_create env "Ag" with Some r -> r.r_params | None -> [] in
+  List.map (fun (_, ty) -> Interp.Eval.literal_value env (Parse.expr ~file:"a" (Event_gen.small_literal rand ty))) params
+
+let on_random_programs (prog, seed) =
+  let text = Print.program prog in
+  let env = check_program ~file:"gen.jade" text in
+  let rand = Random.State.make [| seed |] in
+  let fuel = random_fuel rand and params = random_params seed rand in
+  let agent_args = args_for env rand in
+  ignore (compare_runs ~env ~text ~fuel ~params ~agent_args (random_ops rand env));
+  true
+
+let constructs_text = lazy (read_file (Filename.concat root "test/fastpath/programs/constructs.jade"))
+
+(* The fixed program, many seeds: every handler of it compiles (checked,
+   so that this compares compiled code), and over the seeds every error it
+   can meet is met (division by zero, a missing map key, an index out of
+   bounds, the step budget, D8's 32-bit overflow). *)
+let constructs_over_seeds () =
+  let text = Lazy.force constructs_text in
+  let env = check_program ~file:"constructs.jade" text in
+  let errors = Hashtbl.create 8 in
+  for seed = 0 to 299 do
+    let rand = Random.State.make [| seed; 17 |] in
+    let fuel = random_fuel rand and params = random_params seed rand in
+    let ops = random_ops rand env in
+    match compare_runs ~env ~text ~fuel ~params ~agent_args:[] ops with
+    | (compiled, total) ->
+      if compiled <> total then Alcotest.failf "seed %d: %d of %d handlers compiled" seed compiled total;
+      (* the errors, from a run of the reference alone *)
+      let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel in
+      let c = ref (RM.init params ~world:a behs) in
+      List.iter (function
+          | Notify (v, p) -> c := RM.notify_with params !c v p
+          | Steps _ | Dispatches _ -> ()) ops;
+      let rec go n = if n > 0 then match RM.step params !c with [] -> () | (_, c') :: _ -> c := c'; go (n - 1) in
+      go 3000;
+      List.iter (function
+          | Interp.Eval.Error (_, _, m) ->
+            let key = List.find_opt (fun k -> contains m k)
+                [ "division by zero"; "has no key"; "out of bounds"; "step budget" ] in
+            Option.iter (fun k -> Hashtbl.replace errors k ()) key
+          | _ -> ()) (Interp.Eval.take_events a)
+    | exception QCheck.Test.Test_fail (_, msgs) -> Alcotest.failf "seed %d: %s" seed (String.concat "\n" msgs)
+  done;
+  List.iter (fun k -> if not (Hashtbl.mem errors k) then Alcotest.failf "no seed met the error %S" k)
+    [ "division by zero"; "has no key"; "out of bounds"; "step budget" ]
+
+(* ------------------------------------------------ one construct each *)
+
+(* One handler [on percept when GUARD do BODY] of a behaviour [B] (with a
+   property [seen]) of the agent of constructs.jade's ontology and
+   properties, given one percept, on Eval.Bodies and on the compiled
+   bodies: the same answer of the guard, events (logs, errors with region
+   and message, Ran with effects), properties. [expect] is a piece of what
+   the reference records, checked by hand: the case does what it says. *)
+let unit_program guard body =
+  let text = Lazy.force constructs_text in
+  (* the ontology and the agent, without their behaviours *)
+  let cut = match Str_free.find text "cyclic behaviour" 0 with Some i -> i | None -> String.length text in
+  String.sub text 0 cut
+  ^ "cyclic behaviour B for agent Ag\n\tproperty seen as integer = 0\n\n\ton percept when " ^ guard ^ " do\n"
+  ^ String.concat "" (List.map (fun l -> "\t\t" ^ l ^ "\n") body)
+
+let one_handler ?(fuel = 500) ~guard ~body ~percept ~expect () =
+  let text = unit_program guard body in
+  let text = Str_free.replace_first "activate behaviour Work\n\t\tactivate behaviour Other" "activate behaviour B" text in
+  let env = check_program ~file:"unit.jade" text in
+  let (p, _) = Interp.Eval.percept_value env ~agent_type:"Ag" (Parse.expr ~file:"e" percept) in
+  let run (applicable, run) =
+    let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel in
+    ignore (Interp.Eval.take_events a);
+    let b = List.hd behs in
+    let (a, ok) = applicable a ~id:1 b 1 p in
+    let effects = if ok then List.length (snd (run a ~id:1 b 1 p)) else -1 in
+    let events = List.map Show.event (Interp.Eval.take_events a) in
+    let c = RM.init Mc.default_params ~world:a [ b ] in
+    (ok, effects, String.concat " | " events, props env c, a, b) in
+  let (ok1, e1, ev1, p1, _, _) = run (Interp.Eval.Bodies.percept_applicable, Interp.Eval.Bodies.run_percept_handler)
+  and (ok2, e2, ev2, p2, a2, b2) = run (CB.percept_applicable, CB.run_percept_handler) in
+  if CB.compiled_handlers a2 ~id:1 b2 <> 1 then Alcotest.fail "the handler did not compile";
+  Alcotest.(check bool) "guard" ok1 ok2;
+  Alcotest.(check int) "effects" e1 e2;
+  Alcotest.(check string) "events" ev1 ev2;
+  Alcotest.(check string) "properties" p1 p2;
+  if not (contains (ev1 ^ " || " ^ p1) expect) then
+    Alcotest.failf "the reference did not do what the case says (%S): %s || %s" expect ev1 p1
+
+let tick = "content matches tick(k)"
+
+let unit_cases = [
+  ("pattern variable", tick, [ "log k" ], "tick(4)", "4");
+  ("a local declared, shadowing a property", tick, [ "total as integer = 5"; "log total" ], "tick(4)", "total=0");
+  ("a local by first assignment", tick, [ "x = k + 1"; "log x" ], "tick(4)", "5");
+  ("a property updated", tick, [ "total = total + k"; "seen = seen + 1" ], "tick(4)", "total=4");
+  ("a pattern variable shadowing a property", "content matches pair(seen, b)",
+   [ "seen = seen + b"; "log seen" ], "pair(1, 2)", "seen=0");
+  ("map insertions in order", tick, [ "counts[3] = 1"; "counts[1] = 2"; "counts[3] = k"; "log counts" ], "tick(4)",
+   "counts={3: 4, 1: 2}");
+  ("list index", tick, [ "items[1] = k"; "log items[1] + items[0]" ], "tick(4)", "5");
+  ("index out of bounds", tick, [ "items[k] = 1" ], "tick(4)", "out of bounds");
+  ("index out of bounds, read", tick, [ "log items[k]" ], "tick(4)", "out of bounds");
+  ("a missing map key", tick, [ "log counts[k]" ], "tick(4)", "has no key");
+  ("division by zero", tick, [ "log 10 / (k - 4)" ], "tick(4)", "division by zero");
+  ("modulo by zero", tick, [ "log 10 % (k - 4)" ], "tick(4)", "division by zero");
+  ("D8 32-bit integers", tick, [ "big = big + k * 1000"; "log big * 2" ], "tick(4)", "big=-2147480296");
+  ("float and double properties", tick, [ "small = k"; "ratio = k / 3"; "s as double = k"; "log s / 3" ], "tick(4)", "small=");
+  (* Eval applies equal_values to (expr f l) (expr f r): the right side is
+     evaluated first, and its error is the one recorded *)
+  ("= evaluates its right side first", tick, [ "log counts[k] = 10 / (k - 4)" ], "tick(4)", "division by zero");
+  ("< evaluates its right side first", tick, [ "log counts[k] < items[k]" ], "tick(4)", "out of bounds");
+  ("comparisons, and, or, not", tick, [ "log (k > 3 and not (k = 5)) or k < 0"; "log k >= 4 and k <= 4 and k != 3" ],
+   "tick(4)", "true");
+  ("text concatenation", tick, [ "log \"a\" + k + 1.5 + true" ], "tick(4)", "a41.5true");
+  ("text comparison", "content matches word(t, m)", [ "log t < \"b\""; "log t = \"abc\"" ], "word(\"abc\", 2)", "true");
+  ("if, else if, else", tick,
+   [ "if k > 5 do"; "\tlog \"high\""; "else if k > 3 do"; "\tlog \"mid\""; "else do"; "\tlog \"low\"" ], "tick(4)", "mid");
+  ("while, break and continue", tick,
+   [ "i = 0"; "while true do"; "\ti = i + 1"; "\tif i % 2 = 0 do"; "\t\tcontinue"; "\tif i > k do"; "\t\tbreak"; "\tlog i" ],
+   "tick(4)", "3");
+  ("for over a list and a map", tick,
+   [ "counts[7] = 1"; "counts[2] = 1"; "for x in items do"; "\tlog x"; "for y in counts do"; "\tlog y" ], "tick(4)", "7");
+  ("return ends the body", tick, [ "log 1"; "return"; "log 2" ], "tick(4)", "1");
+  ("the step budget mid-body", tick, [ "log 1"; "log 2"; "log 3"; "log 4" ], "tick(4)", "step budget");
+  ("the step budget in a loop", tick, [ "while true do"; "\ttotal = total + 1" ], "tick(4)", "step budget");
+  ("an error in the guard", "content matches tick(k) and 10 / (k - 4) > 0", [ "log k" ], "tick(4)", "division by zero");
+  ("a guard that is false", "content matches tick(k) and k > 10", [ "log k" ], "tick(4)", "total=0");
+  ("a guard on a subtype", "content matches ping", [ "log content" ], "hush", "hush");
+  ("a guard on another type", "content matches ping", [ "log content" ], "tick(1)", "total=0");
+  ("matches in a body binds", tick, [ "if content matches tick(j) do"; "\tlog j + k" ], "tick(4)", "8");
+  ("matches a literal", "content matches tick(4)", [ "log content" ], "tick(4)", "tick(4)");
+  ("of", tick, [ "counts[k] = 1"; "log size of counts"; "log length of \"abc\""; "log keys of counts"; "log priority of content" ],
+   "tick(4)", "3");
+  ("a slot of a schema value", tick, [ "p = tick(k)"; "n of p = 9"; "log p" ], "tick(4)", "tick(9)");
+  ("a property of the agent", tick, [ "total of agent = 7"; "log total of agent" ], "tick(4)", "total=7");
+  ("deactivate, twice", tick, [ "deactivate this"; "deactivate this"; "log 1" ], "tick(4)", "1");
+  ("a schema without slots by name", tick, [ "log ping" ], "tick(4)", "ping");
+  (* [this] is the instance's uid, which differs between the two agents *)
+  ("content, this, agent", tick, [ "log content"; "log this = this"; "log agent" ], "tick(4)", "log agent g");
+  ("list and map literals", tick, [ "log [k, 2] = [4, 2]"; "log {k: \"a\", 1: \"b\"}" ], "tick(4)", "true");
+  ("negation", tick, [ "log -k"; "log -ratio" ], "tick(4)", "-4");
+  ("a double slot", "content matches level(x)", [ "x = x * 2"; "ratio = x"; "log x" ], "level(1.5)", "ratio=3");
+  ("a boolean property", tick, [ "flag = not flag"; "log flag" ], "tick(4)", "flag=true");
+]
+
+let unit_tests =
+  List.map (fun (name, guard, body, percept, expect) ->
+      let fuel = if String.length name > 15 && String.sub name 0 15 = "the step budget" then 3 else 500 in
+      Alcotest.test_case name `Quick (one_handler ~fuel ~guard ~body ~percept ~expect))
+    unit_cases
+
+(* A handler the compiler does not take falls back, whole, and still
+   agrees. *)
+let fallback_case () =
+  let text = unit_program tick [ "send inform tick(k) to aid(\"r\")"; "log k" ] in
+  let text = Str_free.replace_first "activate behaviour Work\n\t\tactivate behaviour Other" "activate behaviour B" text in
+  let env = check_program ~file:"unit.jade" text in
+  let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
+  Alcotest.(check int) "not compiled" 0 (CB.compiled_handlers a ~id:1 (List.hd behs))
+
+(* A handler inherited by a behaviour subtype is the very handler of its
+   super type; where the subtype declares a property of a name the handler
+   uses as a local, it means the property there. *)
+let inherited_handler () =
+  let text = String.concat "\n" [
+      "ontology W";
+      "\tpredicate tick(n as integer) extends percept with priority = 3";
+      "agent Ag uses ontology W";
+      "\tproperty total as integer = 0";
+      "\ton create do";
+      "\t\tactivate behaviour Parent";
+      "\t\tactivate behaviour Child";
+      "cyclic behaviour Parent for agent Ag";
+      "\ton percept when content matches tick(k) do";
+      "\t\tx = k";
+      "\t\ttotal = total + x";
+      "cyclic behaviour Child extends Parent for agent Ag";
+      "\tproperty x as integer = 0";
+      "" ] in
+  let env = check_program ~file:"inherit.jade" text in
+  let tick n = fst (Interp.Eval.percept_value env ~agent_type:"Ag" (Parse.expr ~file:"e" (Printf.sprintf "tick(%d)" n))) in
+  match compare_runs ~env ~text ~fuel:500 ~params:Mc.default_params ~agent_args:[]
+          [ Notify (tick 3, 3); Dispatches 2; Notify (tick 5, 3); Steps 20 ] with
+  | (n, t) -> Alcotest.(check int) "both instances' handlers compiled" t n
+  | exception QCheck.Test.Test_fail (_, msgs) -> Alcotest.fail (String.concat "\n" msgs)
+
+let () =
+  Alcotest.run "compiled" [
+    ("constructs", unit_tests @ [ Alcotest.test_case "a send falls back" `Quick fallback_case;
+                                  Alcotest.test_case "an inherited handler, a property of the subtype" `Quick inherited_handler ]);
+    ("runs", [
+        Alcotest.test_case "every construct and error, 300 seeds, fuel tiny to generous" `Quick constructs_over_seeds;
+        qcheck ~count:300 ~long_factor:10 "compiled = reference, random programs and events"
+          (QCheck.pair Typed_gen.arb_program QCheck.small_nat) on_random_programs;
+        Alcotest.test_case "the bench's workload, 50 seeds" `Quick (fun () ->
+            let text = Support.bench_workload () in
+            let text = Str_free.replace_first "agent Loader" "agent Ag" text in
+            let text = Str_free.replace_all "for agent Loader" "for agent Ag" text in
+            let env = check_program ~file:"bench.jade" text in
+            for seed = 0 to 49 do
+              let rand = Random.State.make [| seed; 6 |] in
+              let fuel = random_fuel rand and params = random_params seed rand in
+              match compare_runs ~env ~text ~fuel ~params ~agent_args:[] (random_ops rand env) with
+              | (n, t) -> if n <> t then Alcotest.failf "%d of %d handlers compiled" n t
+              | exception QCheck.Test.Test_fail (_, msgs) -> Alcotest.failf "seed %d: %s" seed (String.concat "\n" msgs)
+            done) ]);
+  ]
