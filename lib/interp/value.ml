@@ -99,18 +99,25 @@ let hash v = visits := 0; hsh v
 
 (* A look-up: one hash of the key, then one comparison with each key of the
    same hash. *)
+(* An integer key is its own hash and equals another integer key exactly
+   when the two are the same number: what [hash] and [equal] answer, after
+   one and two visits, far below the bound. *)
+let key_hash k = match k with Int i -> i land max_int | _ -> hash k land max_int
+let same_key k k' = match k, k' with Int i, Int j -> i = j | _ -> equal k k'
+
 let map_find m k =
-  match Int_table.find_opt m.table (hash k land max_int) with
+  match Int_table.find_opt m.table (key_hash k) with
   | None -> None
   | Some bucket ->
-    (match List.find_opt (fun (k', _) -> equal k k') bucket with
-     | Some (_, v) -> Some !v
-     | None -> None)
+    let rec find = function
+      | [] -> None
+      | (k', v) :: rest -> if same_key k k' then Some !v else find rest in
+    find bucket
 
 let map_empty () = Map { table = Int_table.create 8; order = []; size = 0 }
 
 let map_set m k v =
-  let h = hash k land max_int in
+  let h = key_hash k in
   let bucket = match Int_table.find m.table h with b -> b | exception Not_found -> [] in
   let rec find = function
     | [] ->
@@ -118,7 +125,7 @@ let map_set m k v =
       Int_table.replace m.table h ((k, r) :: bucket);
       m.order <- (k, r) :: m.order;
       m.size <- m.size + 1
-    | (k', r) :: rest -> if equal k k' then r := v else find rest in
+    | (k', r) :: rest -> if same_key k k' then r := v else find rest in
   find bucket
 
 (* Java's Double.toString / Float.toString: the shortest digits that read
