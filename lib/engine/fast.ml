@@ -258,10 +258,37 @@ module Make (B : BODIES) = struct
       end in
     go c.pq c.world c.dispatched c.last n
 
+  (* The same in the variant Reference, where the dispatches go on until
+     the priority queue is empty (no budget): its entries are taken in the
+     order the pops would give them (Pqueue.runs), and the queue is empty
+     at the end. A body's effects change the behaviour part (and so the
+     snapshot), never the queue. *)
+  let dispatch_all p (c : M.t) =
+    let rec over_runs (c : M.t) k world dispatched last n = function
+      | [] -> ({ c with pq = Pqueue.empty; world; dispatched; cur = None; phase = Dispatch_phase; last }, n)
+      | run :: runs -> over_run c k world dispatched last n run runs
+    and over_run (c : M.t) k world dispatched last n run runs =
+      match run with
+      | [] -> over_runs c k world dispatched last n runs
+      | e :: rest ->
+        let kind = B.percept_kind e.p in
+        let (world, applied, bs) =
+          if kind >= 0 then
+            let plan = plan_for k world kind e.p in
+            dispatch_plan p c e world false plan.from plan.pbehs
+          else dispatch_handlers None p c e world false None k.todo k.behs in
+        let last = End_dispatch { seq = e.seq; discarded = not applied } in
+        match bs with
+        | None -> over_run c k world (dispatched + 1) last (n + 1) rest runs
+        | Some s ->
+          let c = M.with_bs c s in
+          over_run c (handlers_and_behs c) world (dispatched + 1) last (n + 1) rest runs in
+    over_runs c (handlers_and_behs c) c.world c.dispatched c.last 0 (Pqueue.runs c.pq)
+
   let dispatch_run p (c : M.t) =
     match c.phase, c.cur with
     | Dispatch_phase, None when single_candidate p && not p.ghosts && not (M.dispatch_over p c) ->
-      Some (dispatch_run_from p c 0)
+      if p.variant = Reference then Some (dispatch_all p c) else Some (dispatch_run_from p c 0)
     | _ -> None
 
   let dequeue_entry p c e ~pq = dequeue_top p c e pq

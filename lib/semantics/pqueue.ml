@@ -175,6 +175,15 @@ let iter f q =
 
 let before a b = a.prio > b.prio || (a.prio = b.prio && a.seq < b.seq)
 
+let runs q =
+  if q.size = 0 then []
+  else begin
+    (* the map's priorities in ascending order, consed: descending *)
+    let rest = ref [] in
+    Prio_map.iter (fun _ b -> rest := Fqueue.to_list b.q :: !rest) q.rest;
+    Fqueue.to_list q.top :: !rest
+  end
+
 let to_sorted_list q =
   let l = ref [] in
   iter (fun e -> l := e :: !l) q;

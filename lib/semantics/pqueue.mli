@@ -57,6 +57,11 @@ val remove : 'p entry -> 'p t -> 'p t
 val mem : 'p entry -> 'p t -> bool
 (** O(size of the entry's bucket). *)
 
+val runs : 'p t -> 'p entry list list
+(** The entries, one list per priority, highest priority first, each in
+    seq order: the order in which popping them all under stable ties
+    (R3b) gives them. *)
+
 val to_sorted_list : 'p t -> 'p entry list
 (** Every entry, in dequeue order (priority descending, seq ascending, then by
     [compare] on the percept). O(n log n). *)
