@@ -134,3 +134,10 @@ let read c tag r ~pos ~box =
       done;
       V.Schema { sname = k.sname; slots = a }
     end
+
+(* A kind of one int slot (a word of the packed agent, D39): the slot's
+   int given. *)
+let read_int c tag v =
+  let k = c.kinds.(Packed.tag_kind tag - 1) in
+  let x = if k.how.(0) = s_int then V.Int v else if v <> 0 then v_true else v_false in
+  V.Schema { sname = k.sname; slots = [| (k.names.(0), ref x) |] }
