@@ -33,6 +33,7 @@ module Ring = struct
     csize : int;
     free : ints array;
     mutable nfree : int;
+    mutable made : int;           (* chunks made so far *)
   }
 
   let default_chunk = 1 lsl 16
@@ -41,14 +42,15 @@ module Ring = struct
   let pool ?(chunk = default_chunk) () =
     if chunk < 1 || chunk land (chunk - 1) <> 0 then invalid_arg "Packed.Ring.pool";
     let rec log2 k = if k = 1 then 0 else 1 + log2 (k lsr 1) in
-    { shift = log2 chunk; csize = chunk; free = Array.make max_free no_chunk; nfree = 0 }
+    { shift = log2 chunk; csize = chunk; free = Array.make max_free no_chunk; nfree = 0; made = 0 }
 
   let chunk_size p = p.csize
   let free_chunks p = p.nfree
   let pool_offheap_words p = p.nfree * p.csize
+  let made p = p.made
 
   let take p =
-    if p.nfree = 0 then make_ints p.csize
+    if p.nfree = 0 then begin p.made <- p.made + 1; make_ints p.csize end
     else begin
       p.nfree <- p.nfree - 1;
       let c = p.free.(p.nfree) in
@@ -67,6 +69,11 @@ module Ring = struct
     mutable nch : int;
     mutable head : int;           (* the front int: place [head] of chunk [c0] *)
     mutable len : int;
+    mutable front : ints;         (* [ch.(c0)] *)
+    mutable tail : ints;          (* the chunk of the back int *)
+    mutable tpos : int;
+      (* the place after the back int in [tail]; the chunk size when there
+         is no room there (or no chunk): the next push takes a chunk *)
     mutable bx : 'b array;        (* [||] or a power of two *)
     mutable bhead : int;
     mutable blen : int;
@@ -75,7 +82,7 @@ module Ring = struct
   let create ?pool:p () =
     let p = match p with Some p -> p | None -> pool () in
     { pool = p; shift = p.shift; cmask = p.csize - 1; ch = [||]; c0 = 0; nch = 0; head = 0; len = 0;
-      bx = [||]; bhead = 0; blen = 0 }
+      front = no_chunk; tail = no_chunk; tpos = p.csize; bx = [||]; bhead = 0; blen = 0 }
 
   let length r = r.len
   let boxes r = r.blen
@@ -96,42 +103,57 @@ module Ring = struct
       end;
       r.c0 <- 0
     end;
-    r.ch.(r.c0 + r.nch) <- take r.pool;
-    r.nch <- r.nch + 1
+    let c = take r.pool in
+    r.ch.(r.c0 + r.nch) <- c;
+    if r.nch = 0 then r.front <- c;
+    r.nch <- r.nch + 1;
+    r.tail <- c;
+    r.tpos <- 0
+
+  let pool_of r = r.pool
 
   let[@inline] push r x =
-    let a = r.head + r.len in
-    let ci = a lsr r.shift in
-    if ci >= r.nch then add_chunk r;
-    A.unsafe_set (Array.unsafe_get r.ch (r.c0 + ci)) (a land r.cmask) x;
+    if r.tpos > r.cmask then add_chunk r;
+    A.unsafe_set r.tail r.tpos x;
+    r.tpos <- r.tpos + 1;
     r.len <- r.len + 1
+
+  (* The [i]th int's chunk and place, beyond the front chunk. *)
+  let get_far r a = A.unsafe_get (Array.unsafe_get r.ch (r.c0 + a lsr r.shift)) (a land r.cmask)
 
   let[@inline] get r i =
     let a = r.head + i in
-    A.unsafe_get (Array.unsafe_get r.ch (r.c0 + a lsr r.shift)) (a land r.cmask)
+    if a <= r.cmask then A.unsafe_get r.front a else get_far r a
 
   let[@inline] set r i x =
     let a = r.head + i in
     A.unsafe_set (Array.unsafe_get r.ch (r.c0 + a lsr r.shift)) (a land r.cmask) x
 
-  (* The front chunks read to their end go back to the pool. *)
+  (* The ring empty: its first chunk (if any) used again from its start,
+     the others back to the pool. *)
+  let restart r =
+    for i = r.c0 + 1 to r.c0 + r.nch - 1 do give r.pool r.ch.(i); r.ch.(i) <- no_chunk done;
+    r.head <- 0;
+    if r.nch > 0 then begin r.nch <- 1; r.tail <- r.front; r.tpos <- 0 end
+    else begin r.c0 <- 0; r.tail <- no_chunk; r.tpos <- r.cmask + 1 end
+
+  (* The front chunks read to their end go back to the pool (the ring is
+     not empty: its back int is in a later chunk). *)
   let release_front r =
-    while r.head > r.cmask && r.nch > 0 do
+    while r.head > r.cmask do
       give r.pool r.ch.(r.c0);
       r.ch.(r.c0) <- no_chunk;
       r.c0 <- r.c0 + 1;
       r.nch <- r.nch - 1;
       r.head <- r.head - r.cmask - 1
     done;
-    if r.nch = 0 then r.c0 <- 0
+    r.front <- r.ch.(r.c0)
 
   let[@inline] drop r n =
     r.head <- r.head + n;
     r.len <- r.len - n;
-    if r.len = 0 then r.head <- 0;   (* its chunks used again from the start *)
-    if r.head > r.cmask then release_front r
-
-  let[@inline] truncate r n = r.len <- r.len - n
+    if r.len = 0 then restart r
+    else if r.head > r.cmask then release_front r
 
   (* [n] ints from the front of [src], after skipping [skip] of them, to
      the back of [dst]. *)
@@ -170,14 +192,15 @@ module Ring = struct
     if r.len = 0 && r.blen = 0 then begin
       for i = r.c0 to r.c0 + r.nch - 1 do give r.pool r.ch.(i); r.ch.(i) <- no_chunk done;
       r.c0 <- 0; r.nch <- 0; r.head <- 0;
+      r.front <- no_chunk; r.tail <- no_chunk; r.tpos <- r.cmask + 1;
       if Array.length r.bx > large then begin r.bx <- [||]; r.bhead <- 0 end
     end
 
-  (* The record (11 fields and a header), the array of chunks, each
+  (* The record (14 fields and a header), the array of chunks, each
      chunk's bigarray block (a custom block of 6 words with its header),
      the side array. *)
   let heap_words r =
-    12 + (if Array.length r.ch = 0 then 0 else Array.length r.ch + 1) + 7 * r.nch
+    15 + (if Array.length r.ch = 0 then 0 else Array.length r.ch + 1) + 7 * r.nch
     + (if Array.length r.bx = 0 then 0 else Array.length r.bx + 1)
   let offheap_words r = r.nch lsl r.shift
 end
@@ -188,6 +211,7 @@ module type CODEC = sig
   val create : unit -> t
   val encode : t -> percept -> percept Ring.t -> int
   val read : t -> int -> percept Ring.t -> pos:int -> box:int -> percept
+  val encode_one : t -> percept -> int
   val read_int : t -> int -> int -> percept
 end
 
@@ -229,6 +253,10 @@ let[@inline] word_kind h = (h lsr 1) land word_kinds
 
 (* A tag that a word can stand for: width 1, no box, kind 1 to 15. *)
 let[@inline] word_tag tag = tag land 1023 = 4 && tag >= 1024 && tag < (word_kinds + 1) lsl 10
+
+(* A percept of tag [tag] whose one int is [v], for a word: the kind in
+   bits 0-3, [v] above; 0 when it cannot be a word. *)
+let one_int ~tag v = if word_tag tag && v >= min32 && v <= max32 then (v lsl 4) lor tag_kind tag else 0
 
 (* Of either form: the header's [x], its tag, the record's ints (header
    included) and boxes. *)
@@ -391,21 +419,19 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
       buckets = [||]; pq_n = 0; by_prio = Array.make small_prios no_bucket; top = 0;
       pend = 0; pend_p = [||]; pend_prio = 0; pend_with = false }
 
-  (* A record pushed onto [ring]: its header, then what the codec writes;
-     or a word, when the codec wrote one int of 32 bits (D8) for a tag a
-     word stands for, and [wx] (the word's [x]) is small enough. The long
-     header's [x] is [lx]. *)
+  (* A record pushed onto [ring]: a word, when the codec answers the
+     percept's kind and int ({!one_int}) and [wx] (the word's [x]) is small
+     enough; else its long header ([x] = [lx]), then what the codec
+     writes. *)
   let[@inline] push_record t ring ~wx ~lx percept =
-    let at = Ring.length ring in
-    Ring.push ring 0;
-    let tag = C.encode t.codec percept ring in
-    if word_tag tag && wx >= 0 && wx < t.x_limit then begin
-      let v = Ring.get ring (at + 1) in
-      if v >= min32 && v <= max32 then begin
-        Ring.truncate ring 1;
-        Ring.set ring at (word ~v ~kind:(tag_kind tag) ~x:wx)
-      end else Ring.set ring at (long lx tag)
-    end else Ring.set ring at (long lx tag)
+    let o = if wx >= 0 && wx < t.x_limit then C.encode_one t.codec percept else 0 in
+    if o <> 0 then Ring.push ring (word ~v:(o asr 4) ~kind:(o land 15) ~x:wx)
+    else begin
+      let at = Ring.length ring in
+      Ring.push ring 0;
+      let tag = C.encode t.codec percept ring in
+      Ring.set ring at (long lx tag)
+    end
 
   let push_o2a t (e : B.percept entry) =
     push_record t t.o2a ~wx:e.prio ~lx:e.prio e.p;
@@ -500,6 +526,9 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     if t.is_packed then t.o2a_n + t.pq_n
     else Fqueue.fold (fun n x -> match x with O_percept _ -> n + 1 | O_object _ -> n) 0 t.c.o2a
          + Pqueue.size t.c.pq
+
+  let ring_ints t = Array.fold_left (fun n b -> n + Ring.length b.ring) (Ring.length t.o2a) t.buckets
+  let chunks_made t = Ring.made t.pool
 
   let offheap_words t =
     Array.fold_left (fun n b -> n + Ring.offheap_words b.ring)

@@ -89,6 +89,10 @@ module Ring : sig
   val pool_offheap_words : pool -> int
   (** Words of the chunks waiting in the pool. *)
 
+  val made : pool -> int
+  (** Chunks the pool has made so far (the others it gave were used
+      again). *)
+
   type 'b t
 
   val create : ?pool:pool -> unit -> 'b t
@@ -97,6 +101,8 @@ module Ring : sig
 
   val chunks : 'b t -> int
   (** Chunks the ring holds. *)
+
+  val pool_of : 'b t -> pool
 
   val length : 'b t -> int
   (** Ints in the ring. *)
@@ -121,9 +127,6 @@ module Ring : sig
   (** Remove [n] ints from the front ([n <= length]); a chunk read to its
       end goes back to the pool. *)
 
-  val truncate : 'b t -> int -> unit
-  (** Remove [n] ints from the back ([n <= length]); the ring keeps its
-      chunks. *)
 
   val move_front : 'b t -> 'b t -> int -> skip:int -> unit
   (** [move_front src dst n ~skip]: drop [skip] ints from the front of
@@ -171,6 +174,12 @@ val tag_kind : int -> int
 val tag_width : int -> int
 val tag_boxes : int -> int
 
+val one_int : tag:int -> int -> int
+(** [one_int ~tag v]: a percept of tag [tag] whose one int is [v], as the
+    packed agent keeps it in a word (D39): [(v lsl 4) lor kind]; [0] when
+    it cannot be one (the tag not of width 1 and no box, its kind above 15,
+    or [v] not a 32-bit integer, D8). *)
+
 (** How a percept is written as ints. A percept is given a tag, then
     written as [tag_width tag] ints and [tag_boxes tag] boxed values in the
     side ring. Reading it back must give a percept equal to
@@ -194,6 +203,12 @@ module type CODEC = sig
   (** [read c tag r ~pos ~box]: the percept of this tag whose ints start at
       [pos] in [r] and whose boxes (if any) start at the [box]th boxed
       value. *)
+
+  val encode_one : t -> percept -> int
+  (** [encode_one c p]: {!one_int} of the percept's tag and its int when its
+      tag is of width 1 and no box (one integer or boolean slot), pushing
+      nothing; [0] otherwise, or when {!one_int} is [0] (then the packed
+      agent asks {!encode}). *)
 
   val read_int : t -> int -> int -> percept
   (** [read_int c tag v]: the percept of a tag of width 1 and no box whose
@@ -250,6 +265,12 @@ module Make (B : Fast.BODIES) (_ : CODEC with type percept = B.percept) : sig
   val phase : t -> Semantics.Machine.phase
   val last : t -> M.lbl
   val world : t -> B.world
+
+  val ring_ints : t -> int
+  (** Ints in the O2A ring and the buckets (one per word, D39): for tests. *)
+
+  val chunks_made : t -> int
+  (** Chunks its rings' pool has made so far: for tests. *)
 
   val offheap_words : t -> int
   (** Words the rings' chunks take outside the OCaml heap (the free places

@@ -105,6 +105,21 @@ let encode c (p : V.t) r =
     t
   | _ -> Packed.Ring.push_box r p; boxed_tag
 
+(* The kind and int of a percept of one int slot, for a word (D39); 0 for
+   any other. *)
+let encode_one c (p : V.t) =
+  match p with
+  | V.Schema ({ slots = [| (_, v) |]; _ } as s) ->
+    (match !v with
+     | V.Int n ->
+       let t = tag c s in
+       if t = boxed_tag then 0 else Packed.one_int ~tag:t n
+     | V.Bool b ->
+       let t = tag c s in
+       if t = boxed_tag then 0 else Packed.one_int ~tag:t (if b then 1 else 0)
+     | _ -> 0)
+  | _ -> 0
+
 (* Booleans are immutable values: the two can be shared. *)
 let v_true = V.Bool true and v_false = V.Bool false
 
