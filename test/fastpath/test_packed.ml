@@ -244,17 +244,19 @@ let packed_equals_reference_exn (prog, seed) =
                                    budget = 1 + Random.State.int rand 3;
                                    ghosts = seed mod 11 = 5;
                                    o2a_capacity = (if Random.State.bool rand then None else Some (1 + Random.State.int rand 6)) } in
-  let ops = List.init (5 + Random.State.int rand 25) (fun _ ->
-      match Random.State.int rand 10 with
-      | 0 | 1 | 2 | 3 ->
-        let (v, default) = percept () in
-        let prio = match Random.State.int rand 5 with
-          | 0 -> Some (Random.State.int rand 9) | 1 when Random.State.int rand 4 = 0 -> Some (-1) | _ -> None in
-        Notify (v, default, prio, Random.State.bool rand)
-      | 4 -> Put (V.list_of [ V.Int (Random.State.int rand 5) ])
-      | 5 -> Send (fst (percept ()))
-      | 6 | 7 -> Steps (1 + Random.State.int rand 25)
-      | _ -> Dispatches (1 + Random.State.int rand 3)) in
+  let notify () =
+    let (v, default) = percept () in
+    let prio = match Random.State.int rand 5 with
+      | 0 -> Some (Random.State.int rand 9) | 1 when Random.State.int rand 4 = 0 -> Some (-1) | _ -> None in
+    Notify (v, default, prio, Random.State.bool rand) in
+  let ops = List.concat (List.init (5 + Random.State.int rand 25) (fun _ ->
+      match Random.State.int rand 11 with
+      | 0 | 1 | 2 | 3 -> [ notify () ]
+      | 4 -> [ Put (V.list_of [ V.Int (Random.State.int rand 5) ]) ]
+      | 5 -> [ Send (fst (percept ())) ]
+      | 6 | 7 -> [ Steps (1 + Random.State.int rand 25) ]
+      | 8 | 9 -> [ Dispatches (1 + Random.State.int rand 3) ]
+      | _ -> List.init (3 + Random.State.int rand 10) (fun _ -> notify ()))) in   (* a small flood *)
   let args_for () =
     let rand = Random.State.make [| seed; 1 |] in
     let params = match Typing.Tenv.agent_create env "Ag" with Some r -> r.r_params | None -> [] in
@@ -268,10 +270,10 @@ let packed_equals_reference_exn (prog, seed) =
      (boxed while fewer than 4,096 wait) *)
   let pack_above = match seed mod 3 with 0 -> 0 | 1 -> 2 | _ -> Pk.default_pack_above in
   (* chunks of 2, 4, 8 ints (crossed every few percepts) and the default;
-     no word, words only for priorities and seq offsets 0 and 1, words
+     no word, words only for priorities and seq offsets below 3 or 5, words
      wherever they fit (D39) *)
   let chunk = match seed mod 4 with 0 -> 2 | 1 -> 4 | 2 -> 8 | _ -> Ring.default_chunk in
-  let word_x_limit = match seed mod 5 with 0 -> 0 | 1 -> 2 | _ -> 1 lsl 26 in
+  let word_x_limit = match seed mod 5 with 0 -> 0 | 1 -> 3 | 2 -> 5 | _ -> 1 lsl 26 in
   let t = Pk.of_config ~pack_above ~chunk ~word_x_limit p (RM.init p ~world:ap behs_p) in
   let history = Buffer.create 256 in
   let fail fmt = Printf.ksprintf (fun s ->
