@@ -254,10 +254,6 @@ let[@inline] word_kind h = (h lsr 1) land word_kinds
 (* A tag that a word can stand for: width 1, no box, kind 1 to 15. *)
 let[@inline] word_tag tag = tag land 1023 = 4 && tag >= 1024 && tag < (word_kinds + 1) lsl 10
 
-(* A percept of tag [tag] whose one int is [v], for a word: the kind in
-   bits 0-3, [v] above; 0 when it cannot be a word. *)
-let one_int ~tag v = if word_tag tag && v >= min32 && v <= max32 then (v lsl 4) lor tag_kind tag else 0
-
 (* Of either form: the header's [x], its tag, the record's ints (header
    included) and boxes. *)
 let[@inline] x_of h = if is_word h then word_x h else h asr (tag_bits + 1)
@@ -420,12 +416,14 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
       pend = 0; pend_p = [||]; pend_prio = 0; pend_with = false }
 
   (* A record pushed onto [ring]: a word, when the codec answers the
-     percept's kind and int ({!one_int}) and [wx] (the word's [x]) is small
+     percept's tag and int ([encode_one]), the tag is one a word stands
+     for, and [wx] (the word's [x]) is small
      enough; else its long header ([x] = [lx]), then what the codec
      writes. *)
   let[@inline] push_record t ring ~wx ~lx percept =
     let o = if wx >= 0 && wx < t.x_limit then C.encode_one t.codec percept else 0 in
-    if o <> 0 then Ring.push ring (word ~v:(o asr 4) ~kind:(o land 15) ~x:wx)
+    let tag = o land tag_mask and v = o asr tag_bits in
+    if o <> 0 && word_tag tag && v >= min32 && v <= max32 then Ring.push ring (word ~v ~kind:(tag_kind tag) ~x:wx)
     else begin
       let at = Ring.length ring in
       Ring.push ring 0;

@@ -174,11 +174,9 @@ val tag_kind : int -> int
 val tag_width : int -> int
 val tag_boxes : int -> int
 
-val one_int : tag:int -> int -> int
-(** [one_int ~tag v]: a percept of tag [tag] whose one int is [v], as the
-    packed agent keeps it in a word (D39): [(v lsl 4) lor kind]; [0] when
-    it cannot be one (the tag not of width 1 and no box, its kind above 15,
-    or [v] not a 32-bit integer, D8). *)
+val word_tag : int -> bool
+(** Whether a word can stand for a percept of this tag (D39): width 1, no
+    box, kind 1 to 15. *)
 
 (** How a percept is written as ints. A percept is given a tag, then
     written as [tag_width tag] ints and [tag_boxes tag] boxed values in the
@@ -205,10 +203,11 @@ module type CODEC = sig
       value. *)
 
   val encode_one : t -> percept -> int
-  (** [encode_one c p]: {!one_int} of the percept's tag and its int when its
-      tag is of width 1 and no box (one integer or boolean slot), pushing
-      nothing; [0] otherwise, or when {!one_int} is [0] (then the packed
-      agent asks {!encode}). *)
+  (** [encode_one c p]: when the percept's tag is of width 1 and no box (one
+      integer or boolean slot) and its int [v] is a 32-bit integer (D8),
+      [(v lsl 20) lor tag], pushing nothing; [0] otherwise. The packed
+      agent writes it as a word when {!word_tag} (D39), and else asks
+      {!encode}. *)
 
   val read_int : t -> int -> int -> percept
   (** [read_int c tag v]: the percept of a tag of width 1 and no box whose
