@@ -721,6 +721,8 @@ let floods_bench () =
       Printf.printf "  flood of %dM: %.1f ns per percept (notify %.1f, transfer %.1f, dispatch %.1f), %.2fM/s, %.1f bytes live per waiting percept, peak %d MB\n%!"
         (n / 1_000_000) (total_ns f) f.notify_ns (f.transfer_s *. 1e9 /. float_of_int n) f.dispatch_ns
         (f.overall /. 1e6) (f.live_words *. 8.) f.peak_mb;
+      let rates l = String.concat " " (List.map (fun r -> Printf.sprintf "%.1f" (r /. 1e6)) l) in
+      Printf.printf "    by the million (M/s): notify %s; dispatch %s\n%!" (rates f.notify_windows) (rates f.windows);
       f) sizes) in
   let med i = median (List.map (fun fs -> total_ns (List.nth fs i)) runs) in
   Printf.printf "median ns per percept: 1M %.1f, 10M %.1f; ratio 10M/1M %.2f (%d rounds)\n" (med 0) (med 1) (med 1 /. med 0) rounds
