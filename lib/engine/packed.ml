@@ -30,6 +30,7 @@ module Ring = struct
      [max_free] wait here; more are left to the collector. *)
   type pool = {
     shift : int;
+    bshift : int;                 (* box chunks: a 64th of the size, at least 2 *)
     csize : int;
     free : ints array;
     mutable nfree : int;
@@ -42,7 +43,7 @@ module Ring = struct
   let pool ?(chunk = default_chunk) () =
     if chunk < 1 || chunk land (chunk - 1) <> 0 then invalid_arg "Packed.Ring.pool";
     let rec log2 k = if k = 1 then 0 else 1 + log2 (k lsr 1) in
-    { shift = log2 chunk; csize = chunk; free = Array.make max_free no_chunk; nfree = 0; made = 0 }
+    { shift = log2 chunk; bshift = max 1 (log2 chunk - 6); csize = chunk; free = Array.make max_free no_chunk; nfree = 0; made = 0 }
 
   let chunk_size p = p.csize
   let free_chunks p = p.nfree
@@ -74,15 +75,22 @@ module Ring = struct
     mutable tpos : int;
       (* the place after the back int in [tail]; the chunk size when there
          is no room there (or no chunk): the next push takes a chunk *)
-    mutable bx : 'b array;        (* [||] or a power of two *)
-    mutable bhead : int;
+    bshift : int;                 (* box chunks of [bmask + 1] values *)
+    bmask : int;
+    mutable bch : 'b array array; (* the box chunks [bch.(b0)] .. [bch.(b0 + nb - 1)] *)
+    mutable b0 : int;
+    mutable nb : int;
+    mutable bhead : int;          (* the front box: place [bhead] of chunk [b0] *)
     mutable blen : int;
+    mutable btail : int;          (* the place after the back box in the last chunk; [bmask + 1] when full or none *)
   }
 
   let create ?pool:p () =
     let p = match p with Some p -> p | None -> pool () in
     { pool = p; shift = p.shift; cmask = p.csize - 1; ch = [||]; c0 = 0; nch = 0; head = 0; len = 0;
-      front = no_chunk; tail = no_chunk; tpos = p.csize; bx = [||]; bhead = 0; blen = 0 }
+      front = no_chunk; tail = no_chunk; tpos = p.csize;
+      bshift = p.bshift; bmask = (1 lsl p.bshift) - 1; bch = [||]; b0 = 0; nb = 0; bhead = 0; blen = 0;
+      btail = 1 lsl p.bshift }
 
   let length r = r.len
   let boxes r = r.blen
@@ -161,47 +169,64 @@ module Ring = struct
     for k = 0 to n - 1 do push dst (get src (skip + k)) done;
     drop src (n + skip)
 
-  (* The side ring is made with its first value as the filler of its empty
-     places. *)
-  let grow_boxes r v =
-    let n = Array.length r.bx in
-    let a = Array.make (max 8 (2 * n)) v in
-    for j = 0 to r.blen - 1 do a.(j) <- r.bx.((r.bhead + j) land (n - 1)) done;
-    r.bx <- a;
-    r.bhead <- 0
+  (* The boxed values, in chunks too (ordinary arrays, a 64th of an int
+     chunk's length: 1,024 by default): a chunk is made with its first
+     value as the filler of its other places, and left to the collector
+     once read to its end. *)
+  let add_box_chunk r v =
+    if r.b0 + r.nb = Array.length r.bch then begin
+      if r.b0 > 0 then begin
+        Array.blit r.bch r.b0 r.bch 0 r.nb;
+        Array.fill r.bch r.nb r.b0 [||]
+      end else begin
+        let a = Array.make (max 4 (2 * r.nb)) [||] in
+        Array.blit r.bch 0 a 0 r.nb;
+        r.bch <- a
+      end;
+      r.b0 <- 0
+    end;
+    r.bch.(r.b0 + r.nb) <- Array.make (r.bmask + 1) v;
+    r.nb <- r.nb + 1;
+    r.btail <- 0
 
   let push_box r v =
-    if r.blen = Array.length r.bx then grow_boxes r v;
-    r.bx.((r.bhead + r.blen) land (Array.length r.bx - 1)) <- v;
+    if r.btail > r.bmask then add_box_chunk r v;
+    Array.unsafe_set (Array.unsafe_get r.bch (r.b0 + r.nb - 1)) r.btail v;
+    r.btail <- r.btail + 1;
     r.blen <- r.blen + 1
 
-  let get_box r j = r.bx.((r.bhead + j) land (Array.length r.bx - 1))
+  let get_box r j =
+    let a = r.bhead + j in
+    Array.unsafe_get (Array.unsafe_get r.bch (r.b0 + a lsr r.bshift)) (a land r.bmask)
 
+  (* The value leaving stays in its chunk until the chunk leaves (at most
+     a chunk's worth of values kept so). *)
   let drop_box r =
-    let m = Array.length r.bx - 1 in
-    (* the place of the value leaving gets the newest one, still in the ring
-       (or the value itself when it was the last) *)
-    r.bx.(r.bhead) <- r.bx.((r.bhead + r.blen - 1) land m);
-    r.bhead <- (r.bhead + 1) land m;
-    r.blen <- r.blen - 1
-
-  (* Above this many places, a drained ring's side array is given back. *)
-  let large = 1 lsl 16
+    r.bhead <- r.bhead + 1;
+    r.blen <- r.blen - 1;
+    if r.bhead > r.bmask then begin
+      r.bch.(r.b0) <- [||];
+      r.b0 <- r.b0 + 1;
+      r.nb <- r.nb - 1;
+      r.bhead <- 0;
+      if r.nb = 0 then begin r.b0 <- 0; r.btail <- r.bmask + 1 end
+    end
 
   let shrink r =
     if r.len = 0 && r.blen = 0 then begin
       for i = r.c0 to r.c0 + r.nch - 1 do give r.pool r.ch.(i); r.ch.(i) <- no_chunk done;
       r.c0 <- 0; r.nch <- 0; r.head <- 0;
       r.front <- no_chunk; r.tail <- no_chunk; r.tpos <- r.cmask + 1;
-      if Array.length r.bx > large then begin r.bx <- [||]; r.bhead <- 0 end
+      for i = r.b0 to r.b0 + r.nb - 1 do r.bch.(i) <- [||] done;
+      r.b0 <- 0; r.nb <- 0; r.bhead <- 0; r.btail <- r.bmask + 1
     end
 
-  (* The record (14 fields and a header), the array of chunks, each
+  (* The record (19 fields and a header), the array of chunks, each
      chunk's bigarray block (a custom block of 6 words with its header),
-     the side array. *)
+     the array of box chunks and the box chunks. *)
   let heap_words r =
-    15 + (if Array.length r.ch = 0 then 0 else Array.length r.ch + 1) + 7 * r.nch
-    + (if Array.length r.bx = 0 then 0 else Array.length r.bx + 1)
+    20 + (if Array.length r.ch = 0 then 0 else Array.length r.ch + 1) + 7 * r.nch
+    + (if Array.length r.bch = 0 then 0 else Array.length r.bch + 1) + r.nb * (r.bmask + 2)
   let offheap_words r = r.nch lsl r.shift
 end
 

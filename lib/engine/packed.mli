@@ -63,13 +63,15 @@
     leaves the ring. Chunks come from a {!pool} and go back to it, shared
     by the rings of one agent: when Transfer empties the O2A ring's chunks,
     the buckets take them, so that a flood's percepts are in memory about
-    once, not once per ring (D39). The boxed values are an ordinary array
-    used circularly, doubled when full. A ring that has drained gives its
-    chunks back ({!shrink}), and a pool keeps at most 8 of them, so that a
-    flood's memory does not stay with the agent once it is idle.
+    once, not once per ring (D39). The boxed values are in chunks too,
+    ordinary arrays of a 64th of that length (1,024 by default), made when
+    needed and left to the collector once read to their end. A ring that
+    has drained gives its chunks back ({!shrink}), and a pool keeps at most
+    8 of them, so that a flood's memory does not stay with the agent once
+    it is idle.
 
     Nothing is allocated per element except when a ring takes a chunk that
-    its pool does not have. *)
+    its pool does not have, or a chunk of boxes. *)
 module Ring : sig
   type pool
   (** Chunks of one size, free for the rings made with the pool. *)
@@ -137,14 +139,14 @@ module Ring : sig
   (** The [j]th boxed value from the front. *)
 
   val drop_box : 'b t -> unit
-  (** Remove the front boxed value. The ring no longer holds it (its place is
-      overwritten by a value still in the ring, or by the last one pushed). *)
+  (** Remove the front boxed value. Its chunk still holds it until the
+      chunk is read to its end or the ring drains ({!shrink}): at most a
+      chunk's worth of values removed is kept alive so. *)
 
   val shrink : 'b t -> unit
-  (** When the ring is empty, give its chunks back to the pool, and give back
-      a side array of more than 65,536 places (a smaller one is kept, so
-      that a steady run does not grow it again after every batch). Does
-      nothing to a ring that is not empty. *)
+  (** When the ring is empty, give its chunks back to the pool and leave its
+      chunks of boxes to the collector. Does nothing to a ring that is not
+      empty. *)
 
   val heap_words : 'b t -> int
   val offheap_words : 'b t -> int
