@@ -191,13 +191,13 @@ module Ring = struct
 
   let push_box r v =
     if r.btail > r.bmask then add_box_chunk r v;
-    Array.unsafe_set (Array.unsafe_get r.bch (r.b0 + r.nb - 1)) r.btail v;
+    r.bch.(r.b0 + r.nb - 1).(r.btail) <- v;
     r.btail <- r.btail + 1;
     r.blen <- r.blen + 1
 
   let get_box r j =
     let a = r.bhead + j in
-    Array.unsafe_get (Array.unsafe_get r.bch (r.b0 + a lsr r.bshift)) (a land r.bmask)
+    r.bch.(r.b0 + a lsr r.bshift).(a land r.bmask)
 
   (* The value leaving stays in its chunk until the chunk leaves (at most
      a chunk's worth of values kept so). *)
