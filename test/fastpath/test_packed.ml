@@ -449,6 +449,20 @@ let packed_agent_unit () =
   ignore (Pk.notify_event t (pv "position(7)") ~default:2 ~priority:None);
   Alcotest.(check (list string)) "plain again, a notify after the object" [ "0"; "position(7)/2/4096" ] (o2a_of t)
 
+(* A codec that breaks encode_one's contract: it answers the int of any
+   one-int percept, beyond 32 bits too. The packed agent must not trust it
+   (a word has 32 bits for the int). *)
+module Loose_codec = struct
+  include Engine.Percept_codec
+  let encode_one c (p : V.t) = match p with
+    | V.Schema { slots = [| (_, v) |]; _ } ->
+      (match !v with
+       | V.Int n -> (n lsl 20) lor encode c p (Ring.create ())
+       | _ -> encode_one c p)
+    | _ -> encode_one c p
+end
+module Pk_loose = Engine.Packed.Make (Engine.Interp_bodies) (Loose_codec)
+
 (* D39 on the bench program: words for a 32-bit int slot at both ends of
    its range, the long form for a slot beyond it, a priority too large
    for a word, a seq too far from its bucket's first; chunks crossed and
@@ -515,7 +529,17 @@ let packed_words () =
   if Pk.chunks_made t > 502 then Alcotest.failf "Transfer: %d chunks made in all" (Pk.chunks_made t);
   Alcotest.(check int) "every percept" 4000 (List.length (dequeued t));
   (* drained: the rings hold no chunk, the pool at most 8 *)
-  if Pk.offheap_words t > 8 * 8 then Alcotest.failf "drained: %d words kept" (Pk.offheap_words t)
+  if Pk.offheap_words t > 8 * 8 then Alcotest.failf "drained: %d words kept" (Pk.offheap_words t);
+  (* the agent, not only the codec, keeps a word's int to 32 bits *)
+  let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
+  let t = Pk_loose.of_config ~pack_above:0 ~chunk:4 Mc.default_params (RM.init Mc.default_params ~world:a behs) in
+  List.iter (fun k -> ignore (Pk_loose.notify_event t (position k) ~default:2 ~priority:None))
+    [ 2147483648; -2147483649; 5 ];
+  Alcotest.(check int) "a loose codec: two long records and a word" 5 (Pk_loose.ring_ints t);
+  Alcotest.(check (list string)) "a loose codec: the same percepts"
+    [ "position(2147483648)/2/1"; "position(-2147483649)/2/2"; "position(5)/2/3" ]
+    (List.map (function Mc.O_percept e -> Show.entry e | Mc.O_object o -> V.to_literal o)
+       (Semantics.Fqueue.to_list (Pk_loose.to_config t).o2a))
 
 let () =
   Alcotest.run "packed" [
