@@ -245,7 +245,7 @@ let make_tag ~kind ~width ~boxes =
   if kind < 0 || kind >= 1024 || width < 0 || width > 255 || boxes < 0 || boxes > 3 then
     invalid_arg "Packed.make_tag";
   (kind lsl 10) lor (width lsl 2) lor boxes
-(* A percept that travels as it is, in the ring's side array. *)
+(* A percept that travels as it is, in the ring's side ring of boxes. *)
 let boxed_tag = make_tag ~kind:0 ~width:0 ~boxes:1
 
 let tag_kind tag = tag lsr 10

@@ -151,7 +151,7 @@ module Ring : sig
   val heap_words : 'b t -> int
   val offheap_words : 'b t -> int
   (** Words the ring takes on the OCaml heap (its record, its array of
-      chunks and their blocks, its side array), and outside it (its chunks:
+      chunks and their blocks, its chunks of boxes), and outside it (its chunks:
       [Bigarray]s, which the collector neither copies nor scans), the free
       places of its last chunk included. *)
 end
@@ -168,7 +168,7 @@ val make_tag : kind:int -> width:int -> boxes:int -> int
 (** @raise Invalid_argument outside the ranges above. *)
 
 val boxed_tag : int
-(** The tag of a percept that travels boxed, as it is, in the side array
+(** The tag of a percept that travels boxed, as it is, in the side ring
     (kind 0): the codec's for what it cannot pack, and the agent's for a
     percept notified while few wait. *)
 
