@@ -45,7 +45,6 @@ module Ring = struct
     let rec log2 k = if k = 1 then 0 else 1 + log2 (k lsr 1) in
     { shift = log2 chunk; bshift = max 1 (log2 chunk - 6); csize = chunk; free = Array.make max_free no_chunk; nfree = 0; made = 0 }
 
-  let chunk_size p = p.csize
   let free_chunks p = p.nfree
   let pool_offheap_words p = p.nfree * p.csize
   let made p = p.made
@@ -117,8 +116,6 @@ module Ring = struct
     r.nch <- r.nch + 1;
     r.tail <- c;
     r.tpos <- 0
-
-  let pool_of r = r.pool
 
   let[@inline] push r x =
     if r.tpos > r.cmask then add_chunk r;

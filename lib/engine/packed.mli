@@ -84,7 +84,6 @@ module Ring : sig
       ones in tests, so that rings cross chunks often).
       @raise Invalid_argument unless [chunk] is a power of two. *)
 
-  val chunk_size : pool -> int
   val free_chunks : pool -> int
   (** Chunks waiting in the pool (at most 8). *)
 
@@ -103,8 +102,6 @@ module Ring : sig
 
   val chunks : 'b t -> int
   (** Chunks the ring holds. *)
-
-  val pool_of : 'b t -> pool
 
   val length : 'b t -> int
   (** Ints in the ring. *)
