@@ -714,6 +714,30 @@ let count_bench () =
      | Some (k, w) -> Printf.sprintf "; %.1f words (%.0f bytes) live per waiting percept with %d waiting" w (w *. 8.) k
      | None -> "")
 
+(* Only the floods, for developing the packed agent (issue 17, goal 2):
+   after a first flood of 1M not counted, [rounds] rounds of a flood of 1M
+   and of 10M, alternating, then the median whole cost per percept of each
+   and their ratio. *)
+let floods_bench () =
+  Interp.Runtime.tune_gc ();
+  let rounds = match Sys.argv with
+    | [| _; _; r |] -> (match int_of_string_opt r with Some r when r > 0 -> r | _ -> 3)
+    | _ -> 3 in
+  let env = load_program (find_program "percepts.jade") in
+  (* a first flood, not counted: the process's heap grows to its size *)
+  ignore (interp_flood env 1_000_000);
+  let sizes = [ 1_000_000; 10_000_000 ] in
+  let runs = List.init rounds (fun _ -> List.map (fun n ->
+      let f = interp_flood env n in
+      Printf.printf "  flood of %dM: %.1f ns per percept (notify %.1f, transfer %.1f, dispatch %.1f), %.2fM/s, %.1f bytes live per waiting percept, peak %d MB\n%!"
+        (n / 1_000_000) (total_ns f) f.notify_ns (f.transfer_s *. 1e9 /. float_of_int n) f.dispatch_ns
+        (f.overall /. 1e6) (f.live_words *. 8.) f.peak_mb;
+      let rates l = String.concat " " (List.map (fun r -> Printf.sprintf "%.1f" (r /. 1e6)) l) in
+      Printf.printf "    by the million (M/s): notify %s; dispatch %s\n%!" (rates f.notify_windows) (rates f.windows);
+      f) sizes) in
+  let med i = median (List.map (fun fs -> total_ns (List.nth fs i)) runs) in
+  Printf.printf "median ns per percept: 1M %.1f, 10M %.1f; ratio 10M/1M %.2f (%d rounds)\n" (med 0) (med 1) (med 1 /. med 0) rounds
+
 (* ---------------------------------------------------- the JADE back end *)
 
 (* Run a command; keep the lines "TAG kind key=value ..." as (kind, bindings). *)
@@ -834,6 +858,7 @@ let () =
   | "sim" -> sim_bench (); print_newline (); Goals.print ()
   | "jade" -> jade_backend_bench (); print_newline (); Goals.print ()
   | "count" -> count_bench ()
+  | "floods" -> floods_bench ()
   | "all" -> parser_bench (); print_newline (); explorer_bench (); print_newline (); interp_bench ();
     print_newline (); jade_backend_bench (); print_newline (); sim_bench (); print_newline (); Goals.print ()
   | other -> Printf.eprintf "bench: unknown benchmark %s (known: parser, explorer, interp, jade, sim, all)\n" other; exit 2

@@ -8,8 +8,9 @@ open Semantics.Machine
 module Pqueue = Semantics.Pqueue
 module Fqueue = Semantics.Fqueue
 
-(* Growable circular buffers of ints and of boxed values; see packed.mli.
-   Here, in the same unit as the agent, so that its loops inline them. *)
+(* First-in first-out rings of ints in chunks, with a side ring of boxed
+   values; see packed.mli. Here, in the same unit as the agent, so that its
+   loops inline them. *)
 module Ring = struct
   module A = Bigarray.Array1
 
@@ -18,108 +19,212 @@ module Ring = struct
      nothing to mark). *)
   type ints = (int, Bigarray.int_elt, Bigarray.c_layout) A.t
 
-  type 'b t = {
-    mutable ints : ints;          (* length a power of two *)
-    mutable mask : int;           (* its length - 1 *)
-    mutable head : int;
-    mutable len : int;
-    mutable bx : 'b array;        (* [||] or a power of two *)
-    mutable bhead : int;
-    mutable blen : int;
-  }
-
-  let small = 16
-
   let make_ints n : ints = A.create Bigarray.int Bigarray.c_layout n
 
-  let create () =
-    { ints = make_ints small; mask = small - 1; head = 0; len = 0; bx = [||]; bhead = 0; blen = 0 }
+  (* A chunk's place in a ring's array of chunks when it holds none. *)
+  let no_chunk = make_ints 0
+
+  (* Chunks of [csize] ints (a power of two), shared by the rings of one
+     agent: a chunk a ring has emptied is taken by the next ring to grow,
+     so that a Transfer moves a flood's O2A chunks to its buckets. At most
+     [max_free] wait here; more are left to the collector. *)
+  type pool = {
+    shift : int;
+    bshift : int;                 (* box chunks: a 64th of the size, at least 2 *)
+    csize : int;
+    free : ints array;
+    mutable nfree : int;
+    mutable made : int;           (* chunks made so far *)
+  }
+
+  let default_chunk = 1 lsl 16
+  let max_free = 8
+
+  let pool ?(chunk = default_chunk) () =
+    if chunk < 1 || chunk land (chunk - 1) <> 0 then invalid_arg "Packed.Ring.pool";
+    let rec log2 k = if k = 1 then 0 else 1 + log2 (k lsr 1) in
+    { shift = log2 chunk; bshift = max 1 (log2 chunk - 6); csize = chunk; free = Array.make max_free no_chunk; nfree = 0; made = 0 }
+
+  let free_chunks p = p.nfree
+  let pool_offheap_words p = p.nfree * p.csize
+  let made p = p.made
+
+  let take p =
+    if p.nfree = 0 then begin p.made <- p.made + 1; make_ints p.csize end
+    else begin
+      p.nfree <- p.nfree - 1;
+      let c = p.free.(p.nfree) in
+      p.free.(p.nfree) <- no_chunk;
+      c
+    end
+
+  let give p c = if p.nfree < max_free then begin p.free.(p.nfree) <- c; p.nfree <- p.nfree + 1 end
+
+  type 'b t = {
+    pool : pool;
+    shift : int;                  (* the pool's, here to save a load *)
+    cmask : int;                  (* its chunk size - 1 *)
+    mutable ch : ints array;      (* the chunks [ch.(c0)] .. [ch.(c0 + nch - 1)] *)
+    mutable c0 : int;
+    mutable nch : int;
+    mutable head : int;           (* the front int: place [head] of chunk [c0] *)
+    mutable len : int;
+    mutable front : ints;         (* [ch.(c0)] *)
+    mutable tail : ints;          (* the chunk of the back int *)
+    mutable tpos : int;
+      (* the place after the back int in [tail]; the chunk size when there
+         is no room there (or no chunk): the next push takes a chunk *)
+    bshift : int;                 (* box chunks of [bmask + 1] values *)
+    bmask : int;
+    mutable bch : 'b array array; (* the box chunks [bch.(b0)] .. [bch.(b0 + nb - 1)] *)
+    mutable b0 : int;
+    mutable nb : int;
+    mutable bhead : int;          (* the front box: place [bhead] of chunk [b0] *)
+    mutable blen : int;
+    mutable btail : int;          (* the place after the back box in the last chunk; [bmask + 1] when full or none *)
+  }
+
+  let create ?pool:p () =
+    let p = match p with Some p -> p | None -> pool () in
+    { pool = p; shift = p.shift; cmask = p.csize - 1; ch = [||]; c0 = 0; nch = 0; head = 0; len = 0;
+      front = no_chunk; tail = no_chunk; tpos = p.csize;
+      bshift = p.bshift; bmask = (1 lsl p.bshift) - 1; bch = [||]; b0 = 0; nb = 0; bhead = 0; blen = 0;
+      btail = 1 lsl p.bshift }
 
   let length r = r.len
   let boxes r = r.blen
   let is_empty r = r.len = 0 && r.blen = 0
+  let chunks r = r.nch
 
-  (* Twice the places, the ints copied in order to the front (in at most two
-     pieces: from [head] to the end of the array, then from its start). *)
-  let grow r =
-    let n = r.mask + 1 in
-    let a = make_ints (2 * n) in
-    let first = min r.len (n - r.head) in
-    A.blit (A.sub r.ints r.head first) (A.sub a 0 first);
-    if first < r.len then A.blit (A.sub r.ints 0 (r.len - first)) (A.sub a first (r.len - first));
-    r.ints <- a;
-    r.mask <- 2 * n - 1;
-    r.head <- 0
+  (* One more chunk at the back, from the pool: the array of chunks is
+     slid to its start, or doubled (it holds a few hundred at most). *)
+  let add_chunk r =
+    if r.c0 + r.nch = Array.length r.ch then begin
+      if r.c0 > 0 then begin
+        Array.blit r.ch r.c0 r.ch 0 r.nch;
+        Array.fill r.ch r.nch r.c0 no_chunk
+      end else begin
+        let a = Array.make (max 4 (2 * r.nch)) no_chunk in
+        Array.blit r.ch 0 a 0 r.nch;
+        r.ch <- a
+      end;
+      r.c0 <- 0
+    end;
+    let c = take r.pool in
+    r.ch.(r.c0 + r.nch) <- c;
+    if r.nch = 0 then r.front <- c;
+    r.nch <- r.nch + 1;
+    r.tail <- c;
+    r.tpos <- 0
 
   let[@inline] push r x =
-    if r.len > r.mask then grow r;
-    A.unsafe_set r.ints ((r.head + r.len) land r.mask) x;
+    if r.tpos > r.cmask then add_chunk r;
+    A.unsafe_set r.tail r.tpos x;
+    r.tpos <- r.tpos + 1;
     r.len <- r.len + 1
 
-  let[@inline] get r i = A.unsafe_get r.ints ((r.head + i) land r.mask)
+  (* The [i]th int's chunk and place, beyond the front chunk. *)
+  let get_far r a = A.unsafe_get (Array.unsafe_get r.ch (r.c0 + a lsr r.shift)) (a land r.cmask)
 
-  let[@inline] set r i x = A.unsafe_set r.ints ((r.head + i) land r.mask) x
+  let[@inline] get r i =
+    let a = r.head + i in
+    if a <= r.cmask then A.unsafe_get r.front a else get_far r a
+
+  let[@inline] set r i x =
+    let a = r.head + i in
+    A.unsafe_set (Array.unsafe_get r.ch (r.c0 + a lsr r.shift)) (a land r.cmask) x
+
+  (* The ring empty: its first chunk (if any) used again from its start,
+     the others back to the pool. *)
+  let restart r =
+    for i = r.c0 + 1 to r.c0 + r.nch - 1 do give r.pool r.ch.(i); r.ch.(i) <- no_chunk done;
+    r.head <- 0;
+    if r.nch > 0 then begin r.nch <- 1; r.tail <- r.front; r.tpos <- 0 end
+    else begin r.c0 <- 0; r.tail <- no_chunk; r.tpos <- r.cmask + 1 end
+
+  (* The front chunks read to their end go back to the pool (the ring is
+     not empty: its back int is in a later chunk). *)
+  let release_front r =
+    while r.head > r.cmask do
+      give r.pool r.ch.(r.c0);
+      r.ch.(r.c0) <- no_chunk;
+      r.c0 <- r.c0 + 1;
+      r.nch <- r.nch - 1;
+      r.head <- r.head - r.cmask - 1
+    done;
+    r.front <- r.ch.(r.c0)
 
   let[@inline] drop r n =
-    r.head <- (r.head + n) land r.mask;
-    r.len <- r.len - n
+    r.head <- r.head + n;
+    r.len <- r.len - n;
+    if r.len = 0 then restart r
+    else if r.head > r.cmask then release_front r
 
   (* [n] ints from the front of [src], after skipping [skip] of them, to
      the back of [dst]. *)
   let[@inline] move_front src dst n ~skip =
-    while dst.len + n > dst.mask + 1 do grow dst done;
-    let a = dst.ints and m = dst.mask and b = src.ints and ms = src.mask in
-    let at = dst.head + dst.len and from = src.head + skip in
-    for k = 0 to n - 1 do
-      A.unsafe_set a ((at + k) land m) (A.unsafe_get b ((from + k) land ms))
-    done;
-    dst.len <- dst.len + n;
-    src.head <- (from + n) land ms;
-    src.len <- src.len - n - skip
+    for k = 0 to n - 1 do push dst (get src (skip + k)) done;
+    drop src (n + skip)
 
-  (* The front record of [src], a header and [w] ints, moved to the back of
-     [dst] with the header [h] instead: Transfer's inner loop. *)
-  let[@inline] move_record src dst h w =
-    push dst h;
-    move_front src dst w ~skip:1
-
-  (* The side ring is made with its first value as the filler of its empty
-     places. *)
-  let grow_boxes r v =
-    let n = Array.length r.bx in
-    let a = Array.make (max 8 (2 * n)) v in
-    for j = 0 to r.blen - 1 do a.(j) <- r.bx.((r.bhead + j) land (n - 1)) done;
-    r.bx <- a;
-    r.bhead <- 0
+  (* The boxed values, in chunks too (ordinary arrays, a 64th of an int
+     chunk's length: 1,024 by default): a chunk is made with its first
+     value as the filler of its other places, and left to the collector
+     once read to its end. *)
+  let add_box_chunk r v =
+    if r.b0 + r.nb = Array.length r.bch then begin
+      if r.b0 > 0 then begin
+        Array.blit r.bch r.b0 r.bch 0 r.nb;
+        Array.fill r.bch r.nb r.b0 [||]
+      end else begin
+        let a = Array.make (max 4 (2 * r.nb)) [||] in
+        Array.blit r.bch 0 a 0 r.nb;
+        r.bch <- a
+      end;
+      r.b0 <- 0
+    end;
+    r.bch.(r.b0 + r.nb) <- Array.make (r.bmask + 1) v;
+    r.nb <- r.nb + 1;
+    r.btail <- 0
 
   let push_box r v =
-    if r.blen = Array.length r.bx then grow_boxes r v;
-    r.bx.((r.bhead + r.blen) land (Array.length r.bx - 1)) <- v;
+    if r.btail > r.bmask then add_box_chunk r v;
+    r.bch.(r.b0 + r.nb - 1).(r.btail) <- v;
+    r.btail <- r.btail + 1;
     r.blen <- r.blen + 1
 
-  let get_box r j = r.bx.((r.bhead + j) land (Array.length r.bx - 1))
+  let get_box r j =
+    let a = r.bhead + j in
+    r.bch.(r.b0 + a lsr r.bshift).(a land r.bmask)
 
+  (* The value leaving stays in its chunk until the chunk leaves (at most
+     a chunk's worth of values kept so). *)
   let drop_box r =
-    let m = Array.length r.bx - 1 in
-    (* the place of the value leaving gets the newest one, still in the ring
-       (or the value itself when it was the last) *)
-    r.bx.(r.bhead) <- r.bx.((r.bhead + r.blen - 1) land m);
-    r.bhead <- (r.bhead + 1) land m;
-    r.blen <- r.blen - 1
-
-  (* Above this many places, a drained ring's array is given back. *)
-  let large = 1 lsl 16
+    r.bhead <- r.bhead + 1;
+    r.blen <- r.blen - 1;
+    if r.bhead > r.bmask then begin
+      r.bch.(r.b0) <- [||];
+      r.b0 <- r.b0 + 1;
+      r.nb <- r.nb - 1;
+      r.bhead <- 0;
+      if r.nb = 0 then begin r.b0 <- 0; r.btail <- r.bmask + 1 end
+    end
 
   let shrink r =
     if r.len = 0 && r.blen = 0 then begin
-      if r.mask + 1 > large then begin r.ints <- make_ints small; r.mask <- small - 1; r.head <- 0 end;
-      if Array.length r.bx > large then begin r.bx <- [||]; r.bhead <- 0 end
+      for i = r.c0 to r.c0 + r.nch - 1 do give r.pool r.ch.(i); r.ch.(i) <- no_chunk done;
+      r.c0 <- 0; r.nch <- 0; r.head <- 0;
+      r.front <- no_chunk; r.tail <- no_chunk; r.tpos <- r.cmask + 1;
+      for i = r.b0 to r.b0 + r.nb - 1 do r.bch.(i) <- [||] done;
+      r.b0 <- 0; r.nb <- 0; r.bhead <- 0; r.btail <- r.bmask + 1
     end
 
-  (* The record (7 fields and a header), the bigarray's block (a custom
-     block of 6 words with its header), the side array. *)
-  let heap_words r = 8 + 6 + (if Array.length r.bx = 0 then 0 else Array.length r.bx + 1)
-  let offheap_words r = r.mask + 1
+  (* The record (19 fields and a header), the array of chunks, each
+     chunk's bigarray block (a custom block of 6 words with its header),
+     the array of box chunks and the box chunks. *)
+  let heap_words r =
+    20 + (if Array.length r.ch = 0 then 0 else Array.length r.ch + 1) + 7 * r.nch
+    + (if Array.length r.bch = 0 then 0 else Array.length r.bch + 1) + r.nb * (r.bmask + 2)
+  let offheap_words r = r.nch lsl r.shift
 end
 
 module type CODEC = sig
@@ -128,35 +233,66 @@ module type CODEC = sig
   val create : unit -> t
   val encode : t -> percept -> percept Ring.t -> int
   val read : t -> int -> percept Ring.t -> pos:int -> box:int -> percept
+  val encode_one : t -> percept -> int
+  val read_int : t -> int -> int -> percept
 end
-
-(* A record's header: a priority (O2A ring) or a seq (bucket) and the tag,
-   in one int. Priorities are Java ints and seqs count notifies: both fit
-   in the 42 bits left (arithmetic shift: a negative one too). *)
-let tag_bits = 20
-let tag_mask = (1 lsl tag_bits) - 1
-let header x tag = (x lsl tag_bits) lor tag
-let high h = h asr tag_bits
-let tag_of h = h land tag_mask
 
 (* A tag: [kind] (10 bits), [width] (8 bits), [boxes] (2 bits). *)
 let make_tag ~kind ~width ~boxes =
   if kind < 0 || kind >= 1024 || width < 0 || width > 255 || boxes < 0 || boxes > 3 then
     invalid_arg "Packed.make_tag";
   (kind lsl 10) lor (width lsl 2) lor boxes
-(* A percept that travels as it is, in the ring's side array. *)
+(* A percept that travels as it is, in the ring's side ring of boxes. *)
 let boxed_tag = make_tag ~kind:0 ~width:0 ~boxes:1
 
 let tag_kind tag = tag lsr 10
 let tag_width tag = (tag lsr 2) land 255
 let tag_boxes tag = tag land 3
 
+(* A record's header, in one of two forms told apart by bit 0 (D39):
+   - long (bit 0 clear): [x] (a priority in the O2A ring, a seq in a
+     bucket; Java ints and counts of notifies fit in the 42 bits left,
+     a negative one too: arithmetic shift) and the tag; the record's
+     ints and boxes follow;
+   - a word (bit 0 set): the whole record in one int, for a kind of one
+     int slot and no box (width 1) numbered 1 to 15: the kind (bits 1-4),
+     [x] (bits 5-30: a priority, or in a bucket the seq less the bucket's
+     [base]), the slot's int (bits 31-62: a 32-bit integer, D8). *)
+let tag_bits = 20
+let tag_mask = (1 lsl tag_bits) - 1
+let long x tag = (x lsl (tag_bits + 1)) lor (tag lsl 1)
+
+let word_kinds = 15
+let word_x_bits = 26
+let word_x_limit = 1 lsl word_x_bits
+let min32 = - (1 lsl 31) and max32 = (1 lsl 31) - 1
+
+let[@inline] is_word h = h land 1 = 1
+let[@inline] word ~v ~kind ~x = (v lsl 31) lor (x lsl 5) lor (kind lsl 1) lor 1
+let[@inline] word_v h = h asr 31
+let[@inline] word_x h = (h lsr 5) land (word_x_limit - 1)
+let[@inline] word_kind h = (h lsr 1) land word_kinds
+
+(* A tag that a word can stand for: width 1, no box, kind 1 to 15. *)
+let[@inline] word_tag tag = tag land 1023 = 4 && tag >= 1024 && tag < (word_kinds + 1) lsl 10
+
+(* Of either form: the header's [x], its tag, the record's ints (header
+   included) and boxes. *)
+let[@inline] x_of h = if is_word h then word_x h else h asr (tag_bits + 1)
+let[@inline] tag_of h = if is_word h then (word_kind h lsl 10) lor 4 else (h lsr 1) land tag_mask
+let[@inline] ints_of h = if is_word h then 1 else 1 + tag_width ((h lsr 1) land tag_mask)
+let[@inline] boxes_of h = if is_word h then 0 else (h lsr 1) land 3
+
 module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
   module F = Fast.Make (B)
   module M = F.M
 
   (* One priority's waiting percepts, oldest first (R3b, stable ties). *)
-  type bucket = { bprio : int; ring : B.percept Ring.t }
+  type bucket = {
+    bprio : int;
+    ring : B.percept Ring.t;
+    mutable base : int;   (* the seq of the first record pushed since it was empty: a word's seq is [base + x] *)
+  }
 
   type t = {
     p : params;
@@ -170,6 +306,8 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     mutable c : M.t;
       (* packed: [c.o2a] holds the objects only (R2c), [c.pq] is empty *)
     codec : C.t;
+    pool : Ring.pool;                  (* the chunks of its rings *)
+    x_limit : int;                     (* a word's [x] is below it *)
     o2a : B.percept Ring.t;            (* records [prio_tag; slots...] *)
     mutable o2a_n : int;               (* records in the O2A ring *)
     mutable after : int Fqueue.t;
@@ -223,7 +361,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
 
   (* Priorities below this one find their bucket in [by_prio], at once. *)
   let small_prios = 64
-  let no_bucket = { bprio = min_int; ring = Ring.create () }
+  let no_bucket = { bprio = min_int; ring = Ring.create (); base = 0 }
 
   (* The bucket of priority [prio] found in [buckets], or made in its place
      (priorities descending). *)
@@ -234,7 +372,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     let i = find 0 in
     if i < n && bs.(i).bprio = prio then bs.(i)
     else begin
-      let b = { bprio = prio; ring = Ring.create () } in
+      let b = { bprio = prio; ring = Ring.create ~pool:t.pool (); base = 0 } in
       t.buckets <- Array.init (n + 1) (fun j -> if j < i then bs.(j) else if j = i then b else bs.(j - 1));
       t.top <- 0;
       if prio >= 0 && prio < small_prios then t.by_prio.(prio) <- b;
@@ -255,48 +393,81 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
 
   let top_bucket t = first_non_empty t t.buckets t.top
 
+  (* The percept of the record of header [h] at [pos] in [ring], its boxes
+     from the [box]th. *)
+  let[@inline] percept_at t ring h ~pos ~box =
+    if is_word h then C.read_int t.codec (tag_of h) (word_v h)
+    else C.read t.codec (tag_of h) ring ~pos:(pos + 1) ~box
+
+  (* The seq of a bucket's record of header [h]. *)
+  let[@inline] seq_in b h = if is_word h then b.base + word_x h else x_of h
+
   (* The front record of a bucket, decoded into its entry (not removed). *)
   let front_entry t b =
     let h = Ring.get b.ring 0 in
-    { p = C.read t.codec (tag_of h) b.ring ~pos:1 ~box:0; prio = b.bprio; seq = high h }
+    { p = percept_at t b.ring h ~pos:0 ~box:0; prio = b.bprio; seq = seq_in b h }
 
   (* Dequeue's pop (R3b): the highest bucket's oldest record, decoded. *)
   let pop t =
     let b = top_bucket t in
     let e = front_entry t b in
-    let tag = tag_of (Ring.get b.ring 0) in
-    Ring.drop b.ring (1 + tag_width tag);
-    for _ = 1 to tag_boxes tag do Ring.drop_box b.ring done;
+    let h = Ring.get b.ring 0 in
+    Ring.drop b.ring (ints_of h);
+    for _ = 1 to boxes_of h do Ring.drop_box b.ring done;
     Ring.shrink b.ring;
     t.pq_n <- t.pq_n - 1;
     e
 
-  (* A record of [ring]: the header [h], its ints from [pos], its box (if
-     any) the front one; pushed onto bucket [b] with header [h'], and
-     removed from [ring]. *)
-  let move ring b h' =
-    let tag = tag_of h' in
-    Ring.move_record ring b.ring h' (tag_width tag);
-    for _ = 1 to tag_boxes tag do Ring.push_box b.ring (Ring.get_box ring 0); Ring.drop_box ring done
+  (* The front record of the O2A ring, of header [h], moved to bucket [b]
+     with the seq [seq]: a word stays a word when its seq is close enough
+     to the bucket's base, else it becomes a long record (header, int). *)
+  let move t h b seq =
+    let r = b.ring and o2a = t.o2a in
+    if Ring.length r = 0 then b.base <- seq;
+    if is_word h then begin
+      let d = seq - b.base in
+      if d < t.x_limit then Ring.push r (word ~v:(word_v h) ~kind:(word_kind h) ~x:d)
+      else begin Ring.push r (long seq (tag_of h)); Ring.push r (word_v h) end;
+      Ring.drop o2a 1
+    end else begin
+      let tag = tag_of h in
+      Ring.push r (long seq tag);
+      Ring.move_front o2a r (tag_width tag) ~skip:1;
+      for _ = 1 to tag_boxes tag do Ring.push_box r (Ring.get_box o2a 0); Ring.drop_box o2a done
+    end
 
   (* ------------------------------------------------ packing, projecting *)
 
-  let empty_state ~pack_above p c =
-    { p; can_pack = packable p; is_packed = false; pack_above; c; codec = C.create (); o2a = Ring.create (); o2a_n = 0; after = Fqueue.empty;
+  let empty_state ~pack_above ~pool ~x_limit p c =
+    { p; can_pack = packable p; is_packed = false; pack_above; c; codec = C.create (); pool; x_limit;
+      o2a = Ring.create ~pool (); o2a_n = 0; after = Fqueue.empty;
       buckets = [||]; pq_n = 0; by_prio = Array.make small_prios no_bucket; top = 0;
       pend = 0; pend_p = [||]; pend_prio = 0; pend_with = false; plain_pend = [] }
 
-  (* A record pushed onto [ring]: its header ([x], a priority or a seq, with
-     the tag the codec answers), then what the codec writes. *)
-  let push_record t ring x percept =
-    let at = Ring.length ring in
-    Ring.push ring 0;
-    let tag = C.encode t.codec percept ring in
-    Ring.set ring at (header x tag)
+  (* A record pushed onto [ring]: a word, when the codec answers the
+     percept's tag and int ([encode_one]), the tag is one a word stands
+     for, and [wx] (the word's [x]) is small
+     enough; else its long header ([x] = [lx]), then what the codec
+     writes. *)
+  let[@inline] push_record t ring ~wx ~lx percept =
+    let o = if wx >= 0 && wx < t.x_limit then C.encode_one t.codec percept else 0 in
+    let tag = o land tag_mask and v = o asr tag_bits in
+    if o <> 0 && word_tag tag && v >= min32 && v <= max32 then Ring.push ring (word ~v ~kind:(tag_kind tag) ~x:wx)
+    else begin
+      let at = Ring.length ring in
+      Ring.push ring 0;
+      let tag = C.encode t.codec percept ring in
+      Ring.set ring at (long lx tag)
+    end
 
   let push_o2a t (e : B.percept entry) =
-    push_record t t.o2a e.prio e.p;
+    push_record t t.o2a ~wx:e.prio ~lx:e.prio e.p;
     t.o2a_n <- t.o2a_n + 1
+
+  let push_bucket t (e : B.percept entry) =
+    let b = bucket_for t e.prio in
+    if Ring.length b.ring = 0 then b.base <- e.seq;
+    push_record t b.ring ~wx:(e.seq - b.base) ~lx:e.seq e.p
 
   (* Packing what waits in [t.c] (plain until now; the rings are empty). *)
   let pack_now t =
@@ -314,7 +485,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
         | O_object _ as o -> objects := o :: !objects; after := !seen :: !after) items;
     t.after <- Fqueue.of_list (List.rev !after);
     List.iter (fun (e : B.percept entry) ->
-        push_record t (bucket_for t e.prio).ring e.seq e.p;
+        push_bucket t e;
         t.pq_n <- t.pq_n + 1)
       (Pqueue.to_sorted_list c.pq);
     (* the buckets outlive a plain interval, [top] with them: a record may
@@ -339,8 +510,9 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
 
   let default_pack_above = 4096
 
-  let of_config ?(pack_above = default_pack_above) p (c : M.t) =
-    let t = empty_state ~pack_above p c in
+  let of_config ?(pack_above = default_pack_above) ?(chunk = Ring.default_chunk) ?(word_x_limit = word_x_limit) p (c : M.t) =
+    if word_x_limit < 0 || word_x_limit > 1 lsl word_x_bits then invalid_arg "Packed.of_config: word_x_limit";
+    let t = empty_state ~pack_above ~pool:(Ring.pool ~chunk ()) ~x_limit:word_x_limit p c in
     maybe_pack t;
     t
 
@@ -349,10 +521,9 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     let pos = ref 0 and box = ref 0 in
     List.init n (fun _ ->
         let h = Ring.get ring !pos in
-        let tag = tag_of h in
-        let x = f h (C.read t.codec tag ring ~pos:(!pos + 1) ~box:!box) in
-        pos := !pos + 1 + tag_width tag;
-        box := !box + tag_boxes tag;
+        let x = f h (percept_at t ring h ~pos:!pos ~box:!box) in
+        pos := !pos + ints_of h;
+        box := !box + boxes_of h;
         x)
 
   let to_config t : M.t =
@@ -363,7 +534,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
       let first = c.next_seq - t.o2a_n + 1 in
       let seq = ref (first - 1) in
       let percepts = decode_all t t.o2a t.o2a_n (fun h p ->
-          incr seq; { p; prio = high h; seq = !seq }) in
+          incr seq; { p; prio = x_of h; seq = !seq }) in
       (* objects go before the first percept notified after them *)
       let rec merge (ps : B.percept entry list) objs = match ps, objs with
         | e :: ps', (a, o) :: objs' ->
@@ -374,11 +545,10 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
       let pq = Array.fold_left (fun pq b ->
           let n = ref 0 and pos = ref 0 in
           while !pos < Ring.length b.ring do
-            let w = tag_width (tag_of (Ring.get b.ring !pos)) in
-            pos := !pos + 1 + w; incr n
+            pos := !pos + ints_of (Ring.get b.ring !pos); incr n
           done;
           List.fold_left (fun pq e -> Pqueue.insert e pq) pq
-            (decode_all t b.ring !n (fun h p -> { p; prio = b.bprio; seq = high h })))
+            (decode_all t b.ring !n (fun h p -> { p; prio = b.bprio; seq = seq_in b h })))
           Pqueue.empty t.buckets in
       { c with o2a = Fqueue.of_list (merge percepts objs); pq }
     end
@@ -389,8 +559,12 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     else Fqueue.fold (fun n x -> match x with O_percept _ -> n + 1 | O_object _ -> n) 0 t.c.o2a
          + Pqueue.size t.c.pq
 
+  let ring_ints t = Array.fold_left (fun n b -> n + Ring.length b.ring) (Ring.length t.o2a) t.buckets
+  let chunks_made t = Ring.made t.pool
+
   let offheap_words t =
-    Array.fold_left (fun n b -> n + Ring.offheap_words b.ring) (Ring.offheap_words t.o2a) t.buckets
+    Array.fold_left (fun n b -> n + Ring.offheap_words b.ring)
+      (Ring.offheap_words t.o2a + Ring.pool_offheap_words t.pool) t.buckets
 
   (* -------------------------------------------------------- host rules *)
 
@@ -405,7 +579,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
      rest of the configuration is written by [sync] before anything reads
      it (a host's run of notifies copies no configuration). *)
   let notify_effect t percept prio ~with_ =
-    push_record t t.o2a prio percept;
+    push_record t t.o2a ~wx:prio ~lx:prio percept;
     t.o2a_n <- t.o2a_n + 1;
     t.pend <- t.pend + 1;
     if Array.length t.pend_p = 0 then t.pend_p <- [| percept |] else t.pend_p.(0) <- percept;
@@ -456,7 +630,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     let first = t.c.next_seq - n + 1 in
     for i = 0 to n - 1 do
       let h = Ring.get t.o2a 0 in
-      move t.o2a (bucket_for t (high h)) (header (first + i) (tag_of h))
+      move t h (bucket_for t (x_of h)) (first + i)
     done;
     t.o2a_n <- 0;
     Ring.shrink t.o2a;
@@ -480,8 +654,8 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
       if t.o2a_n = 0 then c.o2a
       else
         let h = Ring.get t.o2a 0 in
-        let p = C.read t.codec (tag_of h) t.o2a ~pos:1 ~box:0 in
-        Fqueue.push (O_percept { p; prio = high h; seq = c.next_seq - t.o2a_n + 1 }) c.o2a in
+        let p = percept_at t t.o2a h ~pos:0 ~box:0 in
+        Fqueue.push (O_percept { p; prio = x_of h; seq = c.next_seq - t.o2a_n + 1 }) c.o2a in
     let pq = if t.pq_n = 0 then Pqueue.empty else Pqueue.insert (front_entry t (top_bucket t)) Pqueue.empty in
     { c with o2a; pq }
 

@@ -14,6 +14,11 @@
     - the priority buckets, one per priority present, highest first (there
       are few): one record per waiting percept, [seq_tag; slots...], oldest
       first (R3b, stable ties);
+    - a percept of one integer slot of 32 bits (D8), such as [position(3)],
+      is a record of one int, a {e word} (D39): the slot's int, the kind and
+      the priority (O2A) or the seq less the bucket's first (a bucket) share
+      it. A priority or a seq too far from its bucket's first for a word
+      gives the long record;
     - objects put into O2A (R2c) stay in the configuration's [o2a], each with
       the seq of the last percept notified before it, so that the reference's
       O2A queue can be rebuilt in its order.
@@ -52,18 +57,51 @@
     side ring. Both rings are first in, first out, so a record's boxes
     follow those of the records before it.
 
-    Each ring is an array whose length is a power of two, used circularly
-    from its head; it doubles when full (the elements are copied once). The
-    ints are a [Bigarray] outside the OCaml heap, the boxed values an
-    ordinary array. A
-    ring that has drained can be given back its small array ({!shrink}), so
-    that a flood's memory does not stay with the agent once it is idle.
+    The ints are in {e chunks} of a fixed size (65,536 ints by default), each
+    a [Bigarray] outside the OCaml heap: a ring grows by a chunk at its
+    back, and nothing written is ever copied; a chunk read to its end
+    leaves the ring. Chunks come from a {!pool} and go back to it, shared
+    by the rings of one agent: when Transfer empties the O2A ring's chunks,
+    the buckets take them, so that a flood's percepts are in memory about
+    once, not once per ring (D39). The boxed values are in chunks too,
+    ordinary arrays of a 64th of that length (1,024 by default), made when
+    needed and left to the collector once read to their end. A ring that
+    has drained gives its chunks back ({!shrink}), and a pool keeps at most
+    8 of them, so that a flood's memory does not stay with the agent once
+    it is idle.
 
-    Nothing is allocated per element except when a ring grows. *)
+    Nothing is allocated per element except when a ring takes a chunk that
+    its pool does not have, or a chunk of boxes. *)
 module Ring : sig
+  type pool
+  (** Chunks of one size, free for the rings made with the pool. *)
+
+  val default_chunk : int
+  (** 65,536 ints. *)
+
+  val pool : ?chunk:int -> unit -> pool
+  (** A pool of chunks of [chunk] ints (default {!default_chunk}; small
+      ones in tests, so that rings cross chunks often).
+      @raise Invalid_argument unless [chunk] is a power of two. *)
+
+  val free_chunks : pool -> int
+  (** Chunks waiting in the pool (at most 8). *)
+
+  val pool_offheap_words : pool -> int
+  (** Words of the chunks waiting in the pool. *)
+
+  val made : pool -> int
+  (** Chunks the pool has made so far (the others it gave were used
+      again). *)
+
   type 'b t
 
-  val create : unit -> 'b t
+  val create : ?pool:pool -> unit -> 'b t
+  (** An empty ring, its chunks taken from [pool] (default: a pool of its
+      own, of {!default_chunk}). It takes no chunk before its first int. *)
+
+  val chunks : 'b t -> int
+  (** Chunks the ring holds. *)
 
   val length : 'b t -> int
   (** Ints in the ring. *)
@@ -85,7 +123,9 @@ module Ring : sig
   (** [set r i x]: the [i]th int from the front becomes [x] ([i < length]). *)
 
   val drop : 'b t -> int -> unit
-  (** Remove [n] ints from the front ([n <= length]). *)
+  (** Remove [n] ints from the front ([n <= length]); a chunk read to its
+      end goes back to the pool. *)
+
 
   val move_front : 'b t -> 'b t -> int -> skip:int -> unit
   (** [move_front src dst n ~skip]: drop [skip] ints from the front of
@@ -96,20 +136,21 @@ module Ring : sig
   (** The [j]th boxed value from the front. *)
 
   val drop_box : 'b t -> unit
-  (** Remove the front boxed value. The ring no longer holds it (its place is
-      overwritten by a value still in the ring, or by the last one pushed). *)
+  (** Remove the front boxed value. Its chunk still holds it until the
+      chunk is read to its end or the ring drains ({!shrink}): at most a
+      chunk's worth of values removed is kept alive so. *)
 
   val shrink : 'b t -> unit
-  (** When the ring is empty, give back an array of more than 65,536 places
-      (the ring starts again small; a smaller one is kept, so that a steady
-      run does not grow its rings again after every batch). Does nothing to a ring that is not
+  (** When the ring is empty, give its chunks back to the pool and leave its
+      chunks of boxes to the collector. Does nothing to a ring that is not
       empty. *)
 
   val heap_words : 'b t -> int
   val offheap_words : 'b t -> int
-  (** Words the ring takes on the OCaml heap (its record, the block of its
-      ints, its side array), and outside it (the ints: a [Bigarray], which
-      the collector neither copies nor scans), growth slack included. *)
+  (** Words the ring takes on the OCaml heap (its record, its array of
+      chunks and their blocks, its chunks of boxes), and outside it (its chunks:
+      [Bigarray]s, which the collector neither copies nor scans), the free
+      places of its last chunk included. *)
 end
 
 (** {1 Tags}
@@ -124,13 +165,17 @@ val make_tag : kind:int -> width:int -> boxes:int -> int
 (** @raise Invalid_argument outside the ranges above. *)
 
 val boxed_tag : int
-(** The tag of a percept that travels boxed, as it is, in the side array
+(** The tag of a percept that travels boxed, as it is, in the side ring
     (kind 0): the codec's for what it cannot pack, and the agent's for a
     percept notified while few wait. *)
 
 val tag_kind : int -> int
 val tag_width : int -> int
 val tag_boxes : int -> int
+
+val word_tag : int -> bool
+(** Whether a word can stand for a percept of this tag (D39): width 1, no
+    box, kind 1 to 15. *)
 
 (** How a percept is written as ints. A percept is given a tag, then
     written as [tag_width tag] ints and [tag_boxes tag] boxed values in the
@@ -155,6 +200,18 @@ module type CODEC = sig
   (** [read c tag r ~pos ~box]: the percept of this tag whose ints start at
       [pos] in [r] and whose boxes (if any) start at the [box]th boxed
       value. *)
+
+  val encode_one : t -> percept -> int
+  (** [encode_one c p]: when the percept's tag is of width 1 and no box (one
+      integer or boolean slot) and its int [v] is a 32-bit integer (D8),
+      [(v lsl 20) lor tag], pushing nothing; [0] otherwise. The packed
+      agent writes it as a word when {!word_tag} (D39), and else asks
+      {!encode}. *)
+
+  val read_int : t -> int -> int -> percept
+  (** [read_int c tag v]: the percept of a tag of width 1 and no box whose
+      one int is [v]: what {!read} gives when that int is in the ring (the
+      packed agent keeps such a percept in a word, D39). *)
 end
 
 module Make (B : Fast.BODIES) (_ : CODEC with type percept = B.percept) : sig
@@ -171,7 +228,8 @@ module Make (B : Fast.BODIES) (_ : CODEC with type percept = B.percept) : sig
   val default_pack_above : int
   (** 4,096. *)
 
-  val of_config : ?pack_above:int -> Semantics.Machine.params -> M.t -> t
+  val of_config : ?pack_above:int -> ?chunk:int -> ?word_x_limit:int ->
+    Semantics.Machine.params -> M.t -> t
   (** The agent, its percepts packed when {!packable} (O2A's percepts into
       the O2A ring, the priority queue into the buckets) once at least
       [pack_above] (default {!default_pack_above}) percepts and objects
@@ -180,7 +238,11 @@ module Make (B : Fast.BODIES) (_ : CODEC with type percept = B.percept) : sig
       plain again when nothing waits. Encoding and decoding only pay where
       the collector would otherwise promote a backlog: a steady run with
       1,024 in flight packs nothing; a flood packs all but its first 4,096.
-      [~pack_above:0] packs at once and stays packed.
+      [~pack_above:0] packs at once and stays packed. The rings' chunks
+      have [chunk] ints ({!Ring.pool}). A record is a word (D39) only when
+      its priority, or in a bucket its seq less the bucket's first, is
+      below [word_x_limit] (default and at most 2{^26}; smaller in tests,
+      so that the long form is taken).
       @raise Invalid_argument when packable and O2A's percepts are not the
       last ones notified, in order (no run of these variants reaches such
       a configuration). *)
@@ -202,10 +264,16 @@ module Make (B : Fast.BODIES) (_ : CODEC with type percept = B.percept) : sig
   val last : t -> M.lbl
   val world : t -> B.world
 
+  val ring_ints : t -> int
+  (** Ints in the O2A ring and the buckets (one per word, D39): for tests. *)
+
+  val chunks_made : t -> int
+  (** Chunks its rings' pool has made so far: for tests. *)
+
   val offheap_words : t -> int
-  (** Words the rings' ints take outside the OCaml heap (growth slack
-      included), which [Gc] does not count: the bench adds them to the live
-      words it sees. *)
+  (** Words the rings' chunks take outside the OCaml heap (the free places
+      of their last chunks and the pool's free chunks included), which [Gc]
+      does not count: the bench adds them to the live words it sees. *)
 
   (** {2 Host rules} *)
 

@@ -17,7 +17,9 @@ type kind = { sname : string; names : string array; how : int array; ktag : int 
 type t = {
   mutable kinds : kind array;
   mutable n : int;
-  mutable hot : kind;          (* the kind last found: asked first *)
+  mutable hot : int;
+    (* the index in [kinds] of the kind last found, asked first (an int:
+       writing it costs no write barrier) *)
 }
 
 (* Kind 0 is "boxed whole"; packed kinds are 1 .. max_kinds. *)
@@ -26,7 +28,7 @@ let max_texts = 3
 let boxed_tag = Packed.boxed_tag
 
 let none = { sname = ""; names = [||]; how = [||]; ktag = -1 }
-let create () = { kinds = [||]; n = 0; hot = none }
+let create () = { kinds = [| none |]; n = 0; hot = 0 }
 let kinds c = c.n
 
 let how_of = function
@@ -67,7 +69,7 @@ let rec by_address c (s : V.schema_v) last i =
   if i >= c.n then -1
   else
     let k = Array.unsafe_get c.kinds i in
-    if k.sname == s.sname && fits k s last then begin c.hot <- k; k.ktag end
+    if k.sname == s.sname && fits k s last then begin c.hot <- i; k.ktag end
     else by_address c s last (i + 1)
 
 (* ... or, for a name spelled by another string, by its text. *)
@@ -79,7 +81,7 @@ let rec by_text c (s : V.schema_v) last i =
 
 let tag c (s : V.schema_v) =
   let last = Array.length s.slots - 1 in
-  let h = c.hot in
+  let h = Array.unsafe_get c.kinds c.hot in
   let t = if h.sname == s.sname && fits h s last then h.ktag else by_address c s last 0 in
   if t >= 0 then t
   else
@@ -104,6 +106,23 @@ let encode c (p : V.t) r =
       done;
     t
   | _ -> Packed.Ring.push_box r p; boxed_tag
+
+(* The tag and int of a percept of one 32-bit int slot (D8), for a word
+   (D39); 0 for any other. *)
+let min32 = - (1 lsl 31) and max32 = (1 lsl 31) - 1
+
+let encode_one c (p : V.t) =
+  match p with
+  | V.Schema ({ slots = [| (_, v) |]; _ } as s) ->
+    (match !v with
+     | V.Int n when n >= min32 && n <= max32 ->
+       let t = tag c s in
+       if t = boxed_tag then 0 else (n lsl 20) lor t
+     | V.Bool b ->
+       let t = tag c s in
+       if t = boxed_tag then 0 else ((if b then 1 else 0) lsl 20) lor t
+     | _ -> 0)
+  | _ -> 0
 
 (* Booleans are immutable values: the two can be shared. *)
 let v_true = V.Bool true and v_false = V.Bool false
@@ -134,3 +153,10 @@ let read c tag r ~pos ~box =
       done;
       V.Schema { sname = k.sname; slots = a }
     end
+
+(* A kind of one int slot (a word of the packed agent, D39): the slot's
+   int given. *)
+let read_int c tag v =
+  let k = c.kinds.(Packed.tag_kind tag - 1) in
+  let x = if k.how.(0) = s_int then V.Int v else if v <> 0 then v_true else v_false in
+  V.Schema { sname = k.sname; slots = [| (k.names.(0), ref x) |] }

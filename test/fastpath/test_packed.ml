@@ -16,11 +16,13 @@ module RM = Pk.M
 (* ------------------------------------------------------------ rings *)
 
 (* A ring against a plain list model: pushes and drops interleaved, many
-   times around the array and through its growth. *)
+   times across its chunks (of 4, 16 ints and the default) and through
+   its growth. *)
 let ring_model () =
   let rand = Random.State.make [| seed |] in
   for round = 1 to 50 do
-    let r : string Ring.t = Ring.create () in
+    let pool = Ring.pool ~chunk:(match round mod 3 with 0 -> 4 | 1 -> 16 | _ -> Ring.default_chunk) () in
+    let r : string Ring.t = Ring.create ~pool () in
     let ints = Queue.create () and boxes = Queue.create () in
     let next = ref 0 in
     for _ = 1 to 2000 do
@@ -41,10 +43,12 @@ let ring_model () =
     done
   done
 
-(* move_front = drops and pushes, the rings wrapped around and growing. *)
+(* move_front = drops and pushes, the rings crossing chunks of 4 ints,
+   which they pass to each other through their pool. *)
 let ring_move_front () =
   let rand = Random.State.make [| seed |] in
-  let src : unit Ring.t = Ring.create () and dst : unit Ring.t = Ring.create () in
+  let pool = Ring.pool ~chunk:4 () in
+  let src : unit Ring.t = Ring.create ~pool () and dst : unit Ring.t = Ring.create ~pool () in
   let ms = Queue.create () and md = Queue.create () and next = ref 0 in
   for _ = 1 to 3000 do
     for _ = 1 to Random.State.int rand 6 do incr next; Ring.push src !next; Queue.push !next ms done;
@@ -83,6 +87,39 @@ let ring_shrink () =
   Ring.push r 5; Ring.push_box r 9;
   Alcotest.(check (pair int int)) "usable after" (5, 9) (Ring.get r 0, Ring.get_box r 0)
 
+(* D39: chunks emptied by one ring are taken by the next to grow, and a
+   pool keeps at most 8. A flood's O2A moved to a bucket int by int (as
+   Transfer does): the pool makes the O2A ring's chunks and about two
+   more, not twice as many; the memory held (the rings' and the pool's
+   chunks) stays about one copy. *)
+let ring_chunks_reused () =
+  let pool = Ring.pool ~chunk:8 () in
+  let o2a : unit Ring.t = Ring.create ~pool () and bucket : unit Ring.t = Ring.create ~pool () in
+  for i = 1 to 400 do Ring.push o2a i done;
+  Alcotest.(check int) "50 chunks for 400 ints" 50 (Ring.chunks o2a);
+  Alcotest.(check int) "made: the O2A ring's" 50 (Ring.made pool);
+  let held () = Ring.offheap_words o2a + Ring.offheap_words bucket + Ring.pool_offheap_words pool in
+  let most = ref 0 in
+  while Ring.length o2a > 0 do
+    Ring.move_front o2a bucket 1 ~skip:0;
+    most := max !most (held ())
+  done;
+  Alcotest.(check int) "moved, in order" 400 (Ring.length bucket);
+  List.iter (fun i -> Alcotest.(check int) "int" (i + 1) (Ring.get bucket i)) (List.init 400 Fun.id);
+  if Ring.made pool > 52 then Alcotest.failf "the pool made %d chunks for 50 chunks of ints" (Ring.made pool);
+  if !most > 52 * 8 then Alcotest.failf "%d words held while moving 400 ints" !most;
+  (* drained: the ring gives its chunks back, the pool keeps 8 *)
+  Ring.drop bucket 400;
+  Ring.shrink bucket; Ring.shrink o2a;
+  Alcotest.(check int) "drained: no chunk" 0 (Ring.chunks bucket + Ring.chunks o2a);
+  Alcotest.(check int) "the pool keeps 8" 8 (Ring.free_chunks pool);
+  let made = Ring.made pool in
+  for i = 1 to 64 do Ring.push o2a i done;
+  Alcotest.(check int) "taken from the pool, none made" made (Ring.made pool);
+  Alcotest.(check int) "the pool's 8 used again" 0 (Ring.free_chunks pool);
+  Alcotest.(check int) "a bad chunk size" 0
+    (match Ring.pool ~chunk:12 () with _ -> 1 | exception Invalid_argument _ -> 0)
+
 (* ------------------------------------------------------------ codec *)
 
 let sch name slots = V.Schema { sname = name; slots = Array.of_list (List.map (fun (n, v) -> (n, ref v)) slots) }
@@ -102,6 +139,9 @@ let codec_round_trip () =
     (sch "position" [ ("k", V.Int 3) ], true);
     (sch "position" [ ("k", V.Int (-2147483648)) ], true);
     (sch "position" [ ("k", V.Int 2147483647) ], true);
+    (sch "position" [ ("k", V.Int 2147483648) ], true);      (* beyond 32 bits: a host's *)
+    (sch "position" [ ("k", V.Int (-2147483649)) ], true);
+    (sch "flag" [ ("on", V.Bool true) ], true);
     (sch "falling" [], true);
     (sch "at" [ ("x", V.Int 1); ("ok", V.Bool true); ("y", V.Int 0) ], true);
     (sch "at" [ ("x", V.Int 1); ("ok", V.Bool false); ("y", V.Int (-5)) ], true);
@@ -130,8 +170,8 @@ let codec_round_trip () =
       Alcotest.(check int) (V.to_literal v ^ " width") (at + 1 + Engine.Packed.tag_width tag) (Ring.length r);
       Alcotest.(check int) (V.to_literal v ^ " boxes") (boxes + Engine.Packed.tag_boxes tag) (Ring.boxes r);
       tag) all in
-  (* position, falling, three kinds of at, seen, msg *)
-  Alcotest.(check int) "kinds interned once each" 7 (Codec.kinds c);
+  (* position, flag, falling, three kinds of at, seen, msg *)
+  Alcotest.(check int) "kinds interned once each" 8 (Codec.kinds c);
   let pos = ref 0 and box = ref 0 in
   List.iter2 (fun (v, packed) tag ->
       Alcotest.(check int) "tag" tag (Ring.get r !pos);
@@ -142,6 +182,33 @@ let codec_round_trip () =
       box := !box + Engine.Packed.tag_boxes tag)
     all tags;
   Alcotest.(check int) "every int read" (Ring.length r) !pos;
+  (* D39: encode_one answers the tag and int of exactly the percepts of
+     one 32-bit int slot (an integer or a boolean), and read_int gives
+     them back *)
+  List.iter2 (fun (v, _) tag ->
+      let one = Codec.encode_one c v in
+      let int_slot = match v with
+        | V.Schema { slots = [| (_, x) |]; _ } ->
+          (match !x with V.Int n -> Some n | V.Bool b -> Some (if b then 1 else 0) | _ -> None)
+        | _ -> None in
+      let expected = match int_slot with
+        | Some n when n >= -2147483648 && n <= 2147483647 -> true | _ -> false in
+      Alcotest.(check bool) (V.to_literal v ^ " a word") expected (one <> 0);
+      if one <> 0 then begin
+        Alcotest.(check int) (V.to_literal v ^ " its tag") tag (one land (1 lsl 20 - 1));
+        Alcotest.(check bool) (V.to_literal v ^ " a word's tag") true (Engine.Packed.word_tag tag);
+        let v' = Codec.read_int c tag (one asr 20) in
+        if not (same_value v v') then Alcotest.failf "%s read back as %s" (V.to_literal v) (V.to_literal v')
+      end)
+    all tags;
+  let word_tag kind width boxes = Engine.Packed.word_tag (Engine.Packed.make_tag ~kind ~width ~boxes) in
+  Alcotest.(check bool) "kind 1: a word" true (word_tag 1 1 0);
+  Alcotest.(check bool) "kind 15: a word" true (word_tag 15 1 0);
+  Alcotest.(check bool) "kind 16: not a word" false (word_tag 16 1 0);
+  Alcotest.(check bool) "kind 0 (boxed): not a word" false (word_tag 0 1 0);
+  Alcotest.(check bool) "width 0: not a word" false (word_tag 1 0 0);
+  Alcotest.(check bool) "width 2: not a word" false (word_tag 1 2 0);
+  Alcotest.(check bool) "a box: not a word" false (word_tag 1 1 1);
   (* a decoded value's slots are its own: setting one changes no other *)
   let r = Ring.create () in
   let tag = Codec.encode c (sch "position" [ ("k", V.Int 3) ]) r in
@@ -180,17 +247,19 @@ let packed_equals_reference_exn (prog, seed) =
                                    budget = 1 + Random.State.int rand 3;
                                    ghosts = seed mod 11 = 5;
                                    o2a_capacity = (if Random.State.bool rand then None else Some (1 + Random.State.int rand 6)) } in
-  let ops = List.init (5 + Random.State.int rand 25) (fun _ ->
-      match Random.State.int rand 10 with
-      | 0 | 1 | 2 | 3 ->
-        let (v, default) = percept () in
-        let prio = match Random.State.int rand 5 with
-          | 0 -> Some (Random.State.int rand 9) | 1 when Random.State.int rand 4 = 0 -> Some (-1) | _ -> None in
-        Notify (v, default, prio, Random.State.bool rand)
-      | 4 -> Put (V.list_of [ V.Int (Random.State.int rand 5) ])
-      | 5 -> Send (fst (percept ()))
-      | 6 | 7 -> Steps (1 + Random.State.int rand 25)
-      | _ -> Dispatches (1 + Random.State.int rand 3)) in
+  let notify () =
+    let (v, default) = percept () in
+    let prio = match Random.State.int rand 5 with
+      | 0 -> Some (Random.State.int rand 9) | 1 when Random.State.int rand 4 = 0 -> Some (-1) | _ -> None in
+    Notify (v, default, prio, Random.State.bool rand) in
+  let ops = List.concat (List.init (5 + Random.State.int rand 25) (fun _ ->
+      match Random.State.int rand 11 with
+      | 0 | 1 | 2 | 3 -> [ notify () ]
+      | 4 -> [ Put (V.list_of [ V.Int (Random.State.int rand 5) ]) ]
+      | 5 -> [ Send (fst (percept ())) ]
+      | 6 | 7 -> [ Steps (1 + Random.State.int rand 25) ]
+      | 8 | 9 -> [ Dispatches (1 + Random.State.int rand 3) ]
+      | _ -> List.init (3 + Random.State.int rand 10) (fun _ -> notify ()))) in   (* a small flood *)
   let args_for () =
     let rand = Random.State.make [| seed; 1 |] in
     let params = match Typing.Tenv.agent_create env "Ag" with Some r -> r.r_params | None -> [] in
@@ -203,12 +272,17 @@ let packed_equals_reference_exn (prog, seed) =
   (* every percept packed; a mix (packed once two wait); the default
      (boxed while fewer than 4,096 wait) *)
   let pack_above = match seed mod 3 with 0 -> 0 | 1 -> 2 | _ -> Pk.default_pack_above in
-  let t = Pk.of_config ~pack_above p (RM.init p ~world:ap behs_p) in
+  (* chunks of 2, 4, 8 ints (crossed every few percepts) and the default;
+     no word, words only for priorities and seq offsets below 3 or 5, words
+     wherever they fit (D39) *)
+  let chunk = match seed mod 4 with 0 -> 2 | 1 -> 4 | 2 -> 8 | _ -> Ring.default_chunk in
+  let word_x_limit = match seed mod 5 with 0 -> 0 | 1 -> 3 | 2 -> 5 | _ -> 1 lsl 26 in
+  let t = Pk.of_config ~pack_above ~chunk ~word_x_limit p (RM.init p ~world:ap behs_p) in
   let history = Buffer.create 256 in
   let fail fmt = Printf.ksprintf (fun s ->
-      QCheck.Test.fail_reportf "%s\nafter: %s\nparams: %s budget=%d cap=%s pack_above=%d packed=%b\n%s" s (Buffer.contents history)
+      QCheck.Test.fail_reportf "%s\nafter: %s\nparams: %s budget=%d cap=%s pack_above=%d chunk=%d word_x_limit=%d packed=%b\n%s" s (Buffer.contents history)
         (Mc.string_of_variant p.variant) p.budget
-        (match p.o2a_capacity with Some k -> string_of_int k | None -> "-") pack_above (Pk.packed t) text) fmt in
+        (match p.o2a_capacity with Some k -> string_of_int k | None -> "-") pack_above chunk word_x_limit (Pk.packed t) text) fmt in
   let compare_now what =
     Buffer.add_string history (what ^ " | ");
     let r = Show.config !c and k = Show.config (Pk.to_config t) in
@@ -480,18 +554,111 @@ let plan_reserves_ids () =
       Printf.sprintf "%d:%s" a.id (Interp.Eval.beh_type a.beh)) c.active in
   Alcotest.(check (list string)) "the reference's ids" [ "2:B"; "3:C" ] (ids !c);
   Alcotest.(check string) "the same configuration" (Show.config !c) (Show.config (Pk.to_config t))
+(* A codec that breaks encode_one's contract: it answers the int of any
+   one-int percept, beyond 32 bits too. The packed agent must not trust it
+   (a word has 32 bits for the int). *)
+module Loose_codec = struct
+  include Engine.Percept_codec
+  let encode_one c (p : V.t) = match p with
+    | V.Schema { slots = [| (_, v) |]; _ } ->
+      (match !v with
+       | V.Int n -> (n lsl 20) lor encode c p (Ring.create ())
+       | _ -> encode_one c p)
+    | _ -> encode_one c p
+end
+module Pk_loose = Engine.Packed.Make (Engine.Interp_bodies) (Loose_codec)
+
+(* D39 on the bench program: words for a 32-bit int slot at both ends of
+   its range, the long form for a slot beyond it, a priority too large
+   for a word, a seq too far from its bucket's first; chunks crossed and
+   used again. *)
+let packed_words () =
+  let env, _ = Typing.check [ Parse.string ~file:"bench.jade" bench_program ] in
+  let pv text = fst (Interp.Eval.percept_value env ~agent_type:"Ag" (Parse.expr ~file:"e" text)) in
+  let position k = match pv "position(1)" with
+    | V.Schema s -> V.Schema { s with slots = [| (fst s.slots.(0), ref (V.Int k)) |] }
+    | _ -> Alcotest.fail "not a schema" in
+  let agent ?word_x_limit ~chunk () =
+    let p = Mc.default_params in
+    let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
+    Pk.of_config ~pack_above:0 ~chunk ?word_x_limit p (RM.init p ~world:a behs) in
+  let o2a_of t = List.map (function Mc.O_percept e -> Show.entry e | Mc.O_object o -> V.to_literal o)
+      (Semantics.Fqueue.to_list (Pk.to_config t).o2a) in
+  let notify t ?prio v = ignore (Pk.notify_event t v ~default:2 ~priority:prio) in
+  let dequeued t =
+    let es = ref [] in
+    while Pk.dispatch ~observe:(function Mc.Dequeue e -> es := Show.entry e :: !es | _ -> ()) t do () done;
+    List.rev !es in
+  (* the agent's rules up to its Transfer *)
+  let transfer t =
+    let rec go n = match Pk.step t with
+      | Some (Mc.Transfer _) -> ()
+      | Some _ when n > 0 -> go (n - 1)
+      | _ -> Alcotest.fail "no Transfer" in
+    go 100 in
+  let t = agent ~chunk:4 () in
+  List.iter (fun k -> notify t (position k)) [ -2147483648; 2147483647; 2147483648; -2147483649; 0; 7 ];
+  notify t ~prio:(1 lsl 26) (position 1);
+  notify t ~prio:((1 lsl 26) - 1) (position 2);
+  let o2a = [ "position(-2147483648)/2/1"; "position(2147483647)/2/2"; "position(2147483648)/2/3";
+              "position(-2147483649)/2/4"; "position(0)/2/5"; "position(7)/2/6";
+              "position(1)/67108864/7"; "position(2)/67108863/8" ] in
+  Alcotest.(check (list string)) "O2A" o2a (o2a_of t);
+  (* a word each, but two ints for a slot beyond 32 bits or a priority of 2^26 *)
+  Alcotest.(check int) "ints in O2A" 11 (Pk.ring_ints t);
+  Alcotest.(check (option string)) "transfer" (Some "Transfer(8)") (Option.map Show.label (Pk.step t));
+  Alcotest.(check int) "ints in the buckets" 11 (Pk.ring_ints t);
+  Alcotest.(check (list string)) "dequeued: the same percepts, highest first"
+    (List.nth o2a 6 :: List.nth o2a 7 :: List.filteri (fun i _ -> i < 6) o2a) (dequeued t);
+  (* words only for offsets 0 and 1: priority 1 a word in O2A; in the
+     bucket, seqs 1 and 2 words, the others long; the bucket drained, its
+     first seq is the next one pushed *)
+  let t = agent ~chunk:4 ~word_x_limit:2 () in
+  for k = 1 to 10 do notify t ~prio:1 (position k) done;
+  Alcotest.(check int) "ints in O2A: words" 10 (Pk.ring_ints t);
+  transfer t;
+  Alcotest.(check int) "ints in the bucket: 2 words, 8 long" 18 (Pk.ring_ints t);
+  Alcotest.(check (list string)) "dequeued in order"
+    (List.init 10 (fun i -> Printf.sprintf "position(%d)/1/%d" (i + 1) (i + 1))) (dequeued t);
+  for k = 11 to 13 do notify t ~prio:1 (position k) done;
+  transfer t;
+  Alcotest.(check int) "again from the bucket's new first seq: 2 words, 1 long" 4 (Pk.ring_ints t);
+  Alcotest.(check (list string)) "dequeued in order, again"
+    [ "position(11)/1/11"; "position(12)/1/12"; "position(13)/1/13" ] (dequeued t);
+  (* a flood of 4,000 words in chunks of 8: 500 chunks; Transfer takes the
+     bucket's chunks from those the O2A ring gives back *)
+  let t = agent ~chunk:8 () in
+  for k = 1 to 4000 do notify t (position k) done;
+  Alcotest.(check int) "made for the notifies" 500 (Pk.chunks_made t);
+  transfer t;
+  if Pk.chunks_made t > 502 then Alcotest.failf "Transfer: %d chunks made in all" (Pk.chunks_made t);
+  Alcotest.(check int) "every percept" 4000 (List.length (dequeued t));
+  (* drained: the rings hold no chunk, the pool at most 8 *)
+  if Pk.offheap_words t > 8 * 8 then Alcotest.failf "drained: %d words kept" (Pk.offheap_words t);
+  (* the agent, not only the codec, keeps a word's int to 32 bits *)
+  let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
+  let t = Pk_loose.of_config ~pack_above:0 ~chunk:4 Mc.default_params (RM.init Mc.default_params ~world:a behs) in
+  List.iter (fun k -> ignore (Pk_loose.notify_event t (position k) ~default:2 ~priority:None))
+    [ 2147483648; -2147483649; 5 ];
+  Alcotest.(check int) "a loose codec: two long records and a word" 5 (Pk_loose.ring_ints t);
+  Alcotest.(check (list string)) "a loose codec: the same percepts"
+    [ "position(2147483648)/2/1"; "position(-2147483649)/2/2"; "position(5)/2/3" ]
+    (List.map (function Mc.O_percept e -> Show.entry e | Mc.O_object o -> V.to_literal o)
+       (Semantics.Fqueue.to_list (Pk_loose.to_config t).o2a))
 
 let () =
   Alcotest.run "packed" [
     ("rings", [
         Alcotest.test_case "ring = a list, through growth and wrap-around" `Quick ring_model;
         Alcotest.test_case "move_front = drops and pushes" `Quick ring_move_front;
-        Alcotest.test_case "a drained ring gives its array back" `Quick ring_shrink ]);
+        Alcotest.test_case "a drained ring gives its array back" `Quick ring_shrink;
+        Alcotest.test_case "D39 chunks used again, one copy" `Quick ring_chunks_reused ]);
     ("codec", [ Alcotest.test_case "D32 every kind of value round-trips" `Quick codec_round_trip ]);
     ("agent", [
         Alcotest.test_case "objects, growth, order, refusals" `Quick packed_agent_unit;
         Alcotest.test_case "D32 packed again, Dequeue finds the top bucket" `Quick packed_again_finds_top;
         Alcotest.test_case "a dispatch by plan reserves the ids the rules reserve" `Quick plan_reserves_ids;
+        Alcotest.test_case "D39 words, the long form, chunks" `Quick packed_words;
         Alcotest.test_case "= reference, the bench's program and two more types, 60 hosts" `Quick packed_bench_program;
         qcheck ~count:150 ~long_factor:10 "D32 packed = reference after every operation"
           (QCheck.pair Typed_gen.arb_program QCheck.small_nat) packed_equals_reference ]);
