@@ -266,16 +266,17 @@ let new_agent env =
 (* Run the packed agent until idle, one [PK.step] at a time except that each
    percept's dispatch (Dequeue, Handle or Skip per handler, EndDispatch) is
    taken as the derived rule [PK.dispatch]; count the percepts that left and
-   call [window] every [every] of them. Without [every], the dispatches of
-   one iteration are taken as one run ([PK.dispatch_run]), the bodies'
-   events read after it. *)
+   call [window] every [every] of them. The dispatches of one iteration are
+   taken as one run ([PK.dispatch_run]; with [every], runs of at most that
+   many), the bodies' events read after it. *)
 let drain ?(every = 0) ?(window = fun _ -> ()) t =
   let handled = ref 0 in
   let rec go () =
-    let n = if every = 0 then PK.dispatch_run t else 0 in
+    let n = if every = 0 then PK.dispatch_run t else PK.dispatch_run ~max:(every - !handled mod every) t in
     if n > 0 then begin
       ignore (Interp.Eval.take_events (PK.world t));
       handled := !handled + n;
+      if every > 0 && !handled mod every = 0 then window !handled;
       go ()
     end else
     if PK.dispatch t then begin

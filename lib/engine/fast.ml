@@ -285,6 +285,26 @@ module Make (B : BODIES) = struct
           over_run c (handlers_and_behs c) world (dispatched + 1) last (n + 1) rest runs in
     over_runs c (handlers_and_behs c) c.world c.dispatched c.last 0 (Pqueue.runs c.pq)
 
+  (* The same, the entries given one by one by [next] (already taken from
+     wherever they wait; [None]: no more): the packed agent's rings. The
+     priority queue of the result is [c]'s. *)
+  let dispatch_from p (c : M.t) next =
+    let rec go (c : M.t) k world dispatched last n =
+      match next () with
+      | None -> ({ c with world; dispatched; cur = None; phase = Dispatch_phase; last }, n)
+      | Some e ->
+        let kind = B.percept_kind e.p in
+        let (world, applied, bs) =
+          if kind >= 0 then
+            let plan = plan_for k world kind e.p in
+            dispatch_plan p c e world false plan.from plan.pbehs
+          else dispatch_handlers None p c e world false None k.todo k.behs in
+        let last = End_dispatch { seq = e.seq; discarded = not applied } in
+        match bs with
+        | None -> go c k world (dispatched + 1) last (n + 1)
+        | Some s -> let c = M.with_bs c s in go c (handlers_and_behs c) world (dispatched + 1) last (n + 1) in
+    go c (handlers_and_behs c) c.world c.dispatched c.last 0
+
   let dispatch_run p (c : M.t) =
     match c.phase, c.cur with
     | Dispatch_phase, None when single_candidate p && not p.ghosts && not (M.dispatch_over p c) ->

@@ -70,6 +70,15 @@ module Make (B : BODIES) : sig
       not built while no body has effects. [None] where [dispatch] would
       not start from phase Dispatch, or where there is nothing to dispatch. *)
 
+  val dispatch_from : Semantics.Machine.params -> M.t -> (unit -> B.percept Semantics.Machine.entry option) ->
+    M.t * int
+  (** {!dispatch_run} where the percepts wait elsewhere: [next] gives them
+      one by one, each already taken from the top of its priority queue
+      (as {!dispatch_entry}), [None] when the dispatches are over (the
+      priority queue empty, the budget spent: the caller knows). From phase
+      Dispatch, unobserved, no ghosts; the priority queue of the result is
+      the configuration's own. *)
+
   val dequeue_entry : Semantics.Machine.params -> M.t -> B.percept Semantics.Machine.entry ->
     pq:B.percept Semantics.Pqueue.t -> M.lbl * M.t
   (** Dequeue (R3b) of an entry the caller has already taken from the top of

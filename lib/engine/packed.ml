@@ -693,15 +693,27 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
         t.c <- F.dispatch_entry ?observe t.p t.c (pop t) ~pq:Pqueue.empty; maybe_unpack t; true
       | _ -> false
 
-  let dispatch_run t =
+  let dispatch_run ?(max = max_int) t =
     sync t;
-    if not t.is_packed then
-      match F.dispatch_run t.p t.c with
-      | Some (c, n) -> t.c <- c; n
-      | None -> 0
-    else begin
-      let n = ref 0 in
-      while t.c.phase = Dispatch_phase && dispatch t do incr n done;
-      !n
-    end
+    if not t.is_packed then begin
+      if max = max_int then
+        match F.dispatch_run t.p t.c with
+        | Some (c, n) -> t.c <- c; n
+        | None -> 0
+      else begin
+        let n = ref 0 in
+        while !n < max && dispatch t do incr n done;
+        !n
+      end
+    end else if t.c.phase = Dispatch_phase && t.c.cur = None && not (dispatch_over t) then begin
+      (* the percepts popped from the buckets one by one, as long as
+         Dequeue would be enabled: some wait, the budget is not spent *)
+      let left = ref (if t.p.variant = Budgeted then min max (t.p.budget - t.c.dispatched) else max) in
+      let next () =
+        if t.pq_n = 0 || !left <= 0 then None else begin decr left; Some (pop t) end in
+      let (c, n) = F.dispatch_from t.p t.c next in
+      t.c <- c;
+      maybe_unpack t;
+      n
+    end else 0
 end

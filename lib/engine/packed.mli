@@ -310,8 +310,9 @@ module Make (B : Fast.BODIES) (_ : CODEC with type percept = B.percept) : sig
       was taken, [false] (nothing changes) where {!Fast.Make.dispatch}
       answers [None]. *)
 
-  val dispatch_run : t -> int
-  (** {!dispatch}, unobserved, while it is enabled from phase Dispatch
-      ({!Fast.Make.dispatch_run} on the plain agent): how many percepts
-      left; [0] (nothing changes) where it is not enabled. *)
+  val dispatch_run : ?max:int -> t -> int
+  (** {!dispatch}, unobserved, while it is enabled from phase Dispatch, at
+      most [max] times ({!Fast.Make.dispatch_run} on the plain agent,
+      {!Fast.Make.dispatch_from} on the rings): how many percepts left;
+      [0] (nothing changes) where it is not enabled. *)
 end

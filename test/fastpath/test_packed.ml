@@ -330,7 +330,11 @@ let packed_equals_reference_exn (prog, seed) =
             let run = (seed + i) mod 4 = 3 in
             let rec attempt k =
               (* one Dispatch, or a run of them (Packed.dispatch_run) *)
-              let n = if run then Pk.dispatch_run t else if Pk.dispatch t then 1 else 0 in
+              let max = if seed mod 2 = 0 then None else Some (1 + i mod 3) in
+              let n = if run then Pk.dispatch_run ?max t else if Pk.dispatch t then 1 else 0 in
+              (match max with
+               | Some m when n > m -> fail "a run of %d dispatches, at most %d asked" n m
+               | _ -> ());
               if n > 0 then begin
                 let rec follow k = match ref_step () with
                   | Some (Mc.End_dispatch _) -> ()
