@@ -321,8 +321,11 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     mutable pend : int;
       (* notifies not yet written into [c]: [c.next_seq] is short of them,
          [c.phase] may still be Idle, [c.last] is to be the last one's label:
-         its percept [pend_p.(0)], its priority, whether it was NotifyWith *)
-    mutable pend_p : B.percept array;   (* [||] until the first notify *)
+         its percept (the O2A ring's record at [pend_at], its boxes from
+         the [pend_box]th: decoded then, no write barrier per notify), its
+         priority, whether it was NotifyWith *)
+    mutable pend_at : int;
+    mutable pend_box : int;
     mutable pend_prio : int;
     mutable pend_with : bool;
     mutable plain_pend : (B.percept, B.obj) o2a_item list;
@@ -332,6 +335,12 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
 
   let packable p =
     (p.variant = Reference || p.variant = Budgeted) && p.tie = Stable && not p.flood && not p.ghosts
+
+  (* The percept of the record of header [h] at [pos] in [ring], its boxes
+     from the [box]th. *)
+  let[@inline] percept_at t ring h ~pos ~box =
+    if is_word h then C.read_int t.codec (tag_of h) (word_v h)
+    else C.read t.codec (tag_of h) ring ~pos:(pos + 1) ~box
 
   (* The notifies not yet written into [c], written: what the reference's
      Notify does to the configuration's fields other than O2A (next_seq, an
@@ -344,7 +353,9 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
         | (O_percept e :: _) as items ->
           t.plain_pend <- [];
           (Fqueue.append_newest_first items t.pend c.o2a, e)
-        | _ -> (c.o2a, { p = t.pend_p.(0); prio = t.pend_prio; seq }) in
+        | _ ->
+          let h = Ring.get t.o2a t.pend_at in
+          (c.o2a, { p = percept_at t t.o2a h ~pos:t.pend_at ~box:t.pend_box; prio = t.pend_prio; seq }) in
       t.c <- { c with next_seq = seq; o2a;
                       phase = (if c.phase = Idle_phase then Transfer_phase else c.phase);
                       last = (if t.pend_with then Notify_with e else Notify e) };
@@ -393,12 +404,6 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
 
   let top_bucket t = first_non_empty t t.buckets t.top
 
-  (* The percept of the record of header [h] at [pos] in [ring], its boxes
-     from the [box]th. *)
-  let[@inline] percept_at t ring h ~pos ~box =
-    if is_word h then C.read_int t.codec (tag_of h) (word_v h)
-    else C.read t.codec (tag_of h) ring ~pos:(pos + 1) ~box
-
   (* The seq of a bucket's record of header [h]. *)
   let[@inline] seq_in b h = if is_word h then b.base + word_x h else x_of h
 
@@ -410,8 +415,8 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
   (* Dequeue's pop (R3b): the highest bucket's oldest record, decoded. *)
   let pop t =
     let b = top_bucket t in
-    let e = front_entry t b in
     let h = Ring.get b.ring 0 in
+    let e = { p = percept_at t b.ring h ~pos:0 ~box:0; prio = b.bprio; seq = seq_in b h } in
     Ring.drop b.ring (ints_of h);
     for _ = 1 to boxes_of h do Ring.drop_box b.ring done;
     Ring.shrink b.ring;
@@ -442,7 +447,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     { p; can_pack = packable p; is_packed = false; pack_above; c; codec = C.create (); pool; x_limit;
       o2a = Ring.create ~pool (); o2a_n = 0; after = Fqueue.empty;
       buckets = [||]; pq_n = 0; by_prio = Array.make small_prios no_bucket; top = 0;
-      pend = 0; pend_p = [||]; pend_prio = 0; pend_with = false; plain_pend = [] }
+      pend = 0; pend_at = 0; pend_box = 0; pend_prio = 0; pend_with = false; plain_pend = [] }
 
   (* A record pushed onto [ring]: a word, when the codec answers the
      percept's tag and int ([encode_one]), the tag is one a word stands
@@ -579,10 +584,11 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
      rest of the configuration is written by [sync] before anything reads
      it (a host's run of notifies copies no configuration). *)
   let notify_effect t percept prio ~with_ =
+    t.pend_at <- Ring.length t.o2a;
+    t.pend_box <- Ring.boxes t.o2a;
     push_record t t.o2a ~wx:prio ~lx:prio percept;
     t.o2a_n <- t.o2a_n + 1;
     t.pend <- t.pend + 1;
-    if Array.length t.pend_p = 0 then t.pend_p <- [| percept |] else t.pend_p.(0) <- percept;
     t.pend_prio <- prio;
     t.pend_with <- with_
 

@@ -91,10 +91,40 @@ let tag c (s : V.schema_v) =
       let t = by_text c s last 0 in
       if t >= 0 then t else if c.n < max_kinds then add c s ~texts:n else boxed_tag
 
+(* The tag and int of a percept of one 32-bit int slot (D8), for a word
+   (D39); 0 for any other. *)
+let min32 = - (1 lsl 31) and max32 = (1 lsl 31) - 1
+
+(* The tag of a schema of the one slot [name], written as [how]: the kind
+   found by the addresses of the names (what [tag] finds first, without
+   asking how each slot is written: here it is known), else [tag]'s
+   answer. *)
+let rec one_by_address c sname name how i =
+  if i >= c.n then -1
+  else
+    let k = Array.unsafe_get c.kinds i in
+    if k.sname == sname && Array.length k.how = 1 && k.names.(0) == name && k.how.(0) = how
+    then begin c.hot <- i; k.ktag end
+    else one_by_address c sname name how (i + 1)
+
+let tag_one c (s : V.schema_v) name how =
+  let h = Array.unsafe_get c.kinds c.hot in
+  if h.sname == s.sname && Array.length h.how = 1 && h.names.(0) == name && h.how.(0) = how then h.ktag
+  else
+    let t = one_by_address c s.sname name how 0 in
+    if t >= 0 then t else tag c s
+
 let encode c (p : V.t) r =
   match p with
   | V.Schema s ->
-    let t = tag c s in
+    let t = match s.slots with
+      | [| (name, v) |] ->
+        (match !v with
+         | V.Int _ -> tag_one c s name s_int
+         | V.Bool _ -> tag_one c s name s_bool
+         | V.Text _ -> tag_one c s name s_text
+         | _ -> tag c s)
+      | _ -> tag c s in
     if t = boxed_tag then Packed.Ring.push_box r p
     else
       for i = 0 to Array.length s.slots - 1 do
@@ -107,19 +137,15 @@ let encode c (p : V.t) r =
     t
   | _ -> Packed.Ring.push_box r p; boxed_tag
 
-(* The tag and int of a percept of one 32-bit int slot (D8), for a word
-   (D39); 0 for any other. *)
-let min32 = - (1 lsl 31) and max32 = (1 lsl 31) - 1
-
 let encode_one c (p : V.t) =
   match p with
-  | V.Schema ({ slots = [| (_, v) |]; _ } as s) ->
+  | V.Schema ({ slots = [| (name, v) |]; _ } as s) ->
     (match !v with
      | V.Int n when n >= min32 && n <= max32 ->
-       let t = tag c s in
+       let t = tag_one c s name s_int in
        if t = boxed_tag then 0 else (n lsl 20) lor t
      | V.Bool b ->
-       let t = tag c s in
+       let t = tag_one c s name s_bool in
        if t = boxed_tag then 0 else ((if b then 1 else 0) lsl 20) lor t
      | _ -> 0)
   | _ -> 0

@@ -132,6 +132,8 @@ let native = V.Native { nid = 3; cls = "Robot"; methods = [ ("go", fun _ -> V.Un
 
 (* Every kind of value, packed or boxed, round-trips through a ring, several
    in a row, at their places. *)
+let probe = "probe" and probe_x = "x"
+
 let codec_round_trip () =
   let m = V.map_empty () in
   (match m with V.Map mv -> V.map_set mv (V.Int 1) (V.Text "a") | _ -> ());
@@ -142,6 +144,13 @@ let codec_round_trip () =
     (sch "position" [ ("k", V.Int 2147483648) ], true);      (* beyond 32 bits: a host's *)
     (sch "position" [ ("k", V.Int (-2147483649)) ], true);
     (sch "flag" [ ("on", V.Bool true) ], true);
+    (* one schema name and one slot name (the same strings), the slot an
+       int, a boolean, a text: three kinds, each found by the names'
+       addresses and how its slot is written *)
+    (sch probe [ (probe_x, V.Int 7) ], true);
+    (sch probe [ (probe_x, V.Bool true) ], true);
+    (sch probe [ (probe_x, V.Text "t") ], true);
+    (sch probe [ (probe_x, V.Int (-7)) ], true);
     (sch "falling" [], true);
     (sch "at" [ ("x", V.Int 1); ("ok", V.Bool true); ("y", V.Int 0) ], true);
     (sch "at" [ ("x", V.Int 1); ("ok", V.Bool false); ("y", V.Int (-5)) ], true);
@@ -170,8 +179,9 @@ let codec_round_trip () =
       Alcotest.(check int) (V.to_literal v ^ " width") (at + 1 + Engine.Packed.tag_width tag) (Ring.length r);
       Alcotest.(check int) (V.to_literal v ^ " boxes") (boxes + Engine.Packed.tag_boxes tag) (Ring.boxes r);
       tag) all in
-  (* position, flag, falling, three kinds of at, seen, msg *)
-  Alcotest.(check int) "kinds interned once each" 8 (Codec.kinds c);
+  (* position, flag, three kinds of probe, falling, three kinds of at,
+     seen, msg *)
+  Alcotest.(check int) "kinds interned once each" 11 (Codec.kinds c);
   let pos = ref 0 and box = ref 0 in
   List.iter2 (fun (v, packed) tag ->
       Alcotest.(check int) "tag" tag (Ring.get r !pos);
