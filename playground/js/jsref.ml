@@ -25,9 +25,8 @@ let files_of j = match member "files" j with
   | Some (`List l) -> List.map (fun f -> (str_member "name" f, str_member "text" f)) l
   | _ -> []
 
-let setup_of j =
-  { Session.default_setup with
-    files = files_of j;
+let setup_of j : Session.setup =
+  { files = files_of j;
     agents = (match member "agents" j with
         | Some (`List l) -> List.filter_map (function `String s -> Some s | _ -> None) l
         | _ -> []);
