@@ -1,8 +1,50 @@
-module Int_table = Hashtbl.Make (struct
-    type t = int
-    let equal (a : int) b = a = b
-    let hash (x : int) = x land max_int
-  end)
+module Int_table = struct
+  type 'a bucket = Nil | Cons of { key : int; mutable data : 'a; next : 'a bucket }
+  type 'a t = { mutable places : 'a bucket array; mutable size : int }
+
+  let create n =
+    let rec pow k = if k >= n then k else pow (2 * k) in
+    { places = Array.make (pow 8) Nil; size = 0 }
+
+  let[@inline] index t k = k land (Array.length t.places - 1)
+
+  let rec find_in k = function
+    | Nil -> raise_notrace Not_found
+    | Cons c -> if c.key = k then c.data else find_in k c.next
+
+  let rec find_or k d = function
+    | Nil -> d
+    | Cons c -> if c.key = k then c.data else find_or k d c.next
+
+  let find_default t k d = find_or k d (Array.unsafe_get t.places (index t k))
+
+  let find_opt t k = match find_in k (Array.unsafe_get t.places (index t k)) with
+    | v -> Some v
+    | exception Not_found -> None
+
+  (* Twice as many places once there are twice as many keys as places. *)
+  let grow t =
+    let old = t.places in
+    let places = Array.make (2 * Array.length old) Nil in
+    let n = Array.length places - 1 in
+    let rec move = function
+      | Nil -> ()
+      | Cons c -> move c.next; let i = c.key land n in places.(i) <- Cons { c with next = places.(i) } in
+    Array.iter move old;
+    t.places <- places
+
+  let rec set_in k v = function
+    | Nil -> false
+    | Cons c -> if c.key = k then (c.data <- v; true) else set_in k v c.next
+
+  let replace t k v =
+    let i = index t k in
+    if not (set_in k v t.places.(i)) then begin
+      t.places.(i) <- Cons { key = k; data = v; next = t.places.(i) };
+      t.size <- t.size + 1;
+      if t.size > 2 * Array.length t.places then grow t
+    end
+end
 
 type t =
   | Bool of bool
@@ -118,7 +160,7 @@ let map_empty () = Map { table = Int_table.create 8; order = []; size = 0 }
 
 let map_set m k v =
   let h = key_hash k in
-  let bucket = match Int_table.find m.table h with b -> b | exception Not_found -> [] in
+  let bucket = Int_table.find_default m.table h [] in
   let rec find = function
     | [] ->
       let r = ref v in

@@ -11,8 +11,18 @@
       records of slots, compared structurally;
     - [any] values are host objects with named methods (OCaml closures). *)
 
-module Int_table : Hashtbl.S with type key = int
-(** Hash tables keyed by the structural hash of a value. *)
+module Int_table : sig
+  type 'a t
+  val create : int -> 'a t
+  val find_opt : 'a t -> int -> 'a option
+  val find_default : 'a t -> int -> 'a -> 'a
+  (** The binding of the key, else the default given. *)
+
+  val replace : 'a t -> int -> 'a -> unit
+end
+(** Hash tables keyed by the structural hash of a value (an int): chained
+    buckets in an array of a power of two places, found without a call
+    through a functor (what a map look-up does first, issue 17). *)
 
 type t =
   | Bool of bool

@@ -60,6 +60,42 @@ let texts () =
   check_logs "text concatenation and of" "\t\tlog \"a\" + 1 + 2\n\t\tlog 1 + 2 + \"a\"\n\t\tlog length of \"hello\"\n\t\tl = [1, 2, 3]\n\t\tlog size of l\n\t\tlog \"x\" + 2.5\n"
     [ "a12"; "3a"; "5"; "3"; "x2.5" ]
 
+(* A map against an association list, through many inserts, updates and
+   look-ups: integer keys (their own hash), texts, doubles equal to
+   integers (the same key, R1c), past every growth of its table. *)
+let map_model () =
+  let rand = Random.State.make [| seed |] in
+  for round = 1 to 20 do
+    let m = match V.map_empty () with V.Map m -> m | _ -> assert false in
+    let model = ref [] in
+    let key () = match Random.State.int rand 4 with
+      | 0 | 1 -> V.Int (Random.State.int rand (50 * round) - 10)
+      | 2 -> V.Text (string_of_int (Random.State.int rand 300))
+      | _ -> V.Double (float_of_int (Random.State.int rand 100)) in
+    let find k = List.find_opt (fun (k', _) -> V.equal k k') !model in
+    for i = 1 to 200 * round do
+      let k = key () in
+      if Random.State.bool rand then begin
+        V.map_set m k (V.Int i);
+        (match find k with
+         | Some _ -> model := List.map (fun (k', v) -> if V.equal k k' then (k', V.Int i) else (k', v)) !model
+         | None -> model := !model @ [ (k, V.Int i) ])
+      end else begin
+        let want = Option.map snd (find k) and got = V.map_find m k in
+        if want <> got then
+          Alcotest.failf "round %d: look-up of %s: %s, not %s" round (V.to_literal k)
+            (match got with Some v -> V.to_literal v | None -> "none")
+            (match want with Some v -> V.to_literal v | None -> "none")
+      end
+    done;
+    Alcotest.(check int) "size" (List.length !model) m.size;
+    Alcotest.(check (list string)) "the bindings in insertion order"
+      (List.map (fun (k, v) -> V.to_literal k ^ ":" ^ V.to_literal v) !model)
+      (List.map (fun (k, v) -> V.to_literal k ^ ":" ^ V.to_literal v) (V.map_bindings m));
+    List.iter (fun (k, v) ->
+        if V.map_find m k <> Some v then Alcotest.failf "round %d: %s lost" round (V.to_literal k)) !model
+  done
+
 let maps_structural () =
   (* R1c: percepts and concepts as map keys, by structural equality. *)
   let text = "ontology O\n\tpredicate position(x as double, y as double) extends percept with priority = 2\n\n\
@@ -592,6 +628,7 @@ let () =
         Alcotest.test_case "float is binary32" `Quick floats;
         Alcotest.test_case "texts and of" `Quick texts;
         Alcotest.test_case "R1c structural map keys" `Quick maps_structural;
+        Alcotest.test_case "a map = an association list, through its growth" `Quick map_model;
         Alcotest.test_case "loops and control" `Quick control;
         Alcotest.test_case "D11 priority of, D12 for over a map" `Quick decisions_of_and_for;
         Alcotest.test_case "performative and sender of message" `Quick message_fields ]);
