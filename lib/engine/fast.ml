@@ -36,6 +36,17 @@ module Make (B : BODIES) = struct
     (l, { c with pq; o2a = (if objects = [] then Fqueue.empty else Fqueue.of_list objects);
                  phase = Dispatch_phase; dispatched = 0; last = l })
 
+  (* The same where O2A holds exactly [items], [n] percepts newest first
+     (no object), [c.o2a] being empty: as [transfer] on the configuration
+     whose O2A holds them, without building that queue. *)
+  let transfer_newest_first (c : M.t) items n : M.lbl * M.t =
+    let pq = Pqueue.insert_newest_first (fun add ->
+        List.iter (function
+            | O_percept e -> add e
+            | O_object _ -> invalid_arg "Fast.transfer_newest_first: an object") items) c.pq in
+    let l = Transfer n in
+    (l, { c with pq; o2a = Fqueue.empty; phase = Dispatch_phase; dispatched = 0; last = l })
+
   (* HandlersOf, remembered for the last [active] list seen (physically):
      the list is immutable and most dequeues share it. Beside each entry,
      the behaviour of its instance, which [dispatch] uses while [active] is

@@ -575,7 +575,8 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
 
   (* R2d: the O2A ring's percepts and the objects. *)
   let o2a_has_room t =
-    if not t.is_packed then (sync t; M.o2a_has_room t.p t.c)
+    if not t.is_packed then
+      (match t.p.o2a_capacity with None -> true | Some _ -> sync t; M.o2a_has_room t.p t.c)
     else match t.p.o2a_capacity with
       | None -> true
       | Some cap -> t.o2a_n + Fqueue.length t.c.o2a < cap
@@ -665,7 +666,25 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     let pq = if t.pq_n = 0 then Pqueue.empty else Pqueue.insert (front_entry t (top_bucket t)) Pqueue.empty in
     { c with o2a; pq }
 
+  (* Plain, a run of notifies waiting with nothing before it in O2A, and
+     Transfer the next rule (the agent in Transfer or Idle): what [sync]
+     writes but O2A, then Transfer of the run as it waits, newest first. *)
+  let transfer_plain_run t =
+    match t.plain_pend with
+    | O_percept _ :: _ as items when Fqueue.is_empty t.c.o2a
+                                 && (t.c.phase = Transfer_phase || t.c.phase = Idle_phase) ->
+      let c = t.c and n = t.pend in
+      t.plain_pend <- [];
+      t.pend <- 0;
+      let (l, c) = F.transfer_newest_first { c with next_seq = c.next_seq + n; phase = Transfer_phase } items n in
+      t.c <- c;
+      Some l
+    | _ -> None
+
   let step t =
+    match if t.is_packed then None else transfer_plain_run t with
+    | Some _ as l -> l
+    | None ->
     sync t;
     if not t.is_packed then
       match F.step t.p t.c with
@@ -682,7 +701,12 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
         | [] -> None
         | (l, c) :: _ -> t.c <- { c with o2a = t.c.o2a; pq = Pqueue.empty }; Some l
 
-  let dispatch ?observe t =
+  (* Notifies waiting and the agent in Transfer or Idle: Transfer is next,
+     no dispatch is enabled (nothing is written yet: [step] may take the
+     run as it waits). *)
+  let transfer_next t = t.pend > 0 && (t.c.phase = Transfer_phase || t.c.phase = Idle_phase)
+
+  let dispatch_synced ?observe t =
     sync t;
     if not t.is_packed then
       match F.dispatch ?observe t.p t.c with
@@ -699,7 +723,9 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
         t.c <- F.dispatch_entry ?observe t.p t.c (pop t) ~pq:Pqueue.empty; maybe_unpack t; true
       | _ -> false
 
-  let dispatch_run ?(max = max_int) t =
+  let dispatch ?observe t = if transfer_next t then false else dispatch_synced ?observe t
+
+  let dispatch_run_synced ~max t =
     sync t;
     if not t.is_packed then begin
       if max = max_int then
@@ -722,4 +748,6 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
       maybe_unpack t;
       n
     end else 0
+
+  let dispatch_run ?(max = max_int) t = if transfer_next t then 0 else dispatch_run_synced ~max t
 end

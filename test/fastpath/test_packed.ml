@@ -261,7 +261,9 @@ let packed_equals_reference_exn (prog, seed) =
     let (v, default) = percept () in
     let prio = match Random.State.int rand 5 with
       | 0 -> Some (Random.State.int rand 9) | 1 when Random.State.int rand 4 = 0 -> Some (-1) | _ -> None in
-    Notify (v, default, prio, Random.State.bool rand) in
+    (* compared after one notify in four: runs of notifies reach a
+       Transfer unread (the plain agent's runs, taken as they wait) *)
+    Notify (v, default, prio, Random.State.int rand 4 = 0) in
   let ops = List.concat (List.init (5 + Random.State.int rand 25) (fun _ ->
       match Random.State.int rand 11 with
       | 0 | 1 | 2 | 3 -> [ notify () ]
@@ -519,6 +521,41 @@ let packed_again_finds_top () =
   Alcotest.(check (list string)) "every percept, highest priority first"
     [ "falling/10/1"; "position(1)/2/2"; "falling/10/3"; "position(2)/2/4" ] (List.rev !dispatched)
 
+(* The plain agent's run of notifies, unread until the Transfer: the step
+   takes it as it waits (newest first, Fast.transfer_newest_first). Runs of
+   1 to 40 percepts of every type and priority, NotifyWith among them, from
+   an idle agent, against the reference. *)
+let plain_run_transferred () =
+  let env, _ = Typing.check [ Parse.string ~file:"bench.jade" bench_program ] in
+  let texts = [| "falling"; "obstacle(3)"; "qrCodeRead(\"A7\")"; "position(9)"; "note(\"a\", 2, \"b\")"; "level(1.5)" |] in
+  let pv i = Interp.Eval.percept_value env ~agent_type:"Ag" (Parse.expr ~file:"e" texts.(i mod Array.length texts)) in
+  let rand = Random.State.make [| seed |] in
+  List.iter (fun n ->
+      let p = Mc.default_params in
+      let agent () = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
+      let (ar, br) = agent () and (ak, bk) = agent () in
+      let c = ref (RM.init p ~world:ar br) in
+      let t = Pk.of_config p (RM.init p ~world:ak bk) in
+      let rec idle_ref () = match RM.step p !c with [] -> () | (_, c') :: _ -> c := c'; idle_ref () in
+      let rec idle_packed () = match Pk.step t with None -> () | Some _ -> idle_packed () in
+      for round = 1 to 3 do
+        idle_ref (); idle_packed ();
+        for _ = 1 to n do
+          let i = Random.State.int rand 60 in
+          let (v, default) = pv i in
+          let priority = if i mod 5 = 0 then Some (i mod 11) else None in
+          (match RM.notify_event p !c v ~default ~priority with Ok c' -> c := c' | Error _ -> Alcotest.fail "refused");
+          (match Pk.notify_event t v ~default ~priority with Ok () -> () | Error _ -> Alcotest.fail "refused")
+        done;
+        let lr = match RM.step p !c with [] -> "none" | (l, c') :: _ -> c := c'; Show.label l in
+        let lk = match Pk.step t with None -> "none" | Some l -> Show.label l in
+        Alcotest.(check string) (Printf.sprintf "run of %d, round %d: the label" n round) lr lk;
+        Alcotest.(check string) (Printf.sprintf "run of %d, round %d: the configuration" n round)
+          (Show.config !c) (Show.config (Pk.to_config t))
+      done;
+      Alcotest.(check bool) "plain" false (Pk.packed t))
+    [ 1; 2; 5; 40 ]
+
 (* An unobserved dispatch takes the handlers by plan; a body with effects
    hands the rest to the rules with the ids they reserve: here instance 1
    leaves and activates C while its handler is still the head of the
@@ -672,6 +709,7 @@ let () =
         Alcotest.test_case "objects, growth, order, refusals" `Quick packed_agent_unit;
         Alcotest.test_case "D32 packed again, Dequeue finds the top bucket" `Quick packed_again_finds_top;
         Alcotest.test_case "a dispatch by plan reserves the ids the rules reserve" `Quick plan_reserves_ids;
+        Alcotest.test_case "a plain run of notifies transferred as it waits" `Quick plain_run_transferred;
         Alcotest.test_case "D39 words, the long form, chunks" `Quick packed_words;
         Alcotest.test_case "= reference, the bench's program and two more types, 60 hosts" `Quick packed_bench_program;
         qcheck ~count:150 ~long_factor:10 "D32 packed = reference after every operation"
