@@ -191,7 +191,6 @@ let iterate t i =
     let writes = Trace.writes (Tracer.writer t.tr) in
     let derived = (not writes || not t.sends) && t.hooks == reference_hooks in
     let taken = ref 0 in
-    let count _ = incr taken in
     let agent = t.platform.agents.(i).name in
     let step p c =
       let room = left - !taken in
@@ -208,7 +207,14 @@ let iterate t i =
                 match l with
                 | Mc.End_dispatch _ -> ()   (* the platform's step: written by on_event *)
                 | _ -> Tracer.inside t.tr ~agent ~start:c l)
-          else E.dispatch ~observe:count p c with
+          else
+            (* unobserved (the engine's plans by kind of percept): a
+               dispatch takes exactly [dispatch_bound c] rules, one
+               Handle or Skip per handler of its snapshot between
+               Dequeue and EndDispatch *)
+            match E.dispatch p c with
+            | Some _ as r -> taken := !taken + dispatch_bound c; r
+            | None -> None with
         | Some c' -> [ (c'.Mc.last, c') ]
         | None -> (match t.hooks.step p c with [] -> [] | r -> incr taken; r) in
     let (pl, _) = P.iteration ~max_steps:left ~on_event:(on_event t) ~step ~keep:false t.opts.params t.platform i in
