@@ -354,6 +354,9 @@ let packed_equals_reference_exn (prog, seed) =
                   | l -> fail "unobserved dispatch: the reference's rules end with %s"
                            (match l with Some l -> Show.label l | None -> "none") in
                 for _ = 1 to n do follow 0 done;
+                (* a whole run stops only where Dequeue is not enabled *)
+                if run && max = None && not (RM.dispatch_over p !c) then
+                  fail "a run of %d dispatches stopped before the dispatches were over" n;
                 compare_now (if run then Printf.sprintf "a run of %d dispatches" n else "unobserved dispatch")
               end else if k < 3 then begin
                 let lr = ref_step () and lk = Pk.step t in
