@@ -22,10 +22,12 @@
     {!Interp_bodies} (its resolved guard and pre-test). Message handlers and
     action blocks are {!Interp_bodies}' too.
 
-    The guard's bindings wait for the body as in the reference (R3b): the
-    agent's [pending] holds a value of the compiled handler while they do,
-    so that any other guard evaluated in between, compiled or not, makes the
-    body start in fresh locals, as the reference's would. *)
+    The guard's bindings wait for the body as in the reference (R3b), and
+    only while no other guard, compiled or not, has been evaluated since: a
+    count of the guards evaluated tells (D38), not the agent's [pending]
+    frame, which a compiled guard leaves empty; otherwise the body starts
+    in fresh locals, as the reference's would. Percept kinds are
+    {!Interp_bodies}' (a number per schema name). *)
 
 include Fast.BODIES
   with type percept = Interp_eval.Value.t
