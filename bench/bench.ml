@@ -263,32 +263,23 @@ let new_agent env =
   a.record_ran <- false;   (* no trace is written *)
   PK.of_config machine_params (M.init machine_params ~world:a behs)
 
-(* Run the packed agent until idle, one [PK.step] at a time except that each
-   percept's dispatch (Dequeue, Handle or Skip per handler, EndDispatch) is
-   taken as the derived rule [PK.dispatch]; count the percepts that left and
-   call [window] every [every] of them. The dispatches of one iteration are
-   taken as one run ([PK.dispatch_run]; with [every], runs of at most that
-   many), the bodies' events read after it. *)
+(* Run the packed agent until idle, one [PK.step] at a time except that the
+   dispatches of one iteration (each Dequeue, Handle or Skip per handler,
+   EndDispatch) are taken as one run ([PK.dispatch_run]; with [every], runs
+   of at most that many), the bodies' events read after it; count the
+   percepts that left and call [window] every [every] of them. *)
 let drain ?(every = 0) ?(window = fun _ -> ()) t =
   let handled = ref 0 in
   let rec go () =
-    let n = if every = 0 then PK.dispatch_run t else PK.dispatch_run ~max:(every - !handled mod every) t in
-    if n > 0 then begin
+    let max = if every > 0 then Some (every - !handled mod every) else None in
+    match PK.dispatch_run ?max t with
+    | 0 -> (match PK.step t with None -> () | Some _ -> go ())
+    | n ->
+      (* a caller reads the bodies' events after each run *)
       ignore (Interp.Eval.take_events (PK.world t));
       handled := !handled + n;
       if every > 0 && !handled mod every = 0 then window !handled;
-      go ()
-    end else
-    if PK.dispatch t then begin
-      (* a caller reads the bodies' events after each dispatch *)
-      ignore (Interp.Eval.take_events (PK.world t));
-      incr handled;
-      if every > 0 && !handled mod every = 0 then window !handled;
-      go ()
-    end else
-      match PK.step t with
-      | None -> ()
-      | Some _ -> go () in
+      go () in
   go ();
   !handled
 
