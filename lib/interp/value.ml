@@ -8,19 +8,11 @@ module Int_table = struct
 
   let[@inline] index t k = k land (Array.length t.places - 1)
 
-  let rec find_in k = function
-    | Nil -> raise_notrace Not_found
-    | Cons c -> if c.key = k then c.data else find_in k c.next
-
   let rec find_or k d = function
     | Nil -> d
     | Cons c -> if c.key = k then c.data else find_or k d c.next
 
   let find_default t k d = find_or k d (Array.unsafe_get t.places (index t k))
-
-  let find_opt t k = match find_in k (Array.unsafe_get t.places (index t k)) with
-    | v -> Some v
-    | exception Not_found -> None
 
   (* Twice as many places once there are twice as many keys as places. *)
   let grow t =
@@ -147,14 +139,11 @@ let hash v = visits := 0; hsh v
 let key_hash k = match k with Int i -> i land max_int | _ -> hash k land max_int
 let same_key k k' = match k, k' with Int i, Int j -> i = j | _ -> equal k k'
 
-let map_find m k =
-  match Int_table.find_opt m.table (key_hash k) with
-  | None -> None
-  | Some bucket ->
-    let rec find = function
-      | [] -> None
-      | (k', v) :: rest -> if same_key k k' then Some !v else find rest in
-    find bucket
+let rec find_key k = function
+  | [] -> None
+  | (k', v) :: rest -> if same_key k k' then Some !v else find_key k rest
+
+let map_find m k = find_key k (Int_table.find_default m.table (key_hash k) [])
 
 let map_empty () = Map { table = Int_table.create 8; order = []; size = 0 }
 

@@ -14,7 +14,6 @@
 module Int_table : sig
   type 'a t
   val create : int -> 'a t
-  val find_opt : 'a t -> int -> 'a option
   val find_default : 'a t -> int -> 'a -> 'a
   (** The binding of the key, else the default given. *)
 
