@@ -712,9 +712,11 @@ let count_bench () =
    and their ratio. *)
 let floods_bench () =
   Interp.Runtime.tune_gc ();
+  let usage () = prerr_endline "bench: usage: bench.exe floods [ROUNDS] (ROUNDS a positive integer, 3 if absent)"; exit 2 in
   let rounds = match Sys.argv with
-    | [| _; _; r |] -> (match int_of_string_opt r with Some r when r > 0 -> r | _ -> 3)
-    | _ -> 3 in
+    | [| _; _ |] -> 3
+    | [| _; _; r |] -> (match int_of_string_opt r with Some r when r > 0 -> r | _ -> usage ())
+    | _ -> usage () in
   let env = load_program (find_program "percepts.jade") in
   (* a first flood, not counted: the process's heap grows to its size *)
   ignore (interp_flood env 1_000_000);
@@ -853,4 +855,4 @@ let () =
   | "floods" -> floods_bench ()
   | "all" -> parser_bench (); print_newline (); explorer_bench (); print_newline (); interp_bench ();
     print_newline (); jade_backend_bench (); print_newline (); sim_bench (); print_newline (); Goals.print ()
-  | other -> Printf.eprintf "bench: unknown benchmark %s (known: parser, explorer, interp, jade, sim, all)\n" other; exit 2
+  | other -> Printf.eprintf "bench: unknown benchmark %s (known: parser, explorer, interp, jade, sim, all, count, floods)\n" other; exit 2
