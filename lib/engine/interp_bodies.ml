@@ -119,8 +119,15 @@ let kind_of_name n =
     k
   end
 
+(* The last name asked and its kind: a dispatch takes the percepts of one
+   priority, so mostly of one type, in a row. *)
+let last_name = ref ""
+let last_kind = ref (-1)
+
 let percept_kind = function
-  | V.Schema s -> kind_of_name s.sname
+  | V.Schema { sname; _ } ->
+    if sname == !last_name then !last_kind
+    else begin let k = kind_of_name sname in last_name := sname; last_kind := k; k end
   | _ -> -1
 
 let percept_applicable (a : Eval.agent) ~id b h p =

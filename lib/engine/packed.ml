@@ -328,9 +328,9 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     mutable pend_box : int;
     mutable pend_prio : int;
     mutable pend_with : bool;
-    mutable plain_pend : (B.percept, B.obj) o2a_item list;
-      (* plain (and packable): the [pend] notifies' O2A items, newest
-         first, not yet in [c.o2a] *)
+    mutable plain_pend : B.percept entry list;
+      (* plain (and packable): the [pend] notifies' entries, newest first,
+         not yet in [c.o2a] (as O2A items) *)
   }
 
   let packable p =
@@ -350,9 +350,9 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
       let c = t.c in
       let seq = c.next_seq + t.pend in
       let (o2a, e) = match t.plain_pend with
-        | (O_percept e :: _) as items ->
+        | (e :: _) as items ->
           t.plain_pend <- [];
-          (Fqueue.append_newest_first items t.pend c.o2a, e)
+          (Fqueue.append (List.rev_map (fun e -> O_percept e) items) c.o2a, e)
         | _ ->
           let h = Ring.get t.o2a t.pend_at in
           (c.o2a, { p = percept_at t t.o2a h ~pos:t.pend_at ~box:t.pend_box; prio = t.pend_prio; seq }) in
@@ -600,7 +600,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
      (ghosts). *)
   let notify_plain t percept prio ~with_ =
     let e = { p = percept; prio; seq = t.c.next_seq + t.pend + 1 } in
-    t.plain_pend <- O_percept e :: t.plain_pend;
+    t.plain_pend <- e :: t.plain_pend;
     t.pend <- t.pend + 1;
     t.pend_with <- with_
 
@@ -671,12 +671,12 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
      writes but O2A, then Transfer of the run as it waits, newest first. *)
   let transfer_plain_run t =
     match t.plain_pend with
-    | O_percept _ :: _ as items when Fqueue.is_empty t.c.o2a
+    | _ :: _ as entries when Fqueue.is_empty t.c.o2a
                                  && (t.c.phase = Transfer_phase || t.c.phase = Idle_phase) ->
       let c = t.c and n = t.pend in
       t.plain_pend <- [];
       t.pend <- 0;
-      let (l, c) = F.transfer_newest_first { c with next_seq = c.next_seq + n; phase = Transfer_phase } items n in
+      let (l, c) = F.transfer_newest_first { c with next_seq = c.next_seq + n; phase = Transfer_phase } entries n in
       t.c <- c;
       Some l
     | _ -> None

@@ -35,6 +35,7 @@ let to_list q = match q.back with
   | back -> List.rev_append (List.rev q.front) (List.rev back)
 
 let of_list l = { front = l; back = []; len = List.length l }
+let of_list_length l n = { front = l; back = []; len = n }
 
 let append l q = match l with
   | [] -> q

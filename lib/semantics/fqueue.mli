@@ -31,6 +31,10 @@ val to_list : 'a t -> 'a list
 
 val of_list : 'a list -> 'a t
 
+val of_list_length : 'a list -> int -> 'a t
+(** [of_list_length l n]: [of_list l], [l] being [n] elements long (not
+    counted again). *)
+
 val append : 'a list -> 'a t -> 'a t
 (** [append l q] adds the elements of [l] at the back, the head of [l] first.
     O(length of [l]). *)

@@ -104,7 +104,7 @@ let pqueue_any_order ops =
    and sometimes not (entry by entry). The two queues must pop alike. *)
 let pq_batch =
   let open QCheck in
-  let entry = Gen.(pair (int_bound 5) (int_bound 40)) in
+  let entry = Gen.(pair (int_bound 10) (int_bound 40)) in
   make ~print:(fun (a, b, shift) ->
       let show l = String.concat " " (List.map (fun (p, s) -> Printf.sprintf "%d/%d" p s) l) in
       Printf.sprintf "queue: %s; batch: %s; shift %b" (show a) (show b) shift)
@@ -120,8 +120,18 @@ let pqueue_batch_insert (before, batch, shift) =
   let one_by_one = List.fold_left (fun q e -> Pqueue.insert e q) q0 batch in
   let at_once = Pqueue.insert_newest_first (fun add -> List.iter add (List.rev batch)) q0 in
   let rec drain q acc = match Pqueue.pop q with None -> List.rev acc | Some (e, q) -> drain q (e :: acc) in
-  Pqueue.size at_once = Pqueue.size one_by_one
-  && drain at_once [] = drain one_by_one []
+  (* and alike after more inserts, each just before an entry of the batch
+     (a bucket's largest seq decides where they go) *)
+  let more q = List.fold_left (fun q (e : int Pqueue.entry) ->
+      Pqueue.insert { e with p = e.p + 1000; seq = e.seq - 1 } q) q batch in
+  let same a b = Pqueue.size a = Pqueue.size b && drain a [] = drain b [] && Pqueue.runs a = Pqueue.runs b
+                 && drain (more a) [] = drain (more b) [] in
+  (* the same from a list, into this queue and into an empty one (its own
+     path, one pass; more than 8 priorities fall back) *)
+  let from_empty = List.fold_left (fun q e -> Pqueue.insert e q) Pqueue.empty batch in
+  same at_once one_by_one
+  && same (Pqueue.insert_newest_first_list (List.rev batch) q0) one_by_one
+  && same (Pqueue.insert_newest_first_list (List.rev batch) Pqueue.empty) from_empty
 
 let fqueue_is_a_queue l =
   let q = List.fold_left (fun q x -> Fqueue.push x q) Fqueue.empty l in
@@ -672,7 +682,7 @@ let () =
         qcheck ~count:500 "priority queue pops by priority then seq" pq_ops pqueue_pops_in_order;
         qcheck ~count:300 "candidates and remove" pq_ops pqueue_candidates;
         qcheck ~count:500 "priority queue under any inserts, pops and removals" pq_any_ops pqueue_any_order;
-        qcheck ~count:500 "transfer's batch insert = inserts one by one" pq_batch pqueue_batch_insert;
+        qcheck ~count:2000 "transfer's batch insert = inserts one by one" pq_batch pqueue_batch_insert;
         qcheck ~count:300 "fqueue is a FIFO" QCheck.(list_of_size Gen.(int_bound 80) small_int) fqueue_is_a_queue ]);
     ("rulings", [
         Alcotest.test_case "R3b ties in seq order" `Quick ties_in_seq_order;
