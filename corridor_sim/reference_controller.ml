@@ -55,6 +55,8 @@ module Bodies = struct
   (* the pre-test's answer depends on the percept's constructor only *)
   let percept_kind : Agent.percept -> int = function
     | Falling -> 0 | Obstacle -> 1 | Qr_code_read _ -> 2 | Position _ -> 3
+
+  let percept_handle w ~id b h p = Engine.Fast.handle_in_two percept_applicable run_percept_handler w ~id b h p
 end
 
 module E = Engine.Fast.Make (Bodies)

@@ -30,6 +30,8 @@ type ctx = {
   yes : Eval.agent * bool;      (* what the bodies answer, made once *)
   no : Eval.agent * bool;
   ran : Eval.agent * Eval.beh Semantics.Machine.effect list;   (* no effects *)
+  skipped : (Eval.agent, Eval.beh) Fast.handled;
+  handled : (Eval.agent, Eval.beh) Fast.handled;               (* no effects *)
   mutable armed : int;
       (* the guard's bindings wait for the body (R3b) while [armed] is the
          number of the last guard evaluated ({!guards}) *)
@@ -531,7 +533,8 @@ let make_ctx (a : Eval.agent) (b : Eval.beh) ~id (code : code) =
   else
     Some { ag = a; beh = b; slots = Array.make code.nslots unset; cells = Array.map Option.get cells;
            content = V.Unit; sf = Eval.guard_frame a ~id b V.Unit; id; armed = -1;
-           yes = (a, true); no = (a, false); ran = (a, []) }
+           yes = (a, true); no = (a, false); ran = (a, []);
+           skipped = Fast.Not_applicable a; handled = Fast.Handled (a, []) }
 
 (* Interp_bodies on the instance, its own slot in place. *)
 let with_inner (b : Eval.beh) k f =
@@ -656,6 +659,39 @@ let run_percept_handler (a : Eval.agent) ~id (b : Eval.beh) h p =
     match Eval.take_ran a h with
     | [] when c.ag == a -> c.ran
     | effs -> (a, effs)
+
+(* The guard and, when it holds, the body at once (Fast.BODIES.percept_handle):
+   what [percept_applicable] then [run_percept_handler] do, the bindings
+   going straight from one to the other (the count of guards ends as
+   theirs would: one for the guard, one for the bindings used). *)
+let percept_handle (a : Eval.agent) ~id (b : Eval.beh) h p : (Eval.agent, Eval.beh) Fast.handled =
+  let k = kept a ~id b in
+  match k.handlers.(h - 1) with
+  | Fallback -> Fast.handle_in_two percept_applicable run_percept_handler a ~id b h p
+  | Compiled (code, c) ->
+    incr guards;
+    (match a.pending with None -> () | Some _ -> a.pending <- None);
+    let reset = code.reset in
+    for i = 0 to Array.length reset - 1 do
+      Array.unsafe_set c.slots (Array.unsafe_get reset i) unset
+    done;
+    c.content <- p;
+    c.id <- id;
+    c.armed <- -1;
+    let ok = match code.guard with
+      | None -> true
+      | Some g -> (try g c with x when Eval.record_error a x -> false) in
+    if not ok then (if c.ag != a then Not_applicable a else c.skipped)
+    else begin
+      incr guards;
+      Eval.reset_fuel c.sf;
+      (try code.body c with
+       | Ret | Brk | Cont -> ()
+       | x -> Eval.recover a x);
+      match Eval.take_ran a h with
+      | [] when c.ag == a -> c.handled
+      | effs -> Handled (a, effs)
+    end
 
 let compiled_handlers a ~id b =
   let k = kept a ~id b in

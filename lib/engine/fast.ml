@@ -6,8 +6,18 @@ open Semantics.Machine
 module Pqueue = Semantics.Pqueue
 module Fqueue = Semantics.Fqueue
 
+type ('w, 'b) handled =
+  | Not_applicable of 'w
+  | Handled of 'w * 'b Semantics.Machine.effect list
+
+let handle_in_two applicable run world ~id b h p =
+  let (world, ok) = applicable world ~id b h p in
+  if not ok then Not_applicable world
+  else let (world, effs) = run world ~id b h p in Handled (world, effs)
+
 module type BODIES = sig
   include Semantics.Machine.BODIES
+  val percept_handle : world -> id:int -> beh -> int -> percept -> (world, beh) handled
   val percept_may_apply : world -> beh -> int -> percept -> bool
   val percept_kind : percept -> int
 end
@@ -166,12 +176,11 @@ module Make (B : BODIES) = struct
         (match observe with Some f -> f (Skip { id; h }) | None -> ());
         dispatch_handlers observe p c e world applied bs rest behs
       end else
-        let (world, ok) = B.percept_applicable world ~id b h e.p in
-        if not ok then begin                                                 (* skip *)
+        match B.percept_handle world ~id b h e.p with
+        | Not_applicable world ->                                            (* skip *)
           (match observe with Some f -> f (Skip { id; h }) | None -> ());
           dispatch_handlers observe p c e world applied bs rest behs
-        end else begin                                                       (* handle *)
-          let (world, effs) = B.run_percept_handler world ~id b h e.p in
+        | Handled (world, effs) ->                                           (* handle *)
           let bs = match effs with
             | [] -> bs
             | _ ->
@@ -179,7 +188,6 @@ module Make (B : BODIES) = struct
               Some (M.apply_effects p s id effs (List.map fst todo)) in
           (match observe with Some f -> f (Handle { id; h; p = e.p; seq = e.seq }) | None -> ());
           dispatch_handlers observe p c e world true bs rest behs
-        end
 
   (* The configuration after the handlers and EndDispatch; [pq], [waits]
      and [dispatched] are [c]'s, or what Dequeue made of them. *)
@@ -200,16 +208,12 @@ module Make (B : BODIES) = struct
   let rec dispatch_plan p (c : M.t) e world applied from behs =
     match from, behs with
     | ((id, h) :: rest as todo) :: from', b :: behs' ->
-      let (world, ok) = B.percept_applicable world ~id b h e.p in
-      if not ok then dispatch_plan p c e world applied from' behs'
-      else begin
-        let (world, effs) = B.run_percept_handler world ~id b h e.p in
-        match effs with
-        | [] -> dispatch_plan p c e world true from' behs'
-        | _ ->
-          let s = M.apply_effects p (M.bs_of c) id effs (List.map fst todo) in
-          dispatch_handlers None p c e world true (Some s) rest []
-      end
+      (match B.percept_handle world ~id b h e.p with
+       | Not_applicable world -> dispatch_plan p c e world applied from' behs'
+       | Handled (world, []) -> dispatch_plan p c e world true from' behs'
+       | Handled (world, effs) ->
+         let s = M.apply_effects p (M.bs_of c) id effs (List.map fst todo) in
+         dispatch_handlers None p c e world true (Some s) rest [])
     | _ -> (world, applied, None)
 
   (* A percept's handlers, unobserved: those of its kind's plan, or every

@@ -19,8 +19,28 @@
 
     docs/semantics.md, "A derived rule: Dispatch" and "The fast engine". *)
 
+(** What a handler's guard and body came to, from {!BODIES.percept_handle}. *)
+type ('w, 'b) handled =
+  | Not_applicable of 'w
+      (** the guard does not hold (or failed): a Skip, in this world *)
+  | Handled of 'w * 'b Semantics.Machine.effect list
+      (** the guard held and the body ran: this world, these effects *)
+
+val handle_in_two :
+  ('w -> id:int -> 'b -> int -> 'p -> 'w * bool) ->
+  ('w -> id:int -> 'b -> int -> 'p -> 'w * 'b Semantics.Machine.effect list) ->
+  'w -> id:int -> 'b -> int -> 'p -> ('w, 'b) handled
+(** [handle_in_two percept_applicable run_percept_handler]: the guard, then
+    the body when it holds: a {!BODIES.percept_handle} for any bodies. *)
+
 module type BODIES = sig
   include Semantics.Machine.BODIES
+
+  val percept_handle : world -> id:int -> beh -> int -> percept -> (world, beh) handled
+  (** [percept_applicable] and, when it holds, [run_percept_handler] at
+      once, as the Handle rule takes them (R3b): what the two give in turn
+      ({!handle_in_two}). Bodies that keep the guard's bindings for the
+      body may do it in one go. *)
 
   val percept_may_apply : world -> beh -> int -> percept -> bool
   (** A pre-test: [false] only when [percept_applicable] would surely answer

@@ -153,3 +153,7 @@ let percept_applicable (a : Eval.agent) ~id b h p =
       a.pending <- (if ok then Some (id, h, f) else None);
       (a, ok)
     | _ -> Eval.Bodies.percept_applicable a ~id b h p
+
+(* The guard, then the body when it holds: the pending frame carries the
+   bindings from one to the other. *)
+let percept_handle a ~id b h p = Fast.handle_in_two percept_applicable run_percept_handler a ~id b h p

@@ -40,6 +40,7 @@ module Fast_bodies = struct
   let percept_may_apply () (b : Model.beh) h p = List.mem p b.percept_handlers.(h - 1).accepts
   (* a model's percepts are numbered from 0: the number is the kind *)
   let percept_kind p = if p >= 0 && p < 4096 then p else -1
+  let percept_handle w ~id b h p = Engine.Fast.handle_in_two percept_applicable run_percept_handler w ~id b h p
 end
 
 module FE = Engine.Fast.Make (Fast_bodies)

@@ -399,6 +399,7 @@ module Fast_model_bodies = struct
   include Model.Bodies
   let percept_may_apply () (b : Model.beh) h p = List.mem p b.percept_handlers.(h - 1).accepts
   let percept_kind p = if p >= 0 && p < 4096 then p else -1
+  let percept_handle w ~id b h p = Engine.Fast.handle_in_two percept_applicable run_percept_handler w ~id b h p
 end
 
 module FE = Engine.Fast.Make (Fast_model_bodies)
