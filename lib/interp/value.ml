@@ -136,8 +136,8 @@ let hash v = visits := 0; hsh v
 (* An integer key is its own hash and equals another integer key exactly
    when the two are the same number: what [hash] and [equal] answer, after
    one and two visits, far below the bound. *)
-let key_hash k = match k with Int i -> i land max_int | _ -> hash k land max_int
-let same_key k k' = match k, k' with Int i, Int j -> i = j | _ -> equal k k'
+let[@inline] key_hash k = match k with Int i -> i land max_int | _ -> hash k land max_int
+let[@inline] same_key k k' = match k, k' with Int i, Int j -> i = j | _ -> equal k k'
 
 let rec find_key k = function
   | [] -> None
@@ -147,17 +147,20 @@ let map_find m k = find_key k (Int_table.find_default m.table (key_hash k) [])
 
 let map_empty () = Map { table = Int_table.create 8; order = []; size = 0 }
 
+(* [true] when [k] had an entry in [bucket], now bound to [v] *)
+let rec set_in_bucket k v = function
+  | [] -> false
+  | (k', r) :: rest -> if same_key k k' then begin r := v; true end else set_in_bucket k v rest
+
 let map_set m k v =
   let h = key_hash k in
   let bucket = Int_table.find_default m.table h [] in
-  let rec find = function
-    | [] ->
-      let r = ref v in
-      Int_table.replace m.table h ((k, r) :: bucket);
-      m.order <- (k, r) :: m.order;
-      m.size <- m.size + 1
-    | (k', r) :: rest -> if same_key k k' then r := v else find rest in
-  find bucket
+  if not (set_in_bucket k v bucket) then begin
+    let r = ref v in
+    Int_table.replace m.table h ((k, r) :: bucket);
+    m.order <- (k, r) :: m.order;
+    m.size <- m.size + 1
+  end
 
 (* Java's Double.toString / Float.toString: the shortest digits that read
    back as the same value; plain notation for 10^-3 <= |x| < 10^7, otherwise
