@@ -270,21 +270,44 @@ module Make (B : BODIES) = struct
   (* [dispatch_from] over lists of entries, highest priority first, each
      in seq order, to the end: what it does with a [next] that walks them,
      without a closure call and an option per percept (5% of the steady
-     run's instructions). *)
+     run's instructions). A percept whose kind's plan has one handler (the
+     common case: one handler takes each type) is handled here, without
+     [handle_unobserved]'s triple; the last EndDispatch label is made once,
+     at the end, from the last entry's seq and whether it was discarded
+     ([lseq] = [min_int]: no entry yet, the label is [c.last]). *)
   let dispatch_lists p (c : M.t) runs =
-    let rec over_runs (c : M.t) k world dispatched last n = function
-      | [] -> ({ c with world; dispatched; cur = None; phase = Dispatch_phase; last }, n)
-      | run :: runs -> over_run c k world dispatched last n run runs
-    and over_run (c : M.t) k world dispatched last n run runs =
+    let finish (c : M.t) world dispatched lseq ldisc n =
+      let last = if lseq = min_int then c.last else End_dispatch { seq = lseq; discarded = ldisc } in
+      ({ c with world; dispatched; cur = None; phase = Dispatch_phase; last }, n) in
+    let rec over_runs (c : M.t) k world dispatched lseq ldisc n = function
+      | [] -> finish c world dispatched lseq ldisc n
+      | run :: runs -> over_run c k world dispatched lseq ldisc n run runs
+    and over_run (c : M.t) k world dispatched lseq ldisc n run runs =
       match run with
-      | [] -> over_runs c k world dispatched last n runs
+      | [] -> over_runs c k world dispatched lseq ldisc n runs
       | e :: rest ->
-        let (world, applied, bs) = handle_unobserved p c k world e in
-        let last = End_dispatch { seq = e.seq; discarded = not applied } in
-        match bs with
-        | None -> over_run c k world (dispatched + 1) last (n + 1) rest runs
-        | Some s -> let c = M.with_bs c s in over_run c (handlers_and_behs c) world (dispatched + 1) last (n + 1) rest runs in
-    over_runs c (handlers_and_behs c) c.world c.dispatched c.last 0 runs
+        let kind = B.percept_kind e.p in
+        let plan = if kind >= 0 then plan_for k world kind e.p else no_plan in
+        match plan.from, plan.pbehs with
+        | [ (id, h) :: todo_rest as todo ], [ b ] when kind >= 0 ->
+          (match B.percept_handle world ~id b h e.p with
+           | Not_applicable world -> over_run c k world (dispatched + 1) e.seq true (n + 1) rest runs
+           | Handled (world, []) -> over_run c k world (dispatched + 1) e.seq false (n + 1) rest runs
+           | Handled (world, effs) ->
+             (* as [dispatch_plan]: the rest of the snapshot, from scratch *)
+             let s = M.apply_effects p (M.bs_of c) id effs (List.map fst todo) in
+             let (world, _, bs) = dispatch_handlers None p c e world true (Some s) todo_rest [] in
+             after_effects c world dispatched n rest runs e (match bs with Some s' -> s' | None -> s))
+        | _ ->
+          let (world, applied, bs) = handle_unobserved p c k world e in
+          match bs with
+          | None -> over_run c k world (dispatched + 1) e.seq (not applied) (n + 1) rest runs
+          | Some s -> after_effects c world dispatched n rest runs e s
+    (* a body had effects: a new behaviour part, so a new snapshot *)
+    and after_effects c world dispatched n rest runs e s =
+      let c = M.with_bs c s in
+      over_run c (handlers_and_behs c) world (dispatched + 1) e.seq false (n + 1) rest runs in
+    over_runs c (handlers_and_behs c) c.world c.dispatched min_int false 0 runs
 
   (* Runs of dispatches from the configuration's own priority queue, in pop
      order (R3b). In [reference] they go on until the queue is empty: its

@@ -563,10 +563,14 @@ let plain_run_transferred () =
    hands the rest to the rules with the ids they reserve: here instance 1
    leaves and activates C while its handler is still the head of the
    snapshot, so C gets id 3, not 1 (ApplyEffects, NewId; R5g). *)
-let plan_reserves_ids () =
+(* [b_takes]: the percept B's handler takes (ping: a plan of two handlers;
+   pong: of one, A's, which [dispatch_run] takes without the general
+   path); [by_run]: the dispatch as a run. *)
+let reserves_ids ~b_takes ~by_run () =
   let text = String.concat "\n" [
       "ontology O";
       "\tproposition ping extends percept with priority = 3";
+      "\tproposition pong extends percept with priority = 2";
       "";
       "agent Ag uses ontology O";
       "\tproperty n as integer = 0";
@@ -580,7 +584,7 @@ let plan_reserves_ids () =
       "\t\tactivate behaviour C";
       "";
       "cyclic behaviour B for agent Ag";
-      "\ton percept when content matches ping do";
+      "\ton percept when content matches " ^ b_takes ^ " do";
       "\t\tn = n + 1";
       "";
       "cyclic behaviour C for agent Ag";
@@ -600,7 +604,8 @@ let plan_reserves_ids () =
   (match ref_step (), Pk.step t with
    | Some (Mc.Transfer 1), Some (Mc.Transfer 1) -> ()
    | _ -> Alcotest.fail "a Transfer of one percept on both");
-  Alcotest.(check bool) "a dispatch, unobserved" true (Pk.dispatch t);
+  if by_run then Alcotest.(check int) "a run of one dispatch" 1 (Pk.dispatch_run t)
+  else Alcotest.(check bool) "a dispatch, unobserved" true (Pk.dispatch t);
   let rec follow () = match ref_step () with
     | Some (Mc.End_dispatch _) -> () | Some _ -> follow () | None -> Alcotest.fail "no EndDispatch" in
   follow ();
@@ -711,7 +716,10 @@ let () =
     ("agent", [
         Alcotest.test_case "objects, growth, order, refusals" `Quick packed_agent_unit;
         Alcotest.test_case "D32 packed again, Dequeue finds the top bucket" `Quick packed_again_finds_top;
-        Alcotest.test_case "a dispatch by plan reserves the ids the rules reserve" `Quick plan_reserves_ids;
+        Alcotest.test_case "a dispatch by plan reserves the ids the rules reserve" `Quick
+          (reserves_ids ~b_takes:"ping" ~by_run:false);
+        Alcotest.test_case "a run, one handler for the percept, reserves the ids too" `Quick
+          (reserves_ids ~b_takes:"pong" ~by_run:true);
         Alcotest.test_case "a plain run of notifies transferred as it waits" `Quick plain_run_transferred;
         Alcotest.test_case "D39 words, the long form, chunks" `Quick packed_words;
         Alcotest.test_case "= reference, the bench's program and two more types, 60 hosts" `Quick packed_bench_program;
