@@ -247,40 +247,59 @@ module Make (B : BODIES) = struct
 
   let dispatch_entry ?observe p c e ~pq = dispatch_popped observe p c e pq
 
-  (* Dispatch again and again, unobserved (no ghosts), of the entries
-     [next] gives one by one, each already taken from the top of the
-     priority queue ([None]: the dispatches are over). While no body has
-     effects, the behaviour part and the snapshot stay [c]'s, and what a
-     dispatch changes (the world, the count, the last label) is carried in
-     local variables; the configuration is built once, at the end (its
-     priority queue [c]'s: the caller's to set). A body with effects
-     changes the behaviour part, and so the snapshot, never the queue. *)
-  let dispatch_from p (c : M.t) next =
-    let rec go (c : M.t) k world dispatched last n =
-      match next () with
-      | None -> ({ c with world; dispatched; cur = None; phase = Dispatch_phase; last }, n)
-      | Some e ->
-        let (world, applied, bs) = handle_unobserved p c k world e in
-        let last = End_dispatch { seq = e.seq; discarded = not applied } in
-        match bs with
-        | None -> go c k world (dispatched + 1) last (n + 1)
-        | Some s -> let c = M.with_bs c s in go c (handlers_and_behs c) world (dispatched + 1) last (n + 1) in
-    go c (handlers_and_behs c) c.world c.dispatched c.last 0
+  (* Runs of dispatches, unobserved (no ghosts), of entries each already
+     taken from the top of the priority queue. While no body has effects,
+     the behaviour part and the snapshot stay [c]'s, and what a dispatch
+     changes (the world, the count) is carried in local variables; the
+     configuration is built once, at the end (its priority queue [c]'s:
+     the caller's to set), its last EndDispatch label from the last
+     entry's seq and whether it was discarded ([lseq] = [min_int]: no
+     entry, the label is [c.last]). A body with effects changes the
+     behaviour part, and so the snapshot, never the queue. A percept whose
+     kind's plan has one handler (the common case: one handler takes each
+     type) is handled in the loop, without [handle_unobserved]'s triple. *)
+  let finish_run (c : M.t) world dispatched lseq ldisc n =
+    let last = if lseq = min_int then c.last else End_dispatch { seq = lseq; discarded = ldisc } in
+    ({ c with world; dispatched; cur = None; phase = Dispatch_phase; last }, n)
 
-  (* [dispatch_from] over lists of entries, highest priority first, each
-     in seq order, to the end: what it does with a [next] that walks them,
-     without a closure call and an option per percept (5% of the steady
-     run's instructions). A percept whose kind's plan has one handler (the
-     common case: one handler takes each type) is handled here, without
-     [handle_unobserved]'s triple; the last EndDispatch label is made once,
-     at the end, from the last entry's seq and whether it was discarded
-     ([lseq] = [min_int]: no entry yet, the label is [c.last]). *)
+  (* The one handler [id, h] (the head of [todo]) had effects: as
+     [dispatch_plan], the rest of the snapshot from scratch; the new
+     behaviour part. *)
+  let after_effects p (c : M.t) e world id effs todo todo_rest =
+    let s = M.apply_effects p (M.bs_of c) id effs (List.map fst todo) in
+    match dispatch_handlers None p c e world true (Some s) todo_rest [] with
+    | (world, _, Some s) -> (world, s)
+    | (world, _, None) -> (world, s)
+
+  (* [count] entries, each from [pop ()]. *)
+  let dispatch_from p (c : M.t) count pop =
+    let rec go (c : M.t) k world dispatched lseq ldisc n =
+      if n = count then finish_run c world dispatched lseq ldisc n
+      else
+        let e = pop () in
+        let kind = B.percept_kind e.p in
+        let plan = if kind >= 0 then plan_for k world kind e.p else no_plan in
+        match plan.from, plan.pbehs with
+        | [ (id, h) :: todo_rest as todo ], [ b ] when kind >= 0 ->
+          (match B.percept_handle world ~id b h e.p with
+           | Not_applicable world -> go c k world (dispatched + 1) e.seq true (n + 1)
+           | Handled (world, []) -> go c k world (dispatched + 1) e.seq false (n + 1)
+           | Handled (world, effs) ->
+             let (world, s) = after_effects p c e world id effs todo todo_rest in
+             let c = M.with_bs c s in go c (handlers_and_behs c) world (dispatched + 1) e.seq false (n + 1))
+        | _ ->
+          let (world, applied, bs) = handle_unobserved p c k world e in
+          match bs with
+          | None -> go c k world (dispatched + 1) e.seq (not applied) (n + 1)
+          | Some s -> let c = M.with_bs c s in go c (handlers_and_behs c) world (dispatched + 1) e.seq false (n + 1) in
+    go c (handlers_and_behs c) c.world c.dispatched min_int false 0
+
+  (* The same over lists of entries, highest priority first, each in seq
+     order, to the end: without a closure call per percept (5% of the
+     steady run's instructions). *)
   let dispatch_lists p (c : M.t) runs =
-    let finish (c : M.t) world dispatched lseq ldisc n =
-      let last = if lseq = min_int then c.last else End_dispatch { seq = lseq; discarded = ldisc } in
-      ({ c with world; dispatched; cur = None; phase = Dispatch_phase; last }, n) in
     let rec over_runs (c : M.t) k world dispatched lseq ldisc n = function
-      | [] -> finish c world dispatched lseq ldisc n
+      | [] -> finish_run c world dispatched lseq ldisc n
       | run :: runs -> over_run c k world dispatched lseq ldisc n run runs
     and over_run (c : M.t) k world dispatched lseq ldisc n run runs =
       match run with
@@ -294,19 +313,16 @@ module Make (B : BODIES) = struct
            | Not_applicable world -> over_run c k world (dispatched + 1) e.seq true (n + 1) rest runs
            | Handled (world, []) -> over_run c k world (dispatched + 1) e.seq false (n + 1) rest runs
            | Handled (world, effs) ->
-             (* as [dispatch_plan]: the rest of the snapshot, from scratch *)
-             let s = M.apply_effects p (M.bs_of c) id effs (List.map fst todo) in
-             let (world, _, bs) = dispatch_handlers None p c e world true (Some s) todo_rest [] in
-             after_effects c world dispatched n rest runs e (match bs with Some s' -> s' | None -> s))
+             let (world, s) = after_effects p c e world id effs todo todo_rest in
+             let c = M.with_bs c s in
+             over_run c (handlers_and_behs c) world (dispatched + 1) e.seq false (n + 1) rest runs)
         | _ ->
           let (world, applied, bs) = handle_unobserved p c k world e in
           match bs with
           | None -> over_run c k world (dispatched + 1) e.seq (not applied) (n + 1) rest runs
-          | Some s -> after_effects c world dispatched n rest runs e s
-    (* a body had effects: a new behaviour part, so a new snapshot *)
-    and after_effects c world dispatched n rest runs e s =
-      let c = M.with_bs c s in
-      over_run c (handlers_and_behs c) world (dispatched + 1) e.seq false (n + 1) rest runs in
+          | Some s ->
+            let c = M.with_bs c s in
+            over_run c (handlers_and_behs c) world (dispatched + 1) e.seq false (n + 1) rest runs in
     over_runs c (handlers_and_behs c) c.world c.dispatched min_int false 0 runs
 
   (* Runs of dispatches from the configuration's own priority queue, in pop
@@ -321,14 +337,12 @@ module Make (B : BODIES) = struct
         let (c', n) = dispatch_lists p c (Pqueue.runs c.pq) in
         Some ({ c' with pq = Pqueue.empty }, n)
       end else begin
-        let pq = ref c.pq and left = ref (if p.variant = Budgeted then p.budget - c.dispatched else max_int) in
-        let next () =
-          if Pqueue.is_empty !pq || !left <= 0 then None
-          else begin
-            let e = Pqueue.first !pq in
-            pq := Pqueue.drop_first !pq; decr left; Some e
-          end in
-        let (c', n) = dispatch_from p c next in
+        (* the dispatches change the behaviours, never the queue: how
+           many pops the queue and the budget allow is known now *)
+        let left = if p.variant = Budgeted then p.budget - c.dispatched else max_int in
+        let pq = ref c.pq in
+        let pop () = let e = Pqueue.first !pq in pq := Pqueue.drop_first !pq; e in
+        let (c', n) = dispatch_from p c (min left (Pqueue.size c.pq)) pop in
         Some ({ c' with pq = !pq }, n)
       end
     | _ -> None

@@ -97,14 +97,15 @@ module Make (B : BODIES) : sig
       not built while no body has effects. [None] where [dispatch] would
       not start from phase Dispatch, or where there is nothing to dispatch. *)
 
-  val dispatch_from : Semantics.Machine.params -> M.t -> (unit -> B.percept Semantics.Machine.entry option) ->
+  val dispatch_from : Semantics.Machine.params -> M.t -> int -> (unit -> B.percept Semantics.Machine.entry) ->
     M.t * int
-  (** {!dispatch_run} where the percepts wait elsewhere: [next] gives them
-      one by one, each already taken from the top of its priority queue
-      (as {!dispatch_entry}), [None] when the dispatches are over (the
-      priority queue empty, the budget spent: the caller knows). From phase
-      Dispatch, unobserved, no ghosts; the priority queue of the result is
-      the configuration's own. *)
+  (** {!dispatch_run} where the percepts wait elsewhere: [dispatch_from p c
+      count pop] dispatches [count] percepts, each given by [pop ()] already
+      taken from the top of its priority queue (as {!dispatch_entry});
+      [count] is as many as Dequeue allows in a row (the percepts waiting,
+      the budget left: the caller knows, a dispatch never adds to the
+      queue). From phase Dispatch, unobserved, no ghosts; the priority queue
+      of the result is the configuration's own. *)
 
   val dequeue_entry : Semantics.Machine.params -> M.t -> B.percept Semantics.Machine.entry ->
     pq:B.percept Semantics.Pqueue.t -> M.lbl * M.t

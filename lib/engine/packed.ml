@@ -740,10 +740,8 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     end else if t.c.phase = Dispatch_phase && t.c.cur = None && not (dispatch_over t) then begin
       (* the percepts popped from the buckets one by one, as long as
          Dequeue would be enabled: some wait, the budget is not spent *)
-      let left = ref (if t.p.variant = Budgeted then min max (t.p.budget - t.c.dispatched) else max) in
-      let next () =
-        if t.pq_n = 0 || !left <= 0 then None else begin decr left; Some (pop t) end in
-      let (c, n) = F.dispatch_from t.p t.c next in
+      let left = if t.p.variant = Budgeted then min max (t.p.budget - t.c.dispatched) else max in
+      let (c, n) = F.dispatch_from t.p t.c (min left t.pq_n) (fun () -> pop t) in
       t.c <- c;
       maybe_unpack t;
       n
