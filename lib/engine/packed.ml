@@ -92,6 +92,7 @@ module Ring = struct
       btail = 1 lsl p.bshift }
 
   let length r = r.len
+  let chunk_mask r = r.cmask
   let boxes r = r.blen
   let is_empty r = r.len = 0 && r.blen = 0
   let chunks r = r.nch
@@ -423,21 +424,22 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     t.pq_n <- t.pq_n - 1;
     e
 
-  (* The front record of the O2A ring, of header [h], moved to bucket [b]
-     with the seq [seq]: a word stays a word when its seq is close enough
-     to the bucket's base, else it becomes a long record (header, int). *)
-  let move t h b seq =
+  (* The O2A ring's record of header [h] at [pos] (its boxes at the ring's
+     front), copied to bucket [b] with the seq [seq]: a word stays a word
+     when its seq is close enough to the bucket's base, else it becomes a
+     long record (header, int). The boxes leave O2A now, the ints when
+     the caller drops them. *)
+  let[@inline] move t h ~pos b seq =
     let r = b.ring and o2a = t.o2a in
     if Ring.length r = 0 then b.base <- seq;
     if is_word h then begin
       let d = seq - b.base in
       if d < t.x_limit then Ring.push r (word ~v:(word_v h) ~kind:(word_kind h) ~x:d)
-      else begin Ring.push r (long seq (tag_of h)); Ring.push r (word_v h) end;
-      Ring.drop o2a 1
+      else begin Ring.push r (long seq (tag_of h)); Ring.push r (word_v h) end
     end else begin
       let tag = tag_of h in
       Ring.push r (long seq tag);
-      Ring.move_front o2a r (tag_width tag) ~skip:1;
+      for k = 1 to tag_width tag do Ring.push r (Ring.get o2a (pos + k)) done;
       for _ = 1 to tag_boxes tag do Ring.push_box r (Ring.get_box o2a 0); Ring.drop_box o2a done
     end
 
@@ -635,10 +637,20 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
   let transfer t =
     let n = t.o2a_n in
     let first = t.c.next_seq - n + 1 in
+    (* the records read in place, their ints dropped a chunk at a time
+       (which goes back to the pool for the buckets to take), the bucket
+       of the record before kept at hand *)
+    let o2a = t.o2a in
+    let pos = ref 0 and cur = ref no_bucket in
     for i = 0 to n - 1 do
-      let h = Ring.get t.o2a 0 in
-      move t h (bucket_for t (x_of h)) (first + i)
+      let h = Ring.get o2a !pos in
+      let prio = x_of h in
+      let b = if !cur.bprio = prio then !cur else begin let b = bucket_for t prio in cur := b; b end in
+      move t h ~pos:!pos b (first + i);
+      pos := !pos + ints_of h;
+      if !pos > Ring.chunk_mask o2a then begin Ring.drop o2a !pos; pos := 0 end
     done;
+    Ring.drop o2a !pos;
     t.o2a_n <- 0;
     Ring.shrink t.o2a;
     t.pq_n <- t.pq_n + n;
