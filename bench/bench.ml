@@ -601,11 +601,13 @@ let interp_bench () =
        made in alternating rounds, each of our run and a JADE run of the
        steady scenario alone, and the ratio is taken per round. *)
     (* JADE's steady run has 15M percepts (its default), so that its JIT
-       warm-up weighs little; ours needs no warm-up. *)
+       warm-up weighs little; ours runs the same 15M (it needs no warm-up,
+       but a run of a few tenths of a second would take the machine's
+       speed of that moment only, where JADE's takes it over seconds). *)
     let jade_n = if quick then 200_000 else 15_000_000 and nrounds = if quick then 3 else 5 in
     let cpu_ratios = ref [] in
     let rounds = List.init nrounds (fun i ->
-        let (ours, _, ours_cpu) = interp_steady env steady_n in
+        let (ours, _, ours_cpu) = interp_steady env jade_n in
         let res = jade_results ~steady_only:true ~env:(Printf.sprintf "STEADY_N=%d" jade_n) quick in
         let theirs = get res "steady" "percepts_per_second" in
         (* JADE's host and agent are two threads: on an idle machine they
