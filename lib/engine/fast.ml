@@ -49,8 +49,7 @@ module Make (B : BODIES) = struct
   (* The same where O2A holds exactly [items], [n] percepts newest first
      (no object), [c.o2a] being empty: as [transfer] on the configuration
      whose O2A holds them, without building that queue. *)
-  let transfer_newest_first (c : M.t) entries n : M.lbl * M.t =
-    let pq = Pqueue.insert_newest_first_list entries c.pq in
+  let transfer_into (c : M.t) pq n : M.lbl * M.t =
     let l = Transfer n in
     (l, { c with pq; o2a = Fqueue.empty; phase = Dispatch_phase; dispatched = 0; last = l })
 

@@ -67,12 +67,12 @@ module Make (B : BODIES) : sig
       [M.transfer] is enabled and the variant is not [Native] (there the
       reference's own rule is taken). *)
 
-  val transfer_newest_first : M.t -> B.percept Semantics.Pqueue.entry list -> int -> M.lbl * M.t
+  val transfer_into : M.t -> B.percept Semantics.Pqueue.t -> int -> M.lbl * M.t
   (** {!transfer} in a configuration whose O2A queue is empty, as if it
-      held the percepts of the [n] entries [entries] (no object), given
-      newest first (the order a run of notifies conses them): the same
-      label and configuration, without building that queue. Variant
-      [Reference] or [Budgeted], no flood abstraction, phase Transfer. *)
+      held [n] percepts (no object), given as the priority queue [pq] they
+      make with the configuration's own: the same label and configuration,
+      without building that O2A queue. Variant [Reference] or [Budgeted],
+      no flood abstraction, phase Transfer. *)
 
   val step : Semantics.Machine.params -> M.t -> (M.lbl * M.t) list
   (** What [M.step] answers, faster: the batch Transfer, Dequeue as one pop

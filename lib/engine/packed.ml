@@ -329,9 +329,16 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     mutable pend_box : int;
     mutable pend_prio : int;
     mutable pend_with : bool;
-    mutable plain_pend : B.percept entry list;
-      (* plain (and packable): the [pend] notifies' entries, newest first,
-         not yet in [c.o2a] (as O2A items) *)
+    plain_runs : B.percept entry list array;
+    plain_lens : int array;
+    mutable plain_mask : int;
+    mutable plain_big : B.percept entry list;
+      (* plain (and packable): the [pend] notifies' entries, not yet in
+         [c.o2a] (as O2A items), by priority: those of priority [k] below
+         {!plain_small} in [plain_runs.(k)], newest first, [plain_lens.(k)]
+         of them, bit [k] of [plain_mask] set when there are some; the
+         others in [plain_big], newest first. A Transfer that takes them
+         as they wait has them in their buckets already. *)
   }
 
   let packable p =
@@ -343,6 +350,22 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     if is_word h then C.read_int t.codec (tag_of h) (word_v h)
     else C.read t.codec (tag_of h) ring ~pos:(pos + 1) ~box
 
+  (* Priorities below this one wait in [plain_runs] (a bit of [plain_mask] each). *)
+  let plain_small = 62
+
+  (* The plain notifies waiting, taken: newest first. *)
+  let take_plain t =
+    let all = ref t.plain_big in
+    t.plain_big <- [];
+    for k = 0 to plain_small - 1 do
+      if t.plain_mask land (1 lsl k) <> 0 then begin
+        all := List.rev_append t.plain_runs.(k) !all;
+        t.plain_runs.(k) <- []; t.plain_lens.(k) <- 0
+      end
+    done;
+    t.plain_mask <- 0;
+    List.sort (fun (a : B.percept entry) b -> compare b.seq a.seq) !all
+
   (* The notifies not yet written into [c], written: what the reference's
      Notify does to the configuration's fields other than O2A (next_seq, an
      idle agent woken, last), once for a run of notifies. *)
@@ -350,10 +373,8 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     if t.pend > 0 then begin
       let c = t.c in
       let seq = c.next_seq + t.pend in
-      let (o2a, e) = match t.plain_pend with
-        | (e :: _) as items ->
-          t.plain_pend <- [];
-          (Fqueue.append (List.rev_map (fun e -> O_percept e) items) c.o2a, e)
+      let (o2a, e) = match take_plain t with
+        | (e :: _) as items -> (Fqueue.append (List.rev_map (fun e -> O_percept e) items) c.o2a, e)
         | _ ->
           let h = Ring.get t.o2a t.pend_at in
           (c.o2a, { p = percept_at t t.o2a h ~pos:t.pend_at ~box:t.pend_box; prio = t.pend_prio; seq }) in
@@ -449,7 +470,8 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     { p; can_pack = packable p; is_packed = false; pack_above; c; codec = C.create (); pool; x_limit;
       o2a = Ring.create ~pool (); o2a_n = 0; after = Fqueue.empty;
       buckets = [||]; pq_n = 0; by_prio = Array.make small_prios no_bucket; top = 0;
-      pend = 0; pend_at = 0; pend_box = 0; pend_prio = 0; pend_with = false; plain_pend = [] }
+      pend = 0; pend_at = 0; pend_box = 0; pend_prio = 0; pend_with = false;
+      plain_runs = Array.make plain_small []; plain_lens = Array.make plain_small 0; plain_mask = 0; plain_big = [] }
 
   (* A record pushed onto [ring]: a word, when the codec answers the
      percept's tag and int ([encode_one]), the tag is one a word stands
@@ -602,7 +624,11 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
      (ghosts). *)
   let notify_plain t percept prio ~with_ =
     let e = { p = percept; prio; seq = t.c.next_seq + t.pend + 1 } in
-    t.plain_pend <- e :: t.plain_pend;
+    if prio < plain_small then begin
+      Array.unsafe_set t.plain_runs prio (e :: Array.unsafe_get t.plain_runs prio);
+      Array.unsafe_set t.plain_lens prio (Array.unsafe_get t.plain_lens prio + 1);
+      t.plain_mask <- t.plain_mask lor (1 lsl prio)
+    end else t.plain_big <- e :: t.plain_big;
     t.pend <- t.pend + 1;
     t.pend_with <- with_
 
@@ -682,16 +708,28 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
      Transfer the next rule (the agent in Transfer or Idle): what [sync]
      writes but O2A, then Transfer of the run as it waits, newest first. *)
   let transfer_plain_run t =
-    match t.plain_pend with
-    | _ :: _ as entries when Fqueue.is_empty t.c.o2a
-                                 && (t.c.phase = Transfer_phase || t.c.phase = Idle_phase) ->
+    if (t.plain_mask <> 0 || t.plain_big <> []) && Fqueue.is_empty t.c.o2a
+       && (t.c.phase = Transfer_phase || t.c.phase = Idle_phase) then begin
       let c = t.c and n = t.pend in
-      t.plain_pend <- [];
       t.pend <- 0;
-      let (l, c) = F.transfer_newest_first { c with next_seq = c.next_seq + n; phase = Transfer_phase } entries n in
+      let pq =
+        if Pqueue.is_empty c.pq && t.plain_big = [] then begin
+          (* each priority's run, oldest first, is its bucket *)
+          let runs = ref [] in
+          for k = plain_small - 1 downto 0 do
+            if t.plain_mask land (1 lsl k) <> 0 then begin
+              let r = t.plain_runs.(k) in
+              runs := (k, List.rev r, t.plain_lens.(k), (List.hd r).seq) :: !runs;
+              t.plain_runs.(k) <- []; t.plain_lens.(k) <- 0
+            end
+          done;
+          t.plain_mask <- 0;
+          Pqueue.of_runs !runs
+        end else Pqueue.insert_newest_first_list (take_plain t) c.pq in
+      let (l, c) = F.transfer_into { c with next_seq = c.next_seq + n; phase = Transfer_phase } pq n in
       t.c <- c;
       Some l
-    | _ -> None
+    end else None
 
   let step t =
     match if t.is_packed then None else transfer_plain_run t with

@@ -195,6 +195,15 @@ let insert_newest_first_list l q =
         rest = !rest; size = !size }
   end
 
+let of_runs runs =
+  let rec go q = function
+    | [] -> q
+    | (prio, (_ :: _ as entries), n, last) :: rest ->
+      let b = { q = Fqueue.of_list_length entries n; last } in
+      go (place prio (function None -> b | Some _ -> invalid_arg "Pqueue.of_runs: a priority twice") n q) rest
+    | (_, [], _, _) :: rest -> go q rest in
+  go empty runs
+
 (* The queue whose top bucket's entries became [top] (its largest seq is
    unchanged): the next bucket moves up if [top] is empty. *)
 let with_top q top size =

@@ -64,6 +64,12 @@ val insert_newest_first_list : 'p entry list -> 'p t -> 'p t
     priority's run is gathered by a pass over [l], consed oldest first,
     with no closure call or reference per entry. *)
 
+val of_runs : (int * 'p entry list * int * int) list -> 'p t
+(** [of_runs [(prio, entries, n, last); ...]]: the queue of those entries,
+    each [entries] of priority [prio], [n] of them, in seq order, the last
+    of seq [last], the priorities distinct: the same queue as inserting
+    them one by one. *)
+
 val runs : 'p t -> 'p entry list list
 (** The entries, one list per priority, highest priority first, each in
     seq order: the order in which popping them all under stable ties

@@ -546,7 +546,8 @@ let plain_run_transferred () =
         for _ = 1 to n do
           let i = Random.State.int rand 60 in
           let (v, default) = pv i in
-          let priority = if i mod 5 = 0 then Some (i mod 11) else None in
+          (* priorities below and beyond the plain agent's small ones (62) *)
+          let priority = if i mod 5 = 0 then Some (if i mod 2 = 0 then i mod 11 else 50 + i) else None in
           (match RM.notify_event p !c v ~default ~priority with Ok c' -> c := c' | Error _ -> Alcotest.fail "refused");
           (match Pk.notify_event t v ~default ~priority with Ok () -> () | Error _ -> Alcotest.fail "refused")
         done;

@@ -129,7 +129,13 @@ let pqueue_batch_insert (before, batch, shift) =
   (* the same from a list, into this queue and into an empty one (its own
      path, one pass; more than 8 priorities fall back) *)
   let from_empty = List.fold_left (fun q e -> Pqueue.insert e q) Pqueue.empty batch in
+  (* and from runs, one per priority, into an empty queue *)
+  let prios = List.sort_uniq compare (List.map (fun (e : int Pqueue.entry) -> e.prio) batch) in
+  let runs = List.map (fun prio ->
+      let run = List.filter (fun (e : int Pqueue.entry) -> e.prio = prio) batch in
+      (prio, run, List.length run, (List.nth run (List.length run - 1)).seq)) prios in
   same at_once one_by_one
+  && same (Pqueue.of_runs runs) from_empty
   && same (Pqueue.insert_newest_first_list (List.rev batch) q0) one_by_one
   && same (Pqueue.insert_newest_first_list (List.rev batch) Pqueue.empty) from_empty
 
