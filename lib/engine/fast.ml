@@ -71,9 +71,14 @@ module Make (B : BODIES) = struct
      head is the handler; the rest is what the rules would still try, which
      ApplyEffects reserves) and its instance's behaviour. The handlers left
      out would each be a Skip that changes nothing. *)
-  and plan = { from : (int * int) list list; pbehs : B.beh list }
+  and plan = {
+    from : (int * int) list list;
+    pbehs : B.beh list;
+    one : one option;   (* the plan of one handler, taken apart *)
+  }
+  and one = { oid : int; oh : int; otodo : (int * int) list; orest : (int * int) list; ob : B.beh }
 
-  let no_plan = { from = []; pbehs = [] }
+  let no_plan = { from = []; pbehs = []; one = None }
 
   let handlers_cache : snapshot option ref = ref None
 
@@ -98,7 +103,10 @@ module Make (B : BODIES) = struct
           else keep rest brest
         | _ -> ([], []) in
       let (from, pbehs) = keep k.todo k.behs in
-      let plan = { from; pbehs } in
+      let one = match from, pbehs with
+        | [ (oid, oh) :: orest as otodo ], [ ob ] -> Some { oid; oh; otodo; orest; ob }
+        | _ -> None in
+      let plan = { from; pbehs; one } in
       if kind >= Array.length k.plans then begin
         let a = Array.make (max (kind + 1) (2 * Array.length k.plans)) no_plan in
         Array.blit k.plans 0 a 0 (Array.length k.plans);
@@ -278,8 +286,8 @@ module Make (B : BODIES) = struct
         let e = pop () in
         let kind = B.percept_kind e.p in
         let plan = if kind >= 0 then plan_for k world kind e.p else no_plan in
-        match plan.from, plan.pbehs with
-        | [ (id, h) :: todo_rest as todo ], [ b ] when kind >= 0 ->
+        match plan.one with
+        | Some { oid = id; oh = h; otodo = todo; orest = todo_rest; ob = b } ->
           (match B.percept_handle world ~id b h e.p with
            | Not_applicable world -> go c k world (dispatched + 1) e.seq true (n + 1)
            | Handled (world, []) -> go c k world (dispatched + 1) e.seq false (n + 1)
@@ -306,8 +314,8 @@ module Make (B : BODIES) = struct
       | e :: rest ->
         let kind = B.percept_kind e.p in
         let plan = if kind >= 0 then plan_for k world kind e.p else no_plan in
-        match plan.from, plan.pbehs with
-        | [ (id, h) :: todo_rest as todo ], [ b ] when kind >= 0 ->
+        match plan.one with
+        | Some { oid = id; oh = h; otodo = todo; orest = todo_rest; ob = b } ->
           (match B.percept_handle world ~id b h e.p with
            | Not_applicable world -> over_run c k world (dispatched + 1) e.seq true (n + 1) rest runs
            | Handled (world, []) -> over_run c k world (dispatched + 1) e.seq false (n + 1) rest runs
