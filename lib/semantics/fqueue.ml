@@ -42,11 +42,6 @@ let append l q = match l with
   | _ when q.len = 0 -> of_list l
   | _ -> { q with back = List.rev_append l q.back; len = q.len + List.length l }
 
-let append_newest_first l n q =
-  if n = 0 then q
-  else if q.len = 0 then { front = List.rev l; back = []; len = n }
-  else { q with back = List.rev_append (List.rev l) q.back; len = q.len + n }
-
 let partition f q =
   let (yes, no) = List.partition f (to_list q) in
   (yes, of_list no)

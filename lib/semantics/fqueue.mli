@@ -39,10 +39,6 @@ val append : 'a list -> 'a t -> 'a t
 (** [append l q] adds the elements of [l] at the back, the head of [l] first.
     O(length of [l]). *)
 
-val append_newest_first : 'a list -> int -> 'a t -> 'a t
-(** [append_newest_first l n q]: [append (List.rev l) q], [l] being [n]
-    elements long, newest first (the order a run of pushes conses them). *)
-
 val partition : ('a -> bool) -> 'a t -> 'a list * 'a t
 (** [partition f q] is the elements satisfying [f], front first, and the queue
     of the others in their order. O(n). *)
