@@ -632,14 +632,18 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     t.pend <- t.pend + 1;
     t.pend_with <- with_
 
+  (* [maybe_pack] after a plain notify (packable, not packed) *)
+  let[@inline] pack_if_due t =
+    if Fqueue.length t.c.o2a + Pqueue.size t.c.pq + t.pend >= t.pack_above then begin sync t; pack_now t end
+
   let notify t percept prio =
     if t.is_packed then notify_effect t percept prio ~with_:false
-    else if t.can_pack then begin notify_plain t percept prio ~with_:false; maybe_pack t end
+    else if t.can_pack then begin notify_plain t percept prio ~with_:false; pack_if_due t end
     else t.c <- M.notify t.p t.c percept prio
 
   let notify_with t percept prio =
     if t.is_packed then notify_effect t percept prio ~with_:true
-    else if t.can_pack then begin notify_plain t percept prio ~with_:true; maybe_pack t end
+    else if t.can_pack then begin notify_plain t percept prio ~with_:true; pack_if_due t end
     else t.c <- M.notify_with t.p t.c percept prio
 
   let notify_event t percept ~default ~priority =
