@@ -92,7 +92,6 @@ module Ring = struct
       btail = 1 lsl p.bshift }
 
   let length r = r.len
-  let chunk_mask r = r.cmask
   let boxes r = r.blen
   let is_empty r = r.len = 0 && r.blen = 0
   let chunks r = r.nch
@@ -160,12 +159,6 @@ module Ring = struct
     r.len <- r.len - n;
     if r.len = 0 then restart r
     else if r.head > r.cmask then release_front r
-
-  (* [n] ints from the front of [src], after skipping [skip] of them, to
-     the back of [dst]. *)
-  let[@inline] move_front src dst n ~skip =
-    for k = 0 to n - 1 do push dst (get src (skip + k)) done;
-    drop src (n + skip)
 
   (* The boxed values, in chunks too (ordinary arrays, a 64th of an int
      chunk's length: 1,024 by default): a chunk is made with its first
@@ -288,11 +281,19 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
   module F = Fast.Make (B)
   module M = F.M
 
-  (* One priority's waiting percepts, oldest first (R3b, stable ties). *)
+  (* One priority's waiting percepts, oldest first (R3b, stable ties):
+     first those Transfer moved to the priority queue ([tn] records, the
+     front [tpos] ints and [tbox] boxes), then those still in O2A, in the
+     order they were notified. A Transfer moves none: it counts them all
+     as the priority queue's. *)
   type bucket = {
     bprio : int;
     ring : B.percept Ring.t;
     mutable base : int;   (* the seq of the first record pushed since it was empty: a word's seq is [base + x] *)
+    mutable nrec : int;   (* records *)
+    mutable tn : int;     (* of which the priority queue's, at the front *)
+    mutable tpos : int;   (* their ints *)
+    mutable tbox : int;   (* their boxes *)
   }
 
   type t = {
@@ -309,8 +310,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     codec : C.t;
     pool : Ring.pool;                  (* the chunks of its rings *)
     x_limit : int;                     (* a word's [x] is below it *)
-    o2a : B.percept Ring.t;            (* records [prio_tag; slots...] *)
-    mutable o2a_n : int;               (* records in the O2A ring *)
+    mutable o2a_n : int;               (* records in O2A (at the backs of the buckets) *)
     mutable after : int Fqueue.t;
       (* beside each object of [c.o2a], in order: [next_seq] when it was
          put (it stands after the percept of that seq, before the next) *)
@@ -322,8 +322,9 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     mutable pend : int;
       (* notifies not yet written into [c]: [c.next_seq] is short of them,
          [c.phase] may still be Idle, [c.last] is to be the last one's label:
-         its percept (the O2A ring's record at [pend_at], its boxes from
-         the [pend_box]th: decoded then, no write barrier per notify), its
+         its percept (the record at [pend_at] of the bucket of
+         [pend_prio], its boxes from the [pend_box]th: decoded then, no
+         write barrier per notify; nothing is popped before), its
          priority, whether it was NotifyWith *)
     mutable pend_at : int;
     mutable pend_box : int;
@@ -349,6 +350,32 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
   let[@inline] percept_at t ring h ~pos ~box =
     if is_word h then C.read_int t.codec (tag_of h) (word_v h)
     else C.read t.codec (tag_of h) ring ~pos:(pos + 1) ~box
+
+  (* Priorities below this one find their bucket in [by_prio], at once. *)
+  let small_prios = 64
+  let no_bucket = { bprio = min_int; ring = Ring.create (); base = 0; nrec = 0; tn = 0; tpos = 0; tbox = 0 }
+
+  (* The bucket of priority [prio] found in [buckets], or made in its place
+     (priorities descending). *)
+  let find_or_add t prio =
+    let bs = t.buckets in
+    let n = Array.length bs in
+    let rec find i = if i < n && bs.(i).bprio > prio then find (i + 1) else i in
+    let i = find 0 in
+    if i < n && bs.(i).bprio = prio then bs.(i)
+    else begin
+      let b = { bprio = prio; ring = Ring.create ~pool:t.pool (); base = 0; nrec = 0; tn = 0; tpos = 0; tbox = 0 } in
+      t.buckets <- Array.init (n + 1) (fun j -> if j < i then bs.(j) else if j = i then b else bs.(j - 1));
+      t.top <- 0;
+      if prio >= 0 && prio < small_prios then t.by_prio.(prio) <- b;
+      b
+    end
+
+  let bucket_for t prio =
+    if prio >= 0 && prio < small_prios then
+      let b = Array.unsafe_get t.by_prio prio in
+      if b.bprio = prio then b else find_or_add t prio
+    else find_or_add t prio
 
   (* Priorities below this one wait in [plain_runs] (a bit of [plain_mask] each). *)
   let plain_small = 62
@@ -376,8 +403,9 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
       let (o2a, e) = match take_plain t with
         | (e :: _) as items -> (Fqueue.append (List.rev_map (fun e -> O_percept e) items) c.o2a, e)
         | _ ->
-          let h = Ring.get t.o2a t.pend_at in
-          (c.o2a, { p = percept_at t t.o2a h ~pos:t.pend_at ~box:t.pend_box; prio = t.pend_prio; seq }) in
+          let r = (bucket_for t t.pend_prio).ring in
+          let h = Ring.get r t.pend_at in
+          (c.o2a, { p = percept_at t r h ~pos:t.pend_at ~box:t.pend_box; prio = t.pend_prio; seq }) in
       t.c <- { c with next_seq = seq; o2a;
                       phase = (if c.phase = Idle_phase then Transfer_phase else c.phase);
                       last = (if t.pend_with then Notify_with e else Notify e) };
@@ -392,36 +420,11 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
 
   (* ---------------------------------------------------------- buckets *)
 
-  (* Priorities below this one find their bucket in [by_prio], at once. *)
-  let small_prios = 64
-  let no_bucket = { bprio = min_int; ring = Ring.create (); base = 0 }
-
-  (* The bucket of priority [prio] found in [buckets], or made in its place
-     (priorities descending). *)
-  let find_or_add t prio =
-    let bs = t.buckets in
-    let n = Array.length bs in
-    let rec find i = if i < n && bs.(i).bprio > prio then find (i + 1) else i in
-    let i = find 0 in
-    if i < n && bs.(i).bprio = prio then bs.(i)
-    else begin
-      let b = { bprio = prio; ring = Ring.create ~pool:t.pool (); base = 0 } in
-      t.buckets <- Array.init (n + 1) (fun j -> if j < i then bs.(j) else if j = i then b else bs.(j - 1));
-      t.top <- 0;
-      if prio >= 0 && prio < small_prios then t.by_prio.(prio) <- b;
-      b
-    end
-
-  let bucket_for t prio =
-    if prio >= 0 && prio < small_prios then
-      let b = Array.unsafe_get t.by_prio prio in
-      if b.bprio = prio then b else find_or_add t prio
-    else find_or_add t prio
-
-  (* The highest non-empty bucket; there is one when [pq_n > 0]. The scan
-     starts at [top]: the buckets before it are empty. *)
+  (* The highest bucket holding some of the priority queue's records; there
+     is one when [pq_n > 0]. The scan starts at [top]: the buckets before
+     it hold none. *)
   let rec first_non_empty t (bs : bucket array) i =
-    if Ring.length bs.(i).ring > 0 then begin t.top <- i; bs.(i) end
+    if bs.(i).tn > 0 then begin t.top <- i; bs.(i) end
     else first_non_empty t bs (i + 1)
 
   let top_bucket t = first_non_empty t t.buckets t.top
@@ -439,36 +442,19 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     let b = top_bucket t in
     let h = Ring.get b.ring 0 in
     let e = { p = percept_at t b.ring h ~pos:0 ~box:0; prio = b.bprio; seq = seq_in b h } in
-    Ring.drop b.ring (ints_of h);
-    for _ = 1 to boxes_of h do Ring.drop_box b.ring done;
+    let ni = ints_of h and nb = boxes_of h in
+    Ring.drop b.ring ni;
+    for _ = 1 to nb do Ring.drop_box b.ring done;
     Ring.shrink b.ring;
+    b.nrec <- b.nrec - 1; b.tn <- b.tn - 1; b.tpos <- b.tpos - ni; b.tbox <- b.tbox - nb;
     t.pq_n <- t.pq_n - 1;
     e
-
-  (* The O2A ring's record of header [h] at [pos] (its boxes at the ring's
-     front), copied to bucket [b] with the seq [seq]: a word stays a word
-     when its seq is close enough to the bucket's base, else it becomes a
-     long record (header, int). The boxes leave O2A now, the ints when
-     the caller drops them. *)
-  let[@inline] move t h ~pos b seq =
-    let r = b.ring and o2a = t.o2a in
-    if Ring.length r = 0 then b.base <- seq;
-    if is_word h then begin
-      let d = seq - b.base in
-      if d < t.x_limit then Ring.push r (word ~v:(word_v h) ~kind:(word_kind h) ~x:d)
-      else begin Ring.push r (long seq (tag_of h)); Ring.push r (word_v h) end
-    end else begin
-      let tag = tag_of h in
-      Ring.push r (long seq tag);
-      for k = 1 to tag_width tag do Ring.push r (Ring.get o2a (pos + k)) done;
-      for _ = 1 to tag_boxes tag do Ring.push_box r (Ring.get_box o2a 0); Ring.drop_box o2a done
-    end
 
   (* ------------------------------------------------ packing, projecting *)
 
   let empty_state ~pack_above ~pool ~x_limit p c =
     { p; can_pack = packable p; is_packed = false; pack_above; c; codec = C.create (); pool; x_limit;
-      o2a = Ring.create ~pool (); o2a_n = 0; after = Fqueue.empty;
+      o2a_n = 0; after = Fqueue.empty;
       buckets = [||]; pq_n = 0; by_prio = Array.make small_prios no_bucket; top = 0;
       pend = 0; pend_at = 0; pend_box = 0; pend_prio = 0; pend_with = false;
       plain_runs = Array.make plain_small []; plain_lens = Array.make plain_small 0; plain_mask = 0; plain_big = [] }
@@ -489,14 +475,23 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
       Ring.set ring at (long lx tag)
     end
 
-  let push_o2a t (e : B.percept entry) =
-    push_record t t.o2a ~wx:e.prio ~lx:e.prio e.p;
-    t.o2a_n <- t.o2a_n + 1
-
+  (* An entry at the back of its priority's bucket; its bucket. *)
   let push_bucket t (e : B.percept entry) =
     let b = bucket_for t e.prio in
     if Ring.length b.ring = 0 then b.base <- e.seq;
-    push_record t b.ring ~wx:(e.seq - b.base) ~lx:e.seq e.p
+    push_record t b.ring ~wx:(e.seq - b.base) ~lx:e.seq e.p;
+    b.nrec <- b.nrec + 1;
+    b
+
+  (* A percept of O2A; of the priority queue (after any of O2A there is none). *)
+  let push_o2a t (e : B.percept entry) =
+    ignore (push_bucket t e);
+    t.o2a_n <- t.o2a_n + 1
+
+  let push_pq t (e : B.percept entry) =
+    let b = push_bucket t e in
+    b.tn <- b.nrec; b.tpos <- Ring.length b.ring; b.tbox <- Ring.boxes b.ring;
+    t.pq_n <- t.pq_n + 1
 
   (* Packing what waits in [t.c] (plain until now; the rings are empty). *)
   let pack_now t =
@@ -508,15 +503,15 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     List.iteri (fun i (e : B.percept entry) ->
         if e.seq <> first + i then invalid_arg "Packed.of_config: O2A's seqs are not the last notified")
       percepts;
+    (* the rings are empty: the priority queue's percepts first, at the
+       fronts of the buckets (seqs below O2A's), then O2A's *)
+    Array.iter (fun b -> b.nrec <- 0; b.tn <- 0; b.tpos <- 0; b.tbox <- 0) t.buckets;
+    List.iter (push_pq t) (Pqueue.to_sorted_list c.pq);
     let seen = ref (first - 1) and objects = ref [] and after = ref [] in
     List.iter (function
         | O_percept e -> push_o2a t e; seen := e.seq
         | O_object _ as o -> objects := o :: !objects; after := !seen :: !after) items;
     t.after <- Fqueue.of_list (List.rev !after);
-    List.iter (fun (e : B.percept entry) ->
-        push_bucket t e;
-        t.pq_n <- t.pq_n + 1)
-      (Pqueue.to_sorted_list c.pq);
     (* the buckets outlive a plain interval, [top] with them: a record may
        now wait in a bucket before it *)
     t.top <- 0;
@@ -560,10 +555,13 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     if not t.is_packed then t.c
     else begin
       let c = t.c in
-      let first = c.next_seq - t.o2a_n + 1 in
-      let seq = ref (first - 1) in
-      let percepts = decode_all t t.o2a t.o2a_n (fun h p ->
-          incr seq; { p; prio = x_of h; seq = !seq }) in
+      (* each bucket: the priority queue's records, then O2A's *)
+      let pq = ref Pqueue.empty and in_o2a = ref [] in
+      Array.iter (fun b ->
+          List.iteri (fun i e -> if i < b.tn then pq := Pqueue.insert e !pq else in_o2a := e :: !in_o2a)
+            (decode_all t b.ring b.nrec (fun h p -> { p; prio = b.bprio; seq = seq_in b h })))
+        t.buckets;
+      let percepts = List.sort (fun (a : B.percept entry) b -> compare a.seq b.seq) !in_o2a in
       (* objects go before the first percept notified after them *)
       let rec merge (ps : B.percept entry list) objs = match ps, objs with
         | e :: ps', (a, o) :: objs' ->
@@ -571,15 +569,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
         | _, [] -> List.map (fun e -> O_percept e) ps
         | [], _ -> List.map snd objs in
       let objs = List.combine (Fqueue.to_list t.after) (Fqueue.to_list c.o2a) in
-      let pq = Array.fold_left (fun pq b ->
-          let n = ref 0 and pos = ref 0 in
-          while !pos < Ring.length b.ring do
-            pos := !pos + ints_of (Ring.get b.ring !pos); incr n
-          done;
-          List.fold_left (fun pq e -> Pqueue.insert e pq) pq
-            (decode_all t b.ring !n (fun h p -> { p; prio = b.bprio; seq = seq_in b h })))
-          Pqueue.empty t.buckets in
-      { c with o2a = Fqueue.of_list (merge percepts objs); pq }
+      { c with o2a = Fqueue.of_list (merge percepts objs); pq = !pq }
     end
 
   let waiting t =
@@ -588,12 +578,12 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     else Fqueue.fold (fun n x -> match x with O_percept _ -> n + 1 | O_object _ -> n) 0 t.c.o2a
          + Pqueue.size t.c.pq
 
-  let ring_ints t = Array.fold_left (fun n b -> n + Ring.length b.ring) (Ring.length t.o2a) t.buckets
+  let ring_ints t = Array.fold_left (fun n b -> n + Ring.length b.ring) 0 t.buckets
   let chunks_made t = Ring.made t.pool
 
   let offheap_words t =
     Array.fold_left (fun n b -> n + Ring.offheap_words b.ring)
-      (Ring.offheap_words t.o2a + Ring.pool_offheap_words t.pool) t.buckets
+      (Ring.pool_offheap_words t.pool) t.buckets
 
   (* -------------------------------------------------------- host rules *)
 
@@ -609,9 +599,13 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
      rest of the configuration is written by [sync] before anything reads
      it (a host's run of notifies copies no configuration). *)
   let notify_effect t percept prio ~with_ =
-    t.pend_at <- Ring.length t.o2a;
-    t.pend_box <- Ring.boxes t.o2a;
-    push_record t t.o2a ~wx:prio ~lx:prio percept;
+    let b = bucket_for t prio and seq = t.c.next_seq + t.pend + 1 in
+    let r = b.ring in
+    if Ring.length r = 0 then b.base <- seq;
+    t.pend_at <- Ring.length r;
+    t.pend_box <- Ring.boxes r;
+    push_record t r ~wx:(seq - b.base) ~lx:seq percept;
+    b.nrec <- b.nrec + 1;
     t.o2a_n <- t.o2a_n + 1;
     t.pend <- t.pend + 1;
     t.pend_prio <- prio;
@@ -666,23 +660,10 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
      in order (so each bucket stays oldest first); the objects stay. *)
   let transfer t =
     let n = t.o2a_n in
-    let first = t.c.next_seq - n + 1 in
-    (* the records read in place, their ints dropped a chunk at a time
-       (which goes back to the pool for the buckets to take), the bucket
-       of the record before kept at hand *)
-    let o2a = t.o2a in
-    let pos = ref 0 and cur = ref no_bucket in
-    for i = 0 to n - 1 do
-      let h = Ring.get o2a !pos in
-      let prio = x_of h in
-      let b = if !cur.bprio = prio then !cur else begin let b = bucket_for t prio in cur := b; b end in
-      move t h ~pos:!pos b (first + i);
-      pos := !pos + ints_of h;
-      if !pos > Ring.chunk_mask o2a then begin Ring.drop o2a !pos; pos := 0 end
-    done;
-    Ring.drop o2a !pos;
+    (* O2A's records are in their buckets already, behind the priority
+       queue's: they become the priority queue's *)
+    Array.iter (fun b -> b.tn <- b.nrec; b.tpos <- Ring.length b.ring; b.tbox <- Ring.boxes b.ring) t.buckets;
     t.o2a_n <- 0;
-    Ring.shrink t.o2a;
     t.pq_n <- t.pq_n + n;
     t.top <- 0;
     let l = Transfer n in
@@ -701,10 +682,19 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     let c = t.c in
     let o2a =
       if t.o2a_n = 0 then c.o2a
-      else
-        let h = Ring.get t.o2a 0 in
-        let p = percept_at t t.o2a h ~pos:0 ~box:0 in
-        Fqueue.push (O_percept { p; prio = x_of h; seq = c.next_seq - t.o2a_n + 1 }) c.o2a in
+      else begin
+        (* O2A's oldest percept: the least seq behind a bucket's front part *)
+        let best = ref no_bucket and best_seq = ref max_int in
+        Array.iter (fun b ->
+            if b.nrec > b.tn then begin
+              let s = seq_in b (Ring.get b.ring b.tpos) in
+              if s < !best_seq then begin best := b; best_seq := s end
+            end) t.buckets;
+        let b = !best in
+        let h = Ring.get b.ring b.tpos in
+        Fqueue.push (O_percept { p = percept_at t b.ring h ~pos:b.tpos ~box:b.tbox; prio = b.bprio; seq = !best_seq })
+          c.o2a
+      end in
     let pq = if t.pq_n = 0 then Pqueue.empty else Pqueue.insert (front_entry t (top_bucket t)) Pqueue.empty in
     { c with o2a; pq }
 

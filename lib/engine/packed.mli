@@ -127,10 +127,6 @@ module Ring : sig
       end goes back to the pool. *)
 
 
-  val move_front : 'b t -> 'b t -> int -> skip:int -> unit
-  (** [move_front src dst n ~skip]: drop [skip] ints from the front of
-      [src], then move its next [n] ints to the back of [dst], in order. *)
-
   val push_box : 'b t -> 'b -> unit
   val get_box : 'b t -> int -> 'b
   (** The [j]th boxed value from the front. *)
