@@ -244,14 +244,13 @@ let tag_width tag = (tag lsr 2) land 255
 let tag_boxes tag = tag land 3
 
 (* A record's header, in one of two forms told apart by bit 0 (D39):
-   - long (bit 0 clear): [x] (a priority in the O2A ring, a seq in a
-     bucket; Java ints and counts of notifies fit in the 42 bits left,
-     a negative one too: arithmetic shift) and the tag; the record's
-     ints and boxes follow;
+   - long (bit 0 clear): [x] (the record's seq: counts of notifies fit
+     in the 42 bits left) and the tag; the record's ints and boxes follow;
    - a word (bit 0 set): the whole record in one int, for a kind of one
-     int slot and no box (width 1) numbered 1 to 15: the kind (bits 1-4),
-     [x] (bits 5-30: a priority, or in a bucket the seq less the bucket's
-     [base]), the slot's int (bits 31-62: a 32-bit integer, D8). *)
+     int slot or of none, and no box (width 1 or 0), numbered 1 to 15:
+     the kind (bits 1-4), [x] (bits 5-30: the seq less the bucket's
+     [base]), the slot's int (bits 31-62: a 32-bit integer, D8; 0 for no
+     slot). *)
 let tag_bits = 20
 let tag_mask = (1 lsl tag_bits) - 1
 let long x tag = (x lsl (tag_bits + 1)) lor (tag lsl 1)
@@ -267,12 +266,14 @@ let[@inline] word_v h = h asr 31
 let[@inline] word_x h = (h lsr 5) land (word_x_limit - 1)
 let[@inline] word_kind h = (h lsr 1) land word_kinds
 
-(* A tag that a word can stand for: width 1, no box, kind 1 to 15. *)
-let[@inline] word_tag tag = tag land 1023 = 4 && tag >= 1024 && tag < (word_kinds + 1) lsl 10
+(* A tag that a word can stand for: width 1 or 0, no box, kind 1 to 15. *)
+let[@inline] word_tag tag = (tag land 1023 = 4 || tag land 1023 = 0) && tag >= 1024 && tag < (word_kinds + 1) lsl 10
 
 (* Of either form: the header's [x], its tag, the record's ints (header
    included) and boxes. *)
 let[@inline] x_of h = if is_word h then word_x h else h asr (tag_bits + 1)
+(* A word's tag is given width 1 (its kind may have none: the codec's
+   read_int knows its kind). *)
 let[@inline] tag_of h = if is_word h then (word_kind h lsl 10) lor 4 else (h lsr 1) land tag_mask
 let[@inline] ints_of h = if is_word h then 1 else 1 + tag_width ((h lsr 1) land tag_mask)
 let[@inline] boxes_of h = if is_word h then 0 else (h lsr 1) land 3
@@ -587,7 +588,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
 
   (* -------------------------------------------------------- host rules *)
 
-  (* R2d: the O2A ring's percepts and the objects. *)
+  (* R2d: the percepts in O2A and the objects. *)
   let o2a_has_room t =
     if not t.is_packed then
       (match t.p.o2a_capacity with None -> true | Some _ -> sync t; M.o2a_has_room t.p t.c)
@@ -595,7 +596,8 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
       | None -> true
       | Some cap -> t.o2a_n + Fqueue.length t.c.o2a < cap
 
-  (* NotifyEffect: as the reference's, the percept into the O2A ring; the
+  (* NotifyEffect: as the reference's, the percept into O2A (its record at
+     the back of its priority's bucket); the
      rest of the configuration is written by [sync] before anything reads
      it (a host's run of notifies copies no configuration). *)
   let notify_effect t percept prio ~with_ =
@@ -656,8 +658,8 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
 
   (* -------------------------------------------------------- agent rules *)
 
-  (* Transfer (R3a): every record of the O2A ring to its priority's bucket,
-     in order (so each bucket stays oldest first); the objects stay. *)
+  (* Transfer (R3a): O2A's records, each at the back of its priority's
+     bucket, become the priority queue's; the objects stay. *)
   let transfer t =
     let n = t.o2a_n in
     (* O2A's records are in their buckets already, behind the priority

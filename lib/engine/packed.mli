@@ -7,26 +7,27 @@
     percepts, every one of them is a few small blocks on the heap, which the
     collector promotes and marks again and again. The packed agent keeps
     them in rings of ints ({!Ring}, below):
-    - the O2A ring: one record per notified percept, [prio_tag; slots...]
-      (the priority and the codec's tag in one int). Their seqs need no
-      place: the percepts in O2A are the last ones notified, in order, so
-      their seqs are consecutive and end at [next_seq];
-    - the priority buckets, one per priority present, highest first (there
-      are few): one record per waiting percept, [seq_tag; slots...], oldest
-      first (R3b, stable ties);
+    - the buckets, one per priority present, highest first (there are
+      few): one record per waiting percept, [seq_tag; slots...] (the seq
+      and the codec's tag in one int), in the order notified: first those
+      of the priority queue (Transfer moved them there: how many is
+      counted), then those still in O2A. A notify writes its record at the
+      back of its priority's bucket at once, and Transfer moves nothing: it
+      counts every bucket's records as the priority queue's (R3a). Within a
+      bucket, oldest first (R3b, stable ties);
     - a percept of one integer slot of 32 bits (D8), such as [position(3)],
-      is a record of one int, a {e word} (D39): the slot's int, the kind and
-      the priority (O2A) or the seq less the bucket's first (a bucket) share
-      it. A priority or a seq too far from its bucket's first for a word
-      gives the long record;
+      or of no slot, such as [falling], is a record of one int, a {e word}
+      (D39): the slot's int, the kind and the seq less the bucket's first
+      share it. A seq too far from its bucket's first for a word gives the
+      long record;
     - objects put into O2A (R2c) stay in the configuration's [o2a], each with
       the seq of the last percept notified before it, so that the reference's
       O2A queue can be rebuilt in its order.
 
     How a percept becomes ints is the {!CODEC}'s business. What the packed
     agent does itself: the host's notify and put (R2a-R2d, capacity counting
-    the ring and the objects), Transfer (R3a: records copied from the O2A
-    ring to the buckets, nothing allocated per percept) and Dequeue (R3b: the
+    O2A's records and the objects), Transfer (R3a: O2A's records counted in
+    the priority queue, nothing moved or allocated) and Dequeue (R3b: the
     highest non-empty bucket's oldest record, decoded into the entry the
     handlers see), and the derived rule Dispatch through
     {!Fast.Make.dispatch_entry}. Every other rule (Handle, Skip,
@@ -61,9 +62,9 @@
     a [Bigarray] outside the OCaml heap: a ring grows by a chunk at its
     back, and nothing written is ever copied; a chunk read to its end
     leaves the ring. Chunks come from a {!pool} and go back to it, shared
-    by the rings of one agent: when Transfer empties the O2A ring's chunks,
-    the buckets take them, so that a flood's percepts are in memory about
-    once, not once per ring (D39). The boxed values are in chunks too,
+    by the rings of one agent: the chunks a bucket has emptied are taken by
+    the next bucket to grow, so that the agent's percepts are in memory
+    about once (D39). The boxed values are in chunks too,
     ordinary arrays of a 64th of that length (1,024 by default), made when
     needed and left to the collector once read to their end. A ring that
     has drained gives its chunks back ({!shrink}), and a pool keeps at most
@@ -170,8 +171,8 @@ val tag_width : int -> int
 val tag_boxes : int -> int
 
 val word_tag : int -> bool
-(** Whether a word can stand for a percept of this tag (D39): width 1, no
-    box, kind 1 to 15. *)
+(** Whether a word can stand for a percept of this tag (D39): width 1
+    (one int slot) or 0 (no slot), no box, kind 1 to 15. *)
 
 (** How a percept is written as ints. A percept is given a tag, then
     written as [tag_width tag] ints and [tag_boxes tag] boxed values in the
@@ -200,14 +201,17 @@ module type CODEC = sig
   val encode_one : t -> percept -> int
   (** [encode_one c p]: when the percept's tag is of width 1 and no box (one
       integer or boolean slot) and its int [v] is a 32-bit integer (D8),
-      [(v lsl 20) lor tag], pushing nothing; [0] otherwise. The packed
+      [(v lsl 20) lor tag], pushing nothing; when it is of width 0 (a
+      schema of no slot), [tag]; [0] otherwise. The packed
       agent writes it as a word when {!word_tag} (D39), and else asks
       {!encode}. *)
 
   val read_int : t -> int -> int -> percept
   (** [read_int c tag v]: the percept of a tag of width 1 and no box whose
       one int is [v]: what {!read} gives when that int is in the ring (the
-      packed agent keeps such a percept in a word, D39). *)
+      packed agent keeps such a percept in a word, D39); for a kind of no
+      slot (the word's tag then says width 1 all the same), the percept of
+      that kind, [v] being 0. *)
 end
 
 module Make (B : Fast.BODIES) (_ : CODEC with type percept = B.percept) : sig
@@ -226,8 +230,8 @@ module Make (B : Fast.BODIES) (_ : CODEC with type percept = B.percept) : sig
 
   val of_config : ?pack_above:int -> ?chunk:int -> ?word_x_limit:int ->
     Semantics.Machine.params -> M.t -> t
-  (** The agent, its percepts packed when {!packable} (O2A's percepts into
-      the O2A ring, the priority queue into the buckets) once at least
+  (** The agent, its percepts packed when {!packable} (the priority
+      queue's percepts into the buckets, then O2A's behind them) once at least
       [pack_above] (default {!default_pack_above}) percepts and objects
       wait in O2A and the priority queue: before that the agent is plain
       (the configuration's own queues, every rule [Fast]'s), and it is
@@ -261,7 +265,7 @@ module Make (B : Fast.BODIES) (_ : CODEC with type percept = B.percept) : sig
   val world : t -> B.world
 
   val ring_ints : t -> int
-  (** Ints in the O2A ring and the buckets (one per word, D39): for tests. *)
+  (** Ints in the buckets (one per word, D39): for tests. *)
 
   val chunks_made : t -> int
   (** Chunks its rings' pool has made so far: for tests. *)
@@ -274,7 +278,7 @@ module Make (B : Fast.BODIES) (_ : CODEC with type percept = B.percept) : sig
   (** {2 Host rules} *)
 
   val o2a_has_room : t -> bool
-  (** R2d: percepts in the O2A ring and objects count. *)
+  (** R2d: the percepts in O2A and the objects count. *)
 
   val notify_event : t -> B.percept -> default:int -> priority:int option ->
     (unit, Semantics.Machine.refusal) result

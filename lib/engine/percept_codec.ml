@@ -148,6 +148,10 @@ let encode_one c (p : V.t) =
        let t = tag_one c s name s_bool in
        if t = boxed_tag then 0 else ((if b then 1 else 0) lsl 20) lor t
      | _ -> 0)
+  | V.Schema ({ slots = [||]; _ } as s) ->
+    (* no slot: the kind alone (D39) *)
+    let t = tag c s in
+    if t = boxed_tag then 0 else t
   | _ -> 0
 
 (* Booleans are immutable values: the two can be shared. *)
@@ -184,5 +188,7 @@ let read c tag r ~pos ~box =
    int given. *)
 let read_int c tag v =
   let k = c.kinds.(Packed.tag_kind tag - 1) in
-  let x = if k.how.(0) = s_int then V.Int v else if v <> 0 then v_true else v_false in
-  V.Schema { sname = k.sname; slots = [| (k.names.(0), ref x) |] }
+  if Array.length k.how = 0 then V.Schema { sname = k.sname; slots = [||] }
+  else
+    let x = if k.how.(0) = s_int then V.Int v else if v <> 0 then v_true else v_false in
+    V.Schema { sname = k.sname; slots = [| (k.names.(0), ref x) |] }

@@ -165,13 +165,14 @@ let codec_round_trip () =
     all tags;
   Alcotest.(check int) "every int read" (Ring.length r) !pos;
   (* D39: encode_one answers the tag and int of exactly the percepts of
-     one 32-bit int slot (an integer or a boolean), and read_int gives
-     them back *)
+     one 32-bit int slot (an integer or a boolean) or of no slot, and
+     read_int gives them back *)
   List.iter2 (fun (v, _) tag ->
       let one = Codec.encode_one c v in
       let int_slot = match v with
         | V.Schema { slots = [| (_, x) |]; _ } ->
           (match !x with V.Int n -> Some n | V.Bool b -> Some (if b then 1 else 0) | _ -> None)
+        | V.Schema { slots = [||]; _ } -> Some 0
         | _ -> None in
       let expected = match int_slot with
         | Some n when n >= -2147483648 && n <= 2147483647 -> true | _ -> false in
@@ -188,7 +189,8 @@ let codec_round_trip () =
   Alcotest.(check bool) "kind 15: a word" true (word_tag 15 1 0);
   Alcotest.(check bool) "kind 16: not a word" false (word_tag 16 1 0);
   Alcotest.(check bool) "kind 0 (boxed): not a word" false (word_tag 0 1 0);
-  Alcotest.(check bool) "width 0: not a word" false (word_tag 1 0 0);
+  Alcotest.(check bool) "width 0 (no slot): a word" true (word_tag 1 0 0);
+  Alcotest.(check bool) "width 0, a box: not a word" false (word_tag 1 0 1);
   Alcotest.(check bool) "width 2: not a word" false (word_tag 1 2 0);
   Alcotest.(check bool) "a box: not a word" false (word_tag 1 1 1);
   (* a decoded value's slots are its own: setting one changes no other *)
