@@ -63,14 +63,16 @@ let add c (s : V.schema_v) ~texts =
   c.n <- c.n + 1;
   k.ktag
 
-(* The kind of [s] among the kinds from [i] on: by the schema name's
-   address (the lexer interns names)... *)
-let rec by_address c (s : V.schema_v) last i =
-  if i >= c.n then -1
+(* The kind of [s] among [left] kinds from the [i]th on, round (after
+   the last, the first): by the schema name's address (the lexer interns
+   names)... *)
+let rec by_address c (s : V.schema_v) last i left =
+  if left = 0 then -1
   else
+    let i = if i >= c.n then 0 else i in
     let k = Array.unsafe_get c.kinds i in
     if k.sname == s.sname && fits k s last then begin c.hot <- i; k.ktag end
-    else by_address c s last (i + 1)
+    else by_address c s last (i + 1) (left - 1)
 
 (* ... or, for a name spelled by another string, by its text. *)
 let rec by_text c (s : V.schema_v) last i =
@@ -82,7 +84,7 @@ let rec by_text c (s : V.schema_v) last i =
 let tag c (s : V.schema_v) =
   let last = Array.length s.slots - 1 in
   let h = Array.unsafe_get c.kinds c.hot in
-  let t = if h.sname == s.sname && fits h s last then h.ktag else by_address c s last 0 in
+  let t = if h.sname == s.sname && fits h s last then h.ktag else by_address c s last (c.hot + 1) c.n in
   if t >= 0 then t
   else
     let n = texts s last 0 in
@@ -99,19 +101,22 @@ let min32 = - (1 lsl 31) and max32 = (1 lsl 31) - 1
    found by the addresses of the names (what [tag] finds first, without
    asking how each slot is written: here it is known), else [tag]'s
    answer. *)
-let rec one_by_address c sname name how i =
-  if i >= c.n then -1
+let rec one_by_address c sname name how i left =
+  if left = 0 then -1
   else
+    let i = if i >= c.n then 0 else i in
     let k = Array.unsafe_get c.kinds i in
     if k.sname == sname && Array.length k.how = 1 && k.names.(0) == name && k.how.(0) = how
     then begin c.hot <- i; k.ktag end
-    else one_by_address c sname name how (i + 1)
+    else one_by_address c sname name how (i + 1) (left - 1)
 
 let tag_one c (s : V.schema_v) name how =
   let h = Array.unsafe_get c.kinds c.hot in
   if h.sname == s.sname && Array.length h.how = 1 && h.names.(0) == name && h.how.(0) = how then h.ktag
   else
-    let t = one_by_address c s.sname name how 0 in
+    (* from the kind after the hot one, round: percepts often come in a
+       round of kinds, the next after the last *)
+    let t = one_by_address c s.sname name how (c.hot + 1) c.n in
     if t >= 0 then t else tag c s
 
 let encode c (p : V.t) r =
