@@ -384,6 +384,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
 
   (* The plain notifies waiting, taken: newest first. *)
   let take_plain t =
+    if t.plain_mask = 0 && t.plain_big = [] then [] else
     let all = ref t.plain_big in
     t.plain_big <- [];
     for k = 0 to plain_small - 1 do
