@@ -229,6 +229,28 @@ let rec expr ce (e : Ast.expr) : ctx -> V.t =
     if ce.in_guard then raise Unsupported;
     let (r, agent_only) = Option.get (resolve ce ~beh:T.behaviour_function ~agent:T.agent_function g.it) in
     call ce at r ~agent_only (Pos (List.map (expr ce) args))
+  | Call (g, args) when g.it <> "aid" && (match T.schema ce.env g.it with
+      | Some s -> List.length s.s_slots = List.length args | None -> false) ->
+    (* Eval.construct with the schema found now: the arguments in order,
+       then each slot converted (R1c), the first that does not fit an
+       error *)
+    let s = Option.get (T.schema ce.env g.it) and name = g.it in
+    let spec = Array.of_list s.s_slots and sname = s.s_name in
+    let slot i v =
+      let (n, ty) = Array.unsafe_get spec i in
+      match Eval.coerce_param ty v with
+      | Some v -> (n, ref v)
+      | None -> Eval.err at "slot %s of %s is a %s, not a %s" n name (Ty.to_string ty) (V.type_name v) in
+    (match List.map (expr ce) args with
+     | [ a ] -> fun c -> let v = a c in V.Schema { sname; slots = [| slot 0 v |] }
+     | [ a; b ] ->
+       fun c -> let v = a c in let w = b c in
+         let s0 = slot 0 v in let s1 = slot 1 w in V.Schema { sname; slots = [| s0; s1 |] }
+     | args ->
+       let args = Array.of_list args in
+       fun c ->
+         let vs = Array.map (fun a -> a c) args in
+         V.Schema { sname; slots = Array.mapi slot vs })
   | Call (g, args) ->
     let g = g.it and env = ce.env in
     let args = List.map (expr ce) args in

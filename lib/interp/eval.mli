@@ -232,6 +232,11 @@ val set_cell : cell -> Value.t -> unit
 
 val coerce : Typing.Types.t -> Value.t -> Value.t
 
+val coerce_param : Typing.Types.t -> Value.t -> Value.t option
+(** The value as a slot or parameter of that type takes it (R1c: an
+    integer widens to float or double), or [None] when it does not fit:
+    what {!construct} checks of each slot. *)
+
 val literal : Syntax.Ast.literal -> Value.t
 
 val pattern : frame -> (string * Value.t) list ref -> Syntax.Ast.pattern -> Value.t -> bool

@@ -322,6 +322,10 @@ let unit_cases = [
   ("negation", tick, [ "log -k"; "log -ratio" ], "tick(4)", "-4");
   ("a double slot", "content matches level(x)", [ "x = x * 2"; "ratio = x"; "log x" ], "level(1.5)", "ratio=3");
   ("a boolean property", tick, [ "flag = not flag"; "log flag" ], "tick(4)", "flag=true");
+  (* a construction: the schema found at compile time, each slot converted
+     to its type (R1c), the arguments in order *)
+  ("a construction converts its slots", tick, [ "log level(k)"; "log pair(k, 10 / k)"; "log word(\"w\", k)" ], "tick(4)",
+   "log level(4.0) | log pair(4, 2)");
 ]
 
 let unit_tests =
