@@ -444,10 +444,43 @@ let agent_routine_shadowed () =
   | (n, t) -> Alcotest.(check int) "compiled" t n
   | exception QCheck.Test.Test_fail (_, msgs) -> Alcotest.fail (String.concat "\n" msgs)
 
+(* The paper's program (examples/robome/robome.jade, which the simulation
+   runs): its four percept handlers compile, the two that call the agent's
+   procedures (each an invoke on the host) included; an obstacle percept
+   runs them as Eval.Bodies does, invoke by invoke. *)
+let robome_compiles () =
+  let text = read_file (Filename.concat root "examples/robome/robome.jade") in
+  let env = check_program ~file:"robome.jade" text in
+  let calls = ref [] in
+  let host = V.Native { nid = 1; cls = "RoboMe"; methods = List.map (fun m -> (m, fun _ -> calls := m :: !calls; V.Unit))
+      [ "startListening"; "callStop"; "callMoveForward"; "callTurnLeft"; "callTurnRight"; "callMoveBackward";
+        "callHeadTiltUp"; "callHeadTiltDown"; "callHeadReset" ] } in
+  let run (applicable, run) percept =
+    let (a, behs) = Interp.Eval.create_agent env ~name:"robome" ~atype:"RoboMe" ~args:[ host ] ~fuel:100 in
+    ignore (Interp.Eval.take_events a);
+    calls := [];   (* on create's *)
+    let b = List.hd behs in
+    let (p, _) = Interp.Eval.percept_value env ~agent_type:"RoboMe" (Parse.expr ~file:"e" percept) in
+    let out = List.map (fun h ->
+        let (a, ok) = applicable a ~id:1 b h p in
+        if ok then ignore (run a ~id:1 b h p);
+        String.concat " | " (List.map Show.event (Interp.Eval.take_events a))) [ 1; 2; 3; 4 ] in
+    (a, b, out, List.rev !calls) in
+  List.iter (fun percept ->
+      let (_, _, ev1, calls1) = run (Interp.Eval.Bodies.percept_applicable, Interp.Eval.Bodies.run_percept_handler) percept
+      and (a, b, ev2, calls2) = run (CB.percept_applicable, CB.run_percept_handler) percept in
+      Alcotest.(check int) "every handler compiled" 4 (CB.compiled_handlers a ~id:1 b);
+      Alcotest.(check (list string)) ("events of " ^ percept) ev1 ev2;
+      Alcotest.(check (list string)) ("host calls of " ^ percept) calls1 calls2)
+    [ "obstacle"; "falling"; "qrCodeRead(\"A-east\")"; "position(1.5, 2)" ];
+  let (_, _, _, calls) = run (CB.percept_applicable, CB.run_percept_handler) "obstacle" in
+  Alcotest.(check (list string)) "obstacle: stop, turn left, forward" [ "callStop"; "callTurnLeft"; "callMoveForward" ] calls
+
 let () =
   Alcotest.run "compiled" [
     ("calls", call_tests @ [ Alcotest.test_case "an agent's procedure, a behaviour's property of its name" `Quick
-                               agent_routine_shadowed ]);
+                               agent_routine_shadowed;
+                             Alcotest.test_case "robome.jade: every handler compiles, and runs as Eval" `Quick robome_compiles ]);
     ("constructs", unit_tests @ [ Alcotest.test_case "a call in a guard falls back" `Quick fallback_case;
                                   Alcotest.test_case "an inherited handler, a property of the subtype" `Quick inherited_handler ]);
     ("runs", [
