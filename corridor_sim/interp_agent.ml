@@ -102,7 +102,7 @@ let make_with ?program:(path = program ()) ~record () : (module Agent.AGENT) =
         t.c <- c;
         record l;
         ignore (Interp.Eval.take_events c.world);
-        c.world.outbox <- [];
+        (match c.world.outbox with [] -> () | _ -> c.world.outbox <- []);
         Some l
 
     (* one rule at a time *)
@@ -121,7 +121,7 @@ let make_with ?program:(path = program ()) ~record () : (module Agent.AGENT) =
           | Some c ->
             t.c <- c;
             ignore (Interp.Eval.take_events c.world);
-            c.world.outbox <- [];
+            (match c.world.outbox with [] -> () | _ -> c.world.outbox <- []);
             true
           | None -> false in
         match Agent.dispatch_work ~dispatch ~record ~percept:percept_of_value with

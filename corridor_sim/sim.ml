@@ -180,8 +180,8 @@ module Make (A : Agent.AGENT) = struct
        | cmds ->
          List.iter (fun c ->
              Sound_queue.enqueue sound ~now:at c;
-             if trace then tr "%.6f issue %s" at (Command.to_string c)) (List.rev cmds));
-      pending_cmds := [];
+             if trace then tr "%.6f issue %s" at (Command.to_string c)) (List.rev cmds);
+         pending_cmds := []);
       schedule_sound () in
     (* the agent *)
     let agent = A.create sc.loop host in
@@ -266,7 +266,10 @@ module Make (A : Agent.AGENT) = struct
     let work_kind : Agent.work -> string = function
       | Transfer _ -> "transfer" | Dispatch _ -> "dispatch" | Behaviour_step -> "step" | Loop _ -> "loop" in
     let agent_work () =
-      pending_cmds := []; invokes := 0;
+      (* written only when not empty already: [pending_cmds] lives in the
+         major heap, where every write is a [caml_modify] *)
+      (match !pending_cmds with [] -> () | _ -> pending_cmds := []);
+      invokes := 0;
       match A.step agent with
       | None -> agent_scheduled := false; if trace then tr "%.6f idle" clk.now
       | Some w ->
