@@ -29,8 +29,7 @@ type dispatch_log = {
   mutable d_source : string array;
 }
 
-let log_create () =
-  let cap = 1024 in
+let log_create cap =
   { d_n = 0; d_seq = Array.make cap 0; d_priority = Array.make cap 0; d_handlers = Array.make cap 0;
     d_notified = Array.make cap 0.; d_dispatched = Array.make cap 0.; d_kind = Array.make cap 0;
     d_x = Array.make cap 0.; d_y = Array.make cap 0.; d_text = Array.make cap ""; d_source = Array.make cap "" }
@@ -189,7 +188,9 @@ module Make (A : Agent.AGENT) = struct
     let trajectory = ref [ (0., sc.start) ] in
     let collisions = ref [] and falls = ref [] and tippings = ref [] in
     let counts = Array.make 4 0 and refused = ref 0 in
-    let log = log_create () and commands = ref [] and busy = ref [] in
+    (* room for a run's position fixes at once (they are most of the
+       dispatches): no copy as it grows *)
+    let log = log_create (1024 + int_of_float (Float.min 1e6 (sc.duration *. s.position_rate))) and commands = ref [] and busy = ref [] in
     let outstanding : (Agent.percept * int * string * float) Seq_table.t = Seq_table.create 1024 in
     let events = ref 0 in
     let grid = make_grid world in
