@@ -236,11 +236,17 @@ let rec expr ce (e : Ast.expr) : ctx -> V.t =
        error *)
     let s = Option.get (T.schema ce.env g.it) and name = g.it in
     let spec = Array.of_list s.s_slots and sname = s.s_name in
+    (* a value already of the slot's type is the one coerce_param keeps *)
+    let same = Array.map (fun (_, ty) -> match Ty.repr ty with
+        | Ty.Double -> 1 | Ty.Text -> 2 | Ty.Integer -> 3 | Ty.Boolean -> 4 | _ -> 0) spec in
     let slot i v =
       let (n, ty) = Array.unsafe_get spec i in
-      match Eval.coerce_param ty v with
-      | Some v -> (n, ref v)
-      | None -> Eval.err at "slot %s of %s is a %s, not a %s" n name (Ty.to_string ty) (V.type_name v) in
+      match Array.unsafe_get same i, v with
+      | 1, V.Double _ | 2, V.Text _ | 3, V.Int _ | 4, V.Bool _ -> (n, ref v)
+      | _ ->
+        match Eval.coerce_param ty v with
+        | Some v -> (n, ref v)
+        | None -> Eval.err at "slot %s of %s is a %s, not a %s" n name (Ty.to_string ty) (V.type_name v) in
     (match List.map (expr ce) args with
      | [ a ] -> fun c -> let v = a c in V.Schema { sname; slots = [| slot 0 v |] }
      | [ a; b ] ->
