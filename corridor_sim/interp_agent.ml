@@ -83,6 +83,9 @@ let make_with ?program:(path = program ()) ~record () : (module Agent.AGENT) =
               | Error e -> failwith e)) host } in
       let (a, behs) = Interp.Eval.create_agent env ~name:"robome" ~atype:"RoboMe" ~args:[ native ] ~fuel:100_000 in
       ignore (Interp.Eval.take_events a);
+      (* the simulation reads no event of the agent's (it drops them after
+         each rule): no [Ran] event is made for a trace nobody writes *)
+      a.record_ran <- false;
       record Mc.Init;
       { params; c = M.init params ~world:a behs }
 
@@ -99,7 +102,7 @@ let make_with ?program:(path = program ()) ~record () : (module Agent.AGENT) =
         t.c <- c;
         record l;
         ignore (Interp.Eval.take_events c.world);
-        c.world.outbox <- [];
+        (match c.world.outbox with [] -> () | _ -> c.world.outbox <- []);
         Some l
 
     (* one rule at a time *)
@@ -118,7 +121,7 @@ let make_with ?program:(path = program ()) ~record () : (module Agent.AGENT) =
           | Some c ->
             t.c <- c;
             ignore (Interp.Eval.take_events c.world);
-            c.world.outbox <- [];
+            (match c.world.outbox with [] -> () | _ -> c.world.outbox <- []);
             true
           | None -> false in
         match Agent.dispatch_work ~dispatch ~record ~percept:percept_of_value with

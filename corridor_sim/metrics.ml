@@ -80,19 +80,30 @@ let sort_floats (a : float array) =
    are some 15,000 in a run). *)
 let rec mem_int (x : int) = function [] -> false | y :: rest -> x = y || mem_int x rest
 
-let rec priorities acc = function
-  | [] -> acc
-  | (h : Sim.handled) :: rest -> priorities (if mem_int h.priority acc then acc else h.priority :: acc) rest
+(* The priorities present, and per priority the latencies in dispatch
+   order, read from the run's columns (Sim.dispatch_log): no record, no
+   closure, no boxed float per dispatch. *)
+let priorities (l : Sim.dispatch_log) =
+  let acc = ref [] in
+  for i = 0 to l.d_n - 1 do
+    let p = Array.unsafe_get l.d_priority i in
+    if not (mem_int p !acc) then acc := p :: !acc
+  done;
+  !acc
 
-let rec count_prio prio n = function
-  | [] -> n
-  | (h : Sim.handled) :: rest -> count_prio prio (if h.priority = prio then n + 1 else n) rest
+let count_prio prio (l : Sim.dispatch_log) =
+  let n = ref 0 in
+  for i = 0 to l.d_n - 1 do if Array.unsafe_get l.d_priority i = prio then incr n done;
+  !n
 
-let rec fill_prio prio (a : float array) k = function
-  | [] -> ()
-  | (h : Sim.handled) :: rest ->
-    if h.priority = prio then (Array.unsafe_set a k (h.dispatched -. h.notified); fill_prio prio a (k + 1) rest)
-    else fill_prio prio a k rest
+let fill_prio prio (a : float array) (l : Sim.dispatch_log) =
+  let k = ref 0 in
+  for i = 0 to l.d_n - 1 do
+    if Array.unsafe_get l.d_priority i = prio then begin
+      Array.unsafe_set a !k (Array.unsafe_get l.d_dispatched i -. Array.unsafe_get l.d_notified i);
+      incr k
+    end
+  done
 
 (* the sum from the first to the last, as Array.fold_left ( +. ) 0. *)
 let sum (a : float array) =
@@ -113,11 +124,11 @@ let of_result (r : Sim.result) =
           Some (Float.hypot (mx -. c.cx) (my -. c.cy)) in
       { cube = c.id; entries = n; error }) in
   let errors = List.filter_map (fun c -> c.error) cubes in
-  let prios = List.sort (fun a b -> Int.compare b a) (priorities [] r.handled) in
+  let prios = List.sort (fun a b -> Int.compare b a) (priorities r.dispatches) in
   let latency = List.map (fun prio ->
-      let n = count_prio prio 0 r.handled in
+      let n = count_prio prio r.dispatches in
       let a = Array.make n 0. in
-      fill_prio prio a 0 r.handled;
+      fill_prio prio a r.dispatches;
       (* sorted, for the mean is summed in increasing order (issue 17: the
          order of Array.stable_sort Float.compare, without boxing a float
          per comparison) *)

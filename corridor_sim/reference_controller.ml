@@ -23,11 +23,11 @@ module Bodies = struct
   let percept_handlers () = 4
   let message_handlers () = 0
 
-  let percept_applicable w ~id:_ () h (p : Agent.percept) =
-    let ok = match h, p with
-      | 1, Falling | 2, Obstacle | 3, Qr_code_read _ | 4, Position _ -> true
-      | _ -> false in
-    (w, ok)
+  let applies h (p : Agent.percept) = match h, p with
+    | 1, Falling | 2, Obstacle | 3, Qr_code_read _ | 4, Position _ -> true
+    | _ -> false
+
+  let percept_applicable w ~id:_ () h p = (w, applies h p)
 
   let run_percept_handler w ~id:_ () h (p : Agent.percept) =
     match h, p with
@@ -50,7 +50,7 @@ module Bodies = struct
   let take_outbox w = (w, [])
 
   (* the fast engine's pre-test: handler h takes one percept kind *)
-  let percept_may_apply _ () h (p : Agent.percept) = snd (percept_applicable () ~id:0 () h p)
+  let percept_may_apply _ () h p = applies h p
 
   (* the pre-test's answer depends on the percept's constructor only *)
   let percept_kind : Agent.percept -> int = function

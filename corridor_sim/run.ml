@@ -80,8 +80,11 @@ let find_scenario name =
    15% off the instructions of a run and as much off its CPU time. The minor
    heap stays at the default 256k words (2 MB): the 32 MB of run's setting
    made the simulation 30% slower by CPU time (its allocation no longer fits
-   the caches), and the bench's earlier parts set it in the same process. *)
-let tune_gc () = Gc.set { (Gc.get ()) with Gc.space_overhead = 1000; minor_heap_size = 262_144 }
+   the caches), and the bench's earlier parts set it in the same process.
+   No compaction (max_overhead): with that space overhead the heap looked
+   fragmented and was compacted in the middle of a run (4% of the
+   interpreted agent's instructions). *)
+let tune_gc () = Gc.set { (Gc.get ()) with Gc.space_overhead = 1000; max_overhead = 1_000_000; minor_heap_size = 262_144 }
 
 let bench ?agent ?scenario ?(position_rate = 50.) () =
   let path = match scenario with Some p -> p | None -> find_scenario "paper" in

@@ -10,6 +10,51 @@ type handled = {
   handlers : int;
 }
 
+(* The dispatched percepts in columns, recorded as the run goes (issue 17):
+   the ints and floats in arrays of their own, so that a dispatch boxes
+   nothing and leaves the collector nothing to move (a record, two boxed
+   floats, a percept and a list cell per dispatch were a tenth of a run, all
+   moved to the major heap). [handled] is made from it when asked. *)
+type dispatch_log = {
+  mutable d_n : int;
+  mutable d_seq : int array;
+  mutable d_priority : int array;
+  mutable d_handlers : int array;
+  mutable d_notified : float array;
+  mutable d_dispatched : float array;
+  mutable d_kind : int array;          (* 0 falling, 1 obstacle, 2 qrCodeRead, 3 position *)
+  mutable d_x : float array;           (* a position's *)
+  mutable d_y : float array;
+  mutable d_text : string array;       (* a QR code's text *)
+  mutable d_source : string array;
+}
+
+let log_create cap =
+  { d_n = 0; d_seq = Array.make cap 0; d_priority = Array.make cap 0; d_handlers = Array.make cap 0;
+    d_notified = Array.make cap 0.; d_dispatched = Array.make cap 0.; d_kind = Array.make cap 0;
+    d_x = Array.make cap 0.; d_y = Array.make cap 0.; d_text = Array.make cap ""; d_source = Array.make cap "" }
+
+let log_grow l =
+  let cap = 2 * Array.length l.d_seq in
+  let ints a = let b = Array.make cap 0 in Array.blit a 0 b 0 l.d_n; b
+  and floats a = let b = Array.make cap 0. in Array.blit a 0 b 0 l.d_n; b
+  and texts a = let b = Array.make cap "" in Array.blit a 0 b 0 l.d_n; b in
+  l.d_seq <- ints l.d_seq; l.d_priority <- ints l.d_priority; l.d_handlers <- ints l.d_handlers;
+  l.d_notified <- floats l.d_notified; l.d_dispatched <- floats l.d_dispatched; l.d_kind <- ints l.d_kind;
+  l.d_x <- floats l.d_x; l.d_y <- floats l.d_y; l.d_text <- texts l.d_text; l.d_source <- texts l.d_source
+
+(* the [i]th dispatch as a record *)
+let log_get l i : handled =
+  let percept : Agent.percept = match l.d_kind.(i) with
+    | 0 -> Falling | 1 -> Obstacle | 2 -> Qr_code_read l.d_text.(i)
+    | _ -> Position (l.d_x.(i), l.d_y.(i)) in
+  { seq = l.d_seq.(i); percept; priority = l.d_priority.(i); source = l.d_source.(i);
+    notified = l.d_notified.(i); dispatched = l.d_dispatched.(i); handlers = l.d_handlers.(i) }
+
+let handled_of_log l =
+  let rec go i acc = if i < 0 then acc else go (i - 1) (log_get l i :: acc) in
+  go (l.d_n - 1) []
+
 type pending = { p_seq : int; p_percept : Agent.percept; p_priority : int; p_notified : float }
 type busy = { b_start : float; b_end : float; b_kind : string }
 
@@ -26,7 +71,8 @@ type result = {
   tippings : (float * Kinematics.pose) list;
   notified : (string * int) list;
   refused : int;
-  handled : handled list;
+  handled : handled list Lazy.t;
+  dispatches : dispatch_log;
   pending : pending list;
   world_map : (float * float * string) list;
   commands : (float * float * Command.t) list;
@@ -142,7 +188,9 @@ module Make (A : Agent.AGENT) = struct
     let trajectory = ref [ (0., sc.start) ] in
     let collisions = ref [] and falls = ref [] and tippings = ref [] in
     let counts = Array.make 4 0 and refused = ref 0 in
-    let handled = ref [] and commands = ref [] and busy = ref [] in
+    (* room for a run's position fixes at once (they are most of the
+       dispatches): no copy as it grows *)
+    let log = log_create (1024 + int_of_float (Float.min 1e6 (sc.duration *. s.position_rate))) and commands = ref [] and busy = ref [] in
     let outstanding : (Agent.percept * int * string * float) Seq_table.t = Seq_table.create 1024 in
     let events = ref 0 in
     let grid = make_grid world in
@@ -180,8 +228,8 @@ module Make (A : Agent.AGENT) = struct
        | cmds ->
          List.iter (fun c ->
              Sound_queue.enqueue sound ~now:at c;
-             if trace then tr "%.6f issue %s" at (Command.to_string c)) (List.rev cmds));
-      pending_cmds := [];
+             if trace then tr "%.6f issue %s" at (Command.to_string c)) (List.rev cmds);
+         pending_cmds := []);
       schedule_sound () in
     (* the agent *)
     let agent = A.create sc.loop host in
@@ -266,7 +314,10 @@ module Make (A : Agent.AGENT) = struct
     let work_kind : Agent.work -> string = function
       | Transfer _ -> "transfer" | Dispatch _ -> "dispatch" | Behaviour_step -> "step" | Loop _ -> "loop" in
     let agent_work () =
-      pending_cmds := []; invokes := 0;
+      (* written only when not empty already: [pending_cmds] lives in the
+         major heap, where every write is a [caml_modify] *)
+      (match !pending_cmds with [] -> () | _ -> pending_cmds := []);
+      invokes := 0;
       match A.step agent with
       | None -> agent_scheduled := false; if trace then tr "%.6f idle" clk.now
       | Some w ->
@@ -278,8 +329,21 @@ module Make (A : Agent.AGENT) = struct
              | Some x -> x | None -> (d.percept, d.priority, "?", clk.now) in
            Seq_table.remove outstanding d.seq;
            ignore pc;
-           handled := { seq = d.seq; percept = d.percept; priority = prio; source = src; notified = t0;
-                        dispatched = clk.now; handlers = d.handlers_run } :: !handled;
+           if log.d_n = Array.length log.d_seq then log_grow log;
+           let i = log.d_n in
+           log.d_n <- i + 1;
+           Array.unsafe_set log.d_seq i d.seq;
+           Array.unsafe_set log.d_priority i prio;
+           Array.unsafe_set log.d_handlers i d.handlers_run;
+           Array.unsafe_set log.d_notified i t0;
+           Array.unsafe_set log.d_dispatched i clk.now;
+           Array.unsafe_set log.d_source i src;
+           (match d.percept with
+            | Falling -> Array.unsafe_set log.d_kind i 0
+            | Obstacle -> Array.unsafe_set log.d_kind i 1
+            | Qr_code_read text -> Array.unsafe_set log.d_kind i 2; Array.unsafe_set log.d_text i text
+            | Position (x, y) ->
+              Array.unsafe_set log.d_kind i 3; Array.unsafe_set log.d_x i x; Array.unsafe_set log.d_y i y);
            if trace then
              tr "%.6f dispatch seq=%d %s prio=%d latency=%.6f handlers=%d" clk.now d.seq
                (Agent.percept_to_string d.percept) prio (clk.now -. t0) d.handlers_run
@@ -356,7 +420,7 @@ module Make (A : Agent.AGENT) = struct
       tippings = List.rev !tippings;
       notified = [ ("falling", counts.(0)); ("obstacle", counts.(1)); ("qrCodeRead", counts.(2));
                    ("position", counts.(3)) ];
-      refused = !refused; handled = List.rev !handled; pending;
+      refused = !refused; handled = lazy (handled_of_log log); dispatches = log; pending;
       world_map = A.world_map agent; commands = List.rev !commands; busy = List.rev !busy;
       busy_total = clk.busy_total; odometer = Robot.odometer robot; coverage = coverage grid;
       events = !events; trace = Buffer.contents buf } in

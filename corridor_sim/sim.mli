@@ -33,6 +33,27 @@ type handled = {
   handlers : int;        (** handlers that ran (0: discarded) *)
 }
 
+(** The dispatched percepts in dispatch order, in columns: entry [i] of
+    each array for [i < d_n] (the arrays are longer). What {!handled}
+    holds, recorded without a record per dispatch (issue 17); read by
+    {!Metrics}. *)
+type dispatch_log = private {
+  mutable d_n : int;
+  mutable d_seq : int array;
+  mutable d_priority : int array;
+  mutable d_handlers : int array;
+  mutable d_notified : float array;
+  mutable d_dispatched : float array;
+  mutable d_kind : int array;          (** 0 falling, 1 obstacle, 2 qrCodeRead, 3 position *)
+  mutable d_x : float array;           (** a position's coordinates *)
+  mutable d_y : float array;
+  mutable d_text : string array;       (** a QR code's text *)
+  mutable d_source : string array;
+}
+
+val log_get : dispatch_log -> int -> handled
+(** Entry [i] as a record. *)
+
 type pending = { p_seq : int; p_percept : Agent.percept; p_priority : int; p_notified : float }
 
 type busy = { b_start : float; b_end : float; b_kind : string }
@@ -51,7 +72,8 @@ type result = {
   tippings : (float * Robome.Kinematics.pose) list;      (** near falls and falls *)
   notified : (string * int) list;   (** per percept name, accepted notifications *)
   refused : int;                    (** notifications refused by the agent (R2) *)
-  handled : handled list;           (** dispatch order *)
+  handled : handled list Lazy.t;    (** dispatch order; made from [dispatches] when forced *)
+  dispatches : dispatch_log;        (** the same, in columns *)
   pending : pending list;           (** never dispatched by the end, by seq *)
   world_map : (float * float * string) list;
   commands : (float * float * Robome.Command.t) list;   (** issued, took effect, command *)

@@ -174,7 +174,7 @@ let timeline ?window (r : Sim.result) (mt : Metrics.t) =
       text b ~size:10 ~anchor:"end" (left -. 6.) (y +. 4.) (Printf.sprintf "priority %d" prio);
       Printf.bprintf b "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#eee\"/>\n" left y (left +. plot_w) y;
       let col = prio_colour prio in
-      let hs = List.filter (fun (h : Sim.handled) -> h.priority = prio && h.notified < window) r.handled in
+      let hs = List.filter (fun (h : Sim.handled) -> h.priority = prio && h.notified < window) (Lazy.force r.handled) in
       List.iter (fun (h : Sim.handled) ->
           let x0 = tx h.notified and x1 = tx (Float.min window h.dispatched) in
           Printf.bprintf b "<line x1=\"%.2f\" y1=\"%.1f\" x2=\"%.2f\" y2=\"%.1f\" stroke=\"%s\" stroke-width=\"2\"/>\n" x0 y x1 y col;
@@ -214,7 +214,7 @@ let timeline ?window (r : Sim.result) (mt : Metrics.t) =
             let k = min (bins - 1) (int_of_float (h.notified /. r.end_time *. float_of_int bins)) in
             let l = h.dispatched -. h.notified in
             if l > worst.(k) then (worst.(k) <- l; at.(k) <- h.notified)
-          end) r.handled;
+          end) (Lazy.force r.handled);
       Array.iteri (fun k l ->
           if l > neg_infinity then
             Printf.bprintf b "<circle cx=\"%.2f\" cy=\"%.2f\" r=\"2\" fill=\"%s\"/>\n" (t2 at.(k)) (ly l) (prio_colour prio)) worst)

@@ -299,7 +299,7 @@ let test_latency_sane () =
   let r = Sim.run (module Reference_controller) (short "paper" 60.) ~seed:3 in
   let m = Metrics.of_result r in
   List.iter (fun (h : Sim.handled) ->
-      Alcotest.(check bool) "dispatch after notify" true (h.dispatched >= h.notified)) r.handled;
+      Alcotest.(check bool) "dispatch after notify" true (h.dispatched >= h.notified)) (Lazy.force r.handled);
   Alcotest.(check bool) "positions at 10 Hz" true
     (match List.find_opt (fun (l : Metrics.latency) -> l.priority = 2) m.latency with
      | Some l -> l.count >= 590 && l.count <= 601 | None -> false);
@@ -406,6 +406,42 @@ let test_bench () =
   Alcotest.(check (float 1e-9)) "the paper scenario's 300 s" 300. sim;
   Alcotest.(check bool) "measured" true (wall > 0.)
 
+(* The dispatched percepts kept in columns (Sim.dispatch_log, issue 17)
+   are the run's dispatches: each record [handled] makes from them prints as
+   the trace's dispatch line of the same run (time, seq, percept, priority,
+   latency, handlers), in the same order, for both agents; and each one's
+   source is its sensor's. *)
+let test_dispatch_log () =
+  let seen = ref [] in
+  List.iter (fun (name, duration, agent) ->
+      let sc = short name duration in
+      let r = Sim.run ~trace:true agent sc ~seed:2 in
+      (* the flood: more dispatches than the room made for the position
+         fixes (1,024 more than they), so that the columns grow *)
+      let room = 1024 + int_of_float (sc.duration *. sc.sensors.position_rate) in
+      if name = "flood_reference" && r.dispatches.d_n <= room then
+        Alcotest.failf "%s: only %d dispatches" name r.dispatches.d_n;
+      let lines = List.filter (fun l ->
+          match String.index_opt l ' ' with
+          | Some i -> String.length l > i + 9 && String.sub l (i + 1) 9 = "dispatch "
+          | None -> false) (String.split_on_char '\n' r.trace) in
+      let handled = Lazy.force r.handled in
+      let made = List.map (fun (h : Sim.handled) ->
+          Printf.sprintf "%.6f dispatch seq=%d %s prio=%d latency=%.6f handlers=%d" h.dispatched h.seq
+            (Agent.percept_to_string h.percept) h.priority (h.dispatched -. h.notified) h.handlers) handled in
+      Alcotest.(check int) (name ^ ": dispatches") (List.length lines) r.dispatches.d_n;
+      Alcotest.(check (list string)) (name ^ ": the trace's dispatch lines") lines made;
+      List.iter (fun (h : Sim.handled) ->
+          let ok = match h.percept, h.source with
+            | Position _, ("uwb" | "flood") | Obstacle, ("proximity" | "edge" | "flood") | Qr_code_read _, ("camera" | "flood")
+            | Falling, ("imu" | "flood") -> true
+            | _ -> false in
+          if not ok then Alcotest.failf "%s from %s" (Agent.percept_to_string h.percept) h.source;
+          seen := Agent.percept_name h.percept :: !seen) handled)
+    [ ("flood_reference", 5.6, (module Reference_controller : Agent.AGENT)); ("paper", 150., Interp_agent.make ()) ];
+  List.iter (fun k -> if not (List.mem k !seen) then Alcotest.failf "no %s dispatched" k)
+    [ "position"; "obstacle"; "qrCodeRead" ]
+
 let () =
   Alcotest.run "corridor" [
     ("scenarios", [
@@ -423,6 +459,7 @@ let () =
         Alcotest.test_case "determinism per seed" `Quick test_determinism;
         Alcotest.test_case "command latency through the sound channel" `Quick test_command_latency;
         Alcotest.test_case "percept latency" `Quick test_latency_sane;
+        Alcotest.test_case "the dispatch log = the trace's dispatches" `Quick test_dispatch_log;
         Alcotest.test_case "flood: printed loop starves, reference copes" `Quick test_flood_starvation;
         Alcotest.test_case "falling handled before the fall" `Quick test_falling_handled;
         Alcotest.test_case "report, map, timeline, trace" `Quick test_outputs;

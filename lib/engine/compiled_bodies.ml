@@ -22,7 +22,9 @@ module Names = Syntax.Strtbl
 type ctx = {
   ag : Eval.agent;
   beh : Eval.beh;
-  slots : V.t array;
+  mutable slots : V.t array;
+      (* the running body's: the handler's, or a called routine's while it
+         runs (put back when it ends, however it ends) *)
   cells : Eval.cell array;
   mutable content : V.t;
   sf : Eval.frame;
@@ -35,6 +37,11 @@ type ctx = {
   mutable armed : int;
       (* the guard's bindings wait for the body (R3b) while [armed] is the
          number of the last guard evaluated ({!guards}) *)
+  rsf : Eval.frame;
+      (* Eval's frame of an agent's function or procedure (no behaviour),
+         for the rules that read one there; the same step budget as [sf] *)
+  mutable depth : int;          (* nested calls, as Eval's frame's [depth] *)
+  mutable ret : V.t;            (* the value of the last [return] *)
 }
 
 (* A local that has no value yet (compared by address, never shown). *)
@@ -55,18 +62,40 @@ exception Unsupported
 
 (* ------------------------------------------------------ compiling *)
 
-(* What the compiler knows of the handler's names. A local name has a slot;
-   a property name (declared by the behaviour or the agent) has a cell,
-   found per instance. A name can be both: a local shadows the property
-   once it has a value (Eval.lookup, Eval.assign_name). *)
+(* What the compiler knows of the names of the code it compiles: the
+   handler's, or a function's or procedure's it calls. A local name has a
+   slot; a property name (declared by the behaviour or the agent) has a
+   cell, found per instance. A name can be both: a local shadows the
+   property once it has a value (Eval.lookup, Eval.assign_name).
+
+   The code of an agent's own function or procedure sees the agent's
+   properties only (Eval runs it in a frame without behaviour): its
+   properties are numbered apart ([agent_only]). The handler and every
+   routine it calls share one numbering of the cells, so that one array of
+   cells per instance serves them all. *)
 type cenv = {
   env : T.t;
   bname : string;
   aname : string;
-  locals : (string, int) Hashtbl.t;
-  props : (string, int) Hashtbl.t;
+  locals : (string, int) Hashtbl.t;  (* this code's own *)
+  props : (string * bool, int) Hashtbl.t;  (* by name and [agent_only] *)
   declared : string list;          (* the properties the code may name *)
-  mutable prop_names : string list;  (* by number, newest first *)
+  agent_declared : string list;    (* the agent's *)
+  all_declared : string list;      (* the behaviour's, then the agent's *)
+  prop_names : (string * bool) list ref;  (* by number, newest first *)
+  agent_only : bool;               (* an agent's function or procedure *)
+  in_guard : bool;
+  routines : (T.routine * bool * routine) list ref;
+      (* the functions and procedures compiled for this handler, each once *)
+}
+
+(* A function or procedure compiled (filled in once its body is: a
+   recursive call finds it unfinished at compile time, finished when it
+   runs). *)
+and routine = {
+  mutable run : ctx -> unit;
+  mutable nslots : int;
+  mutable params : int array;      (* the parameters' slots, in order *)
 }
 
 let slot_of ce x =
@@ -76,11 +105,13 @@ let slot_of ce x =
 
 let prop_of ce x =
   if not (List.mem x ce.declared) then None
-  else match Hashtbl.find_opt ce.props x with
+  else
+    let key = (x, ce.agent_only) in
+    match Hashtbl.find_opt ce.props key with
     | Some j -> Some j
     | None ->
       let j = Hashtbl.length ce.props in
-      Hashtbl.replace ce.props x j; ce.prop_names <- x :: ce.prop_names; Some j
+      Hashtbl.replace ce.props key j; ce.prop_names := key :: !(ce.prop_names); Some j
 
 let is_var ce x = T.schema ce.env x = None
 
@@ -129,6 +160,8 @@ and scan_stmt ce (s : Ast.stmt) = match s.it with
 let name ce at x : ctx -> V.t =
   match Hashtbl.find_opt ce.locals x, prop_of ce x with
   | Some i, Some j -> fun c -> let v = Array.unsafe_get c.slots i in if v != unset then v else c.cells.(j).Eval.v
+  | Some i, None when ce.agent_only ->
+    fun c -> let v = Array.unsafe_get c.slots i in if v != unset then v else Eval.lookup c.rsf at x
   | Some i, None -> fun c -> let v = Array.unsafe_get c.slots i in if v != unset then v else Eval.lookup c.sf at x
   | None, Some j -> fun c -> c.cells.(j).Eval.v
   | None, None ->
@@ -146,14 +179,35 @@ let bind ce x = match Hashtbl.find_opt ce.locals x with
    (eval.ml), word for word. *)
 let not_boolean at what v = Eval.err at "%s needs booleans, not a %s" what (V.type_name v)
 let condition_not_boolean at v = Eval.err at "a condition is a boolean, not a %s" (V.type_name v)
+let too_deep at =
+  raise (Eval.Exhaustion (at, Printf.sprintf "recursion too deep: more than %d nested calls of functions and procedures"
+                            Eval.max_call_depth))
+
+(* The function or procedure a name calls from this code (Eval.call,
+   Eval.stmt's Do): the behaviour's, then the agent's; from an agent's
+   routine, the agent's only. *)
+let resolve ce ~beh ~agent name =
+  if ce.agent_only then Option.map (fun r -> (r, true)) (agent ce.env ce.aname name)
+  else match beh ce.env ce.bname name with
+    | Some r -> Some (r, false)
+    | None -> Option.map (fun r -> (r, true)) (agent ce.env ce.aname name)
+
+let empty_slots : V.t array = [||]
+
+let[@inline] tick c at = Eval.tick c.sf at
+
+(* The arguments of a call, as Eval.run_routine takes them. *)
+type args = Pos of (ctx -> V.t) list | Named of (string * (ctx -> V.t)) list
 
 let rec expr ce (e : Ast.expr) : ctx -> V.t =
   let at = e.at in
   match e.it with
   | Lit l -> let v = Eval.literal l in fun _ -> v
   | Name x -> name ce at x
+  | This when ce.agent_only -> fun c -> V.Agent_ref c.ag.Eval.name
   | This -> fun c -> V.Behaviour_ref c.beh.Eval.uid
   | Agent -> fun c -> V.Agent_ref c.ag.Eval.name
+  | Content when ce.agent_only -> raise Unsupported   (* the checker rejects it *)
   | Content -> fun c -> c.content
   | Message -> raise Unsupported
   | List es ->
@@ -171,9 +225,41 @@ let rec expr ce (e : Ast.expr) : ctx -> V.t =
              try V.map_set mv k v with V.Too_large -> Eval.too_large_to_compare at) kvs
        | _ -> ());
       m
+  | Call (g, args) when resolve ce ~beh:T.behaviour_function ~agent:T.agent_function g.it <> None ->
+    (* a guard's budget is not reset by the entry points: calls, which
+       tick, are compiled in bodies only *)
+    if ce.in_guard then raise Unsupported;
+    let (r, agent_only) = Option.get (resolve ce ~beh:T.behaviour_function ~agent:T.agent_function g.it) in
+    call ce at r ~agent_only (Pos (List.map (expr ce) args))
+  | Call (g, args) when g.it <> "aid" && (match T.schema ce.env g.it with
+      | Some s -> List.length s.s_slots = List.length args | None -> false) ->
+    (* Eval.construct with the schema found now: the arguments in order,
+       then each slot converted (R1c), the first that does not fit an
+       error *)
+    let s = Option.get (T.schema ce.env g.it) and name = g.it in
+    let spec = Array.of_list s.s_slots and sname = s.s_name in
+    (* a value already of the slot's type is the one coerce_param keeps *)
+    let same = Array.map (fun (_, ty) -> match Ty.repr ty with
+        | Ty.Double -> 1 | Ty.Text -> 2 | Ty.Integer -> 3 | Ty.Boolean -> 4 | _ -> 0) spec in
+    let slot i v =
+      let (n, ty) = Array.unsafe_get spec i in
+      match Array.unsafe_get same i, v with
+      | 1, V.Double _ | 2, V.Text _ | 3, V.Int _ | 4, V.Bool _ -> (n, ref v)
+      | _ ->
+        match Eval.coerce_param ty v with
+        | Some v -> (n, ref v)
+        | None -> Eval.err at "slot %s of %s is a %s, not a %s" n name (Ty.to_string ty) (V.type_name v) in
+    (match List.map (expr ce) args with
+     | [ a ] -> fun c -> let v = a c in V.Schema { sname; slots = [| slot 0 v |] }
+     | [ a; b ] ->
+       fun c -> let v = a c in let w = b c in
+         let s0 = slot 0 v in let s1 = slot 1 w in V.Schema { sname; slots = [| s0; s1 |] }
+     | args ->
+       let args = Array.of_list args in
+       fun c ->
+         let vs = Array.map (fun a -> a c) args in
+         V.Schema { sname; slots = Array.mapi slot vs })
   | Call (g, args) ->
-    if T.behaviour_function ce.env ce.bname g.it <> None || T.agent_function ce.env ce.aname g.it <> None
-    then raise Unsupported;
     let g = g.it and env = ce.env in
     let args = List.map (expr ce) args in
     fun c ->
@@ -195,6 +281,7 @@ let rec expr ce (e : Ast.expr) : ctx -> V.t =
           | Some v -> v
           | None -> Eval.err at "the map has no key %s" (V.to_literal kv))
        | _ -> Eval.err at "cannot index a %s" (V.type_name mv))
+  | Of (p, x) when ce.agent_only -> let p = p.it and x = expr ce x in fun c -> Eval.of_ c.rsf at p (x c)
   | Of (p, x) -> let p = p.it and x = expr ce x in fun c -> Eval.of_ c.sf at p (x c)
   | Matches (x, p) -> matches ce x p
   | Unop (Not, x) ->
@@ -239,7 +326,78 @@ let rec expr ce (e : Ast.expr) : ctx -> V.t =
   | Binop (op, l, r) ->
     let l = expr ce l and r = expr ce r in
     fun c -> let a = l c in let b = r c in Eval.arith at op a b
-  | Invoke _ -> raise Unsupported
+  | Invoke _ when ce.in_guard -> raise Unsupported
+  | Invoke i -> invoke ce at i
+
+(* Eval.invoke: the target, the arguments in order, then the rest. *)
+and invoke ce at (i : Ast.invoke) =
+  let target = expr ce i.target and args = List.map (expr ce) i.args in
+  fun c ->
+    let t = target c in
+    let vs = List.map (fun a -> a c) args in
+    Eval.invoke_values c.ag at i t vs
+
+(* A call of a function or procedure, as Eval.run_routine: the arguments
+   (evaluated by the caller, in order), a tick at the call, the depth, the
+   arguments against the parameters, then the body in fresh slots with the
+   parameters converted to their types; what it returns ([V.Unit] when it
+   ends without a value). The caller's slots and depth are put back however
+   it ends. *)
+and call ce at (r : T.routine) ~agent_only (args : args) : ctx -> V.t =
+  let k = routine_code ce r ~agent_only in
+  let params = Array.of_list r.r_params in
+  let np = Array.length params in
+  (* which argument each parameter takes, or the error *)
+  let (eval_args, pick, mismatch) = match args with
+    | Pos es ->
+      let es = Array.of_list es in
+      let n = Array.length es in
+      ((fun c -> Array.map (fun e -> e c) es), Array.init np Fun.id,
+       if n <> np then Some (fun () -> Eval.err at "%s takes %d arguments, not %d" r.r_name np n) else None)
+    | Named kvs ->
+      let names = Array.of_list (List.map fst kvs) and es = Array.of_list (List.map snd kvs) in
+      let first n =
+        let rec go i = if i >= Array.length names then -1 else if String.equal names.(i) n then i else go (i + 1) in
+        go 0 in
+      let pick = Array.map (fun (n, _) -> first n) params in
+      let missing = List.find_opt (fun (n, _) -> first n < 0) r.r_params in
+      ((fun c -> Array.map (fun e -> e c) es), pick,
+       Option.map (fun (n, _) -> fun () -> Eval.err at "missing argument %s" n) missing) in
+  let tys = Array.map snd params in
+  fun c ->
+    let vs = eval_args c in
+    tick c at;
+    if c.depth >= Eval.max_call_depth then too_deep at;
+    (match mismatch with Some e -> e () | None -> ());
+    let slots = if k.nslots = 0 then empty_slots else Array.make k.nslots unset in
+    let ps = k.params in
+    for i = 0 to np - 1 do
+      Array.unsafe_set slots (Array.unsafe_get ps i)
+        (Eval.coerce (Array.unsafe_get tys i) (Array.unsafe_get vs (Array.unsafe_get pick i)))
+    done;
+    let saved = c.slots in
+    c.slots <- slots;
+    c.depth <- c.depth + 1;
+    match k.run c with
+    | () -> c.slots <- saved; c.depth <- c.depth - 1; V.Unit
+    | exception Ret -> c.slots <- saved; c.depth <- c.depth - 1; c.ret
+    | exception x -> c.slots <- saved; c.depth <- c.depth - 1; raise x
+
+(* A routine's code, compiled once per handler (memoised; a recursive call
+   finds the entry made before its body is compiled). *)
+and routine_code ce (r : T.routine) ~agent_only =
+  match List.find_opt (fun (r', a, _) -> r' == r && a = agent_only) !(ce.routines) with
+  | Some (_, _, k) -> k
+  | None ->
+    let k = { run = (fun _ -> ()); nslots = 0; params = [||] } in
+    ce.routines := (r, agent_only, k) :: !(ce.routines);
+    let ce' = { ce with locals = Hashtbl.create 8; agent_only; in_guard = false;
+                        declared = (if agent_only then ce.agent_declared else ce.all_declared) } in
+    let params = Array.of_list (List.map (fun (n, _) -> slot_of ce' n) r.r_params) in
+    scan_block ce' r.r_body;
+    let run = block ce' r.r_body in
+    k.run <- run; k.params <- params; k.nslots <- Hashtbl.length ce'.locals;
+    k
 
 (* [x matches p]: Eval.pattern, the bindings made only when it matches, in
    order. A constructor pattern of variables and [_] on a value of that
@@ -285,9 +443,7 @@ and matches ce x (p : Ast.pattern) =
        | v -> general c v)
   | _ -> fun c -> general c (x c)
 
-let[@inline] tick c at = Eval.tick c.sf at
-
-let rec block ce (b : Ast.block) : ctx -> unit =
+and block ce (b : Ast.block) : ctx -> unit =
   match List.map (stmt ce) b with
   | [] -> fun _ -> ()
   | [ s ] -> s
@@ -325,6 +481,7 @@ and stmt ce (s : Ast.stmt) : ctx -> unit =
      | TName "double" -> fun c -> tick c at; c.slots.(i) <- Eval.coerce Ty.Double (e c)
      | _ -> fun c -> tick c at; c.slots.(i) <- e c)
   | Nothing -> fun c -> tick c at
+  | Deactivate when ce.agent_only -> raise Unsupported   (* the checker rejects it *)
   | Deactivate ->
     fun c ->
       tick c at;
@@ -375,11 +532,40 @@ and stmt ce (s : Ast.stmt) : ctx -> unit =
            tick c at;
            match b c with () -> () | exception Cont -> ()) items
        with Brk -> ())
-  | Return None -> fun c -> tick c at; raise Ret
-  | Return (Some e) -> let e = expr ce e in fun c -> tick c at; ignore (e c); raise Ret
+  | Return None -> fun c -> tick c at; c.ret <- V.Unit; raise Ret
+  | Return (Some e) -> let e = expr ce e in fun c -> tick c at; c.ret <- e c; raise Ret
   | Break -> fun c -> tick c at; raise Brk
   | Continue -> fun c -> tick c at; raise Cont
-  | Do _ | InvokeS _ | Activate _ | Send _ -> raise Unsupported
+  | Do (p, args) ->
+    (match resolve ce ~beh:T.behaviour_procedure ~agent:T.agent_procedure p.it with
+     | None -> raise Unsupported   (* the checker rejects it *)
+     | Some (r, agent_only) ->
+       let args = match args with
+         | Positional es -> Pos (List.map (expr ce) es)
+         | Named kvs -> Named (List.map (fun ((n : Ast.name), e) -> (n.it, expr ce e)) kvs) in
+       let k = call ce at r ~agent_only args in
+       fun c -> tick c at; ignore (k c))
+  | InvokeS i -> let k = invoke ce at i in fun c -> tick c at; ignore (k c)
+  | Activate (b, args) ->
+    let b = b.it and args = List.map (fun ((n : Ast.name), e) -> (n.it, expr ce e)) args in
+    fun c ->
+      tick c at;
+      let kvs = List.map (fun (n, e) -> (n, e c)) args in
+      Eval.activate_at c.sf ~depth:c.depth at b kvs
+  | Send (perf, k, rs) ->
+    (* Eval.stmt's Send, word for word *)
+    let perf = perf.it and kat = k.at and k = expr ce k
+    and rs = List.map (fun (r : Ast.expr) -> (expr ce r, r.at)) rs in
+    fun c ->
+      tick c at;
+      let content = Eval.bounded_text ~quote:true kat (k c) in
+      let receivers = List.concat_map (fun (r, rat) -> match r c with
+          | V.Aid a -> [ a ]
+          | V.List l -> List.map (function V.Aid a -> a | v -> Eval.err rat "a receiver is an aid, not a %s" (V.type_name v)) (V.list_items l)
+          | v -> Eval.err rat "a receiver is an aid, not a %s" (V.type_name v)) rs in
+      let a = c.ag in
+      List.iter (fun r -> a.outbox <- (r, { Eval.perf; content; sender = a.name }) :: a.outbox) receivers;
+      a.events <- Eval.Sent { perf; content; receivers } :: a.events
 
 (* Eval.assign: the value is computed first, then the place. *)
 and assign ce (lv : Ast.lvalue) : ctx -> V.t -> unit =
@@ -412,6 +598,7 @@ and assign ce (lv : Ast.lvalue) : ctx -> V.t -> unit =
          (match Names.find_opt c.ag.props p with
           | Some cell -> Eval.set_cell cell v
           | None -> Eval.err at "cannot set %s of a %s" p (V.type_name o))
+       | V.Behaviour_ref _ when ce.agent_only -> Eval.err at "no such behaviour property %s" p
        | V.Behaviour_ref u ->
          (match Names.find_opt c.beh.bprops p with
           | Some cell when c.beh.uid = u -> Eval.set_cell cell v
@@ -426,7 +613,9 @@ type code = {
   reset : int array;
       (* the slots a guard must find without a value: all but those its
          leftmost [content matches S(x, ...)] binds whenever it holds *)
-  prop_names : string array;          (* the cells a run needs, by number *)
+  prop_names : (string * bool) array;
+      (* the cells a run needs, by number: the name, and whether an agent's
+         routine names it (the agent's property, not the behaviour's) *)
   guard : (ctx -> bool) option;
   body : ctx -> unit;
   required : string option;
@@ -441,18 +630,19 @@ let rec required_schema (e : Ast.expr) = match e.it with
   | _ -> None
 
 let compile env (bt : T.behaviour) (at : T.agent) (h : T.handler) : code option =
+  let agent_declared = List.map (fun (p : T.property) -> p.p_name) (T.agent_properties env at.a_name) in
   let declared =
-    List.map (fun (p : T.property) -> p.p_name) (T.behaviour_properties env bt.b_name)
-    @ List.map (fun (p : T.property) -> p.p_name) (T.agent_properties env at.a_name) in
+    List.map (fun (p : T.property) -> p.p_name) (T.behaviour_properties env bt.b_name) @ agent_declared in
   let ce = { env; bname = bt.b_name; aname = at.a_name; locals = Hashtbl.create 8;
-             props = Hashtbl.create 8; declared; prop_names = [] } in
+             props = Hashtbl.create 8; declared; agent_declared; all_declared = declared; prop_names = ref [];
+             agent_only = false; in_guard = false; routines = ref [] } in
   match
     Option.iter (scan_expr ce) h.h_guard;
     scan_block ce h.h_body;
     let guard = match h.h_guard with
       | None -> None
       | Some g ->
-        let x = expr ce g and gat = g.at in
+        let x = expr { ce with in_guard = true } g and gat = g.at in
         Some (fun c -> match x c with
             | V.Bool b -> b
             | v -> Eval.err gat "a when condition is a boolean, not a %s" (V.type_name v)) in
@@ -480,7 +670,7 @@ let compile env (bt : T.behaviour) (at : T.agent) (h : T.handler) : code option 
     let n = Hashtbl.length ce.locals in
     let reset = if List.mem (-1) bound then Array.init n Fun.id
       else Array.of_list (List.filter (fun i -> not (List.mem i bound)) (List.init n Fun.id)) in
-    Some { nslots = n; reset; prop_names = Array.of_list (List.rev ce.prop_names);
+    Some { nslots = n; reset; prop_names = Array.of_list (List.rev !(ce.prop_names));
            guard; body; required }
 
 (* Handlers compiled, by the handler, the behaviour type and the agent type
@@ -528,13 +718,16 @@ let cell_of (a : Eval.agent) (b : Eval.beh) x =
   | None -> Names.find_opt a.props x
 
 let make_ctx (a : Eval.agent) (b : Eval.beh) ~id (code : code) =
-  let cells = Array.map (cell_of a b) code.prop_names in
+  let cells = Array.map (fun (x, agent_only) ->
+      if agent_only then Names.find_opt a.props x else cell_of a b x) code.prop_names in
   if Array.exists Option.is_none cells then None   (* an initialiser failed: fall back *)
   else
+    let sf = Eval.guard_frame a ~id b V.Unit in
     Some { ag = a; beh = b; slots = Array.make code.nslots unset; cells = Array.map Option.get cells;
-           content = V.Unit; sf = Eval.guard_frame a ~id b V.Unit; id; armed = -1;
+           content = V.Unit; sf; id; armed = -1;
            yes = (a, true); no = (a, false); ran = (a, []);
-           skipped = Fast.Not_applicable a; handled = Fast.Handled (a, []) }
+           skipped = Fast.Not_applicable a; handled = Fast.Handled (a, []);
+           rsf = Eval.agent_frame sf; depth = 0; ret = V.Unit }
 
 (* Interp_bodies on the instance, its own slot in place. *)
 let with_inner (b : Eval.beh) k f =

@@ -17,10 +17,23 @@
     errors with their kind, region and message, [Ran] with its effects) and
     the point where the budget runs out are those of {!Interp_eval.Eval.Bodies}.
 
-    What it does not compile — a call of a function or procedure, [invoke],
-    [activate], [send], [message] — makes that handler, whole, run on
-    {!Interp_bodies} (its resolved guard and pre-test). Message handlers and
-    action blocks are {!Interp_bodies}' too.
+    A call of the behaviour's or the agent's own function or procedure
+    ([do p with ...], [f(...)]) runs the callee compiled too: each callee is
+    compiled once per handler (memoised, so recursion finds it), its
+    parameters and locals in slots of its own while it runs (the caller's
+    are put back however it ends), with Eval.run_routine's order: the
+    arguments, a tick at the call, the depth against
+    {!Interp_eval.Eval.max_call_depth}, the arguments against the
+    parameters, then the body; an agent's routine sees the agent's
+    properties only, as Eval's frame without behaviour does. [invoke],
+    [activate] and [send] are compiled with Eval's rules
+    ({!Interp_eval.Eval.invoke_values}, {!Interp_eval.Eval.activate_at}).
+
+    What it does not compile — a call or an [invoke] in a [when] guard (the
+    guard's step budget is not renewed by the entry points), [message] —
+    makes that handler, whole, run on {!Interp_bodies} (its resolved guard
+    and pre-test). Message handlers and action blocks are {!Interp_bodies}'
+    too.
 
     The guard's bindings wait for the body as in the reference (R3b), and
     only while no other guard, compiled or not, has been evaluated since: a

@@ -375,6 +375,23 @@ and literal = function
   | Ast.Text s -> V.Text s
   | Ast.Bool b -> V.Bool b
 
+(* [invoke] once its target and arguments are evaluated (in that order):
+   each argument's literal within D21's bound, then the host's method. *)
+let invoke_values (a : agent) at (i : Ast.invoke) target vs =
+  let args = List.map2 (fun (e : Ast.expr) v -> bounded_text ~quote:true e.at v) i.args vs in
+  match target with
+  | V.Native n ->
+    (match List.assoc_opt i.meth.it n.methods with
+     | None -> link i.meth.at "%s has no method %S" n.cls i.meth.it
+     | Some m ->
+       let result = try m args with
+         | (Trap _ | Exhaustion _ | Link _) as x -> raise x
+         | Invalid_argument msg -> link at "%s.%s failed: %s" n.cls i.meth.it msg
+         | Failure msg -> err at "%s.%s failed: %s" n.cls i.meth.it msg in
+       a.events <- Invoke { meth = i.meth.it; cls = n.cls; args; result } :: a.events;
+       result)
+  | v -> err i.target.at "invoke needs a host object (any), not a %s" (V.type_name v)
+
 (* ---------------------------------------------------- expressions *)
 
 let rec expr (f : frame) (e : Ast.expr) : V.t =
@@ -501,19 +518,7 @@ and run_routine (f : frame) at (r : T.routine) beh args : V.t option =
 
 and invoke (f : frame) at (i : Ast.invoke) =
   let target = expr f i.target in
-  let args = List.map2 (fun (a : Ast.expr) v -> bounded_text ~quote:true a.at v) i.args (List.map (expr f) i.args) in
-  match target with
-  | V.Native n ->
-    (match List.assoc_opt i.meth.it n.methods with
-     | None -> link i.meth.at "%s has no method %S" n.cls i.meth.it
-     | Some m ->
-       let result = try m args with
-         | (Trap _ | Exhaustion _ | Link _) as x -> raise x
-         | Invalid_argument msg -> link at "%s.%s failed: %s" n.cls i.meth.it msg
-         | Failure msg -> err at "%s.%s failed: %s" n.cls i.meth.it msg in
-       f.ag.events <- Invoke { meth = i.meth.it; cls = n.cls; args; result } :: f.ag.events;
-       result)
-  | v -> err i.target.at "invoke needs a host object (any), not a %s" (V.type_name v)
+  invoke_values f.ag at i target (List.map (expr f) i.args)
 
 (* ----------------------------------------------------- statements *)
 
@@ -789,6 +794,9 @@ let condition_part (f : frame) ~(whole : Ast.expr) (part : Ast.expr) = condition
 
 (* What lib/engine/compiled_bodies.ml reuses of the rules above, unchanged. *)
 let reset_fuel (f : frame) = f.fuel := f.ag.fuel_limit
+let agent_frame (f : frame) =
+  { f with beh = None; id = 0; locals = new_locals (); content = None; message = None }
+let activate_at (f : frame) ~depth at name kvs = activate { f with depth } at name kvs
 
 module Bodies = struct
   type percept = V.t

@@ -232,6 +232,11 @@ val set_cell : cell -> Value.t -> unit
 
 val coerce : Typing.Types.t -> Value.t -> Value.t
 
+val coerce_param : Typing.Types.t -> Value.t -> Value.t option
+(** The value as a slot or parameter of that type takes it (R1c: an
+    integer widens to float or double), or [None] when it does not fit:
+    what {!construct} checks of each slot. *)
+
 val literal : Syntax.Ast.literal -> Value.t
 
 val pattern : frame -> (string * Value.t) list ref -> Syntax.Ast.pattern -> Value.t -> bool
@@ -273,6 +278,23 @@ val tick : frame -> Syntax.Source.region -> unit
 
 val reset_fuel : frame -> unit
 (** A fresh step budget for the frame, as a handler body gets. *)
+
+val agent_frame : frame -> frame
+(** The frame an agent's own function or procedure runs in when called
+    from this frame's code: no behaviour, no content, fresh locals, the
+    same step budget (shared, as a call's). *)
+
+val invoke_values : agent -> Syntax.Source.region -> Syntax.Ast.invoke -> Value.t -> Value.t list -> Value.t
+(** [invoke] at a region (the statement's or the expression's), once its
+    target and its arguments are evaluated, in that order: each
+    argument's literal within {!max_text}, then the host's method, its
+    [Invoke] event and its result. *)
+
+val activate_at : frame -> depth:int -> Syntax.Source.region -> string -> (string * Value.t) list -> unit
+(** [activate behaviour B with x = v, ...] at a region, its arguments
+    evaluated, from code [depth] calls deep (what bounds the calls of the
+    behaviour's [on create], {!max_call_depth}): the frame gives the agent
+    and the step budget. *)
 
 val recover : agent -> exn -> unit
 (** What ends a body: [return], [break] and [continue] nothing, a run-time

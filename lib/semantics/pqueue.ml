@@ -135,19 +135,27 @@ let append l q = match l with
 let insert_newest_first feed q =
   (* One run per priority, consed as the entries come (newest first), so that
      each run ends oldest first; the last run used is kept at hand, as
-     consecutive entries often share a priority. *)
-  let runs = ref Prio_map.empty and cur_prio = ref min_int and cur = ref (ref []) in
+     consecutive entries often share a priority. The first run stays out of
+     the map until an entry of another priority comes (a transfer of one
+     percept, or of one priority, builds no map). *)
+  let runs = ref Prio_map.empty and cur_prio = ref min_int and cur = ref (ref [])
+  and only = ref true in
   feed (fun e ->
       if e.prio = !cur_prio then !cur := e :: !(!cur)
+      else if !cur_prio = min_int then begin cur := ref [ e ]; cur_prio := e.prio end
       else begin
+        if !only then begin runs := Prio_map.add !cur_prio !cur !runs; only := false end;
         let r = match Prio_map.find_opt e.prio !runs with
           | Some r -> r
           | None -> let r = ref [] in runs := Prio_map.add e.prio r !runs; r in
         r := e :: !r; cur_prio := e.prio; cur := r
       end);
-  let q = ref q in
-  Prio_map.iter (fun _ r -> q := append !r !q) !runs;
-  !q
+  if !only then append !(!cur) q
+  else begin
+    let q = ref q in
+    Prio_map.iter (fun _ r -> q := append !r !q) !runs;
+    !q
+  end
 
 (* Into an empty queue, with at most [max_runs] priorities in [l]: one
    pass, each entry consed onto its priority's run (which [l] giving them

@@ -33,7 +33,7 @@ let () =
       | Corridor_sim.Agent.Position (x, y) -> cur := (x, y)
       | Corridor_sim.Agent.Qr_code_read _ ->
         if not (Hashtbl.mem made !cur) then Hashtbl.replace made !cur h.dispatched
-      | _ -> ()) r.handled;
+      | _ -> ()) (Lazy.force r.handled);
   let map_time x y =
     let best = ref None in
     Hashtbl.iter (fun (px, py) t ->
@@ -58,9 +58,9 @@ let () =
           (List.filter (fun (h : Sim.handled) ->
                (* every percept but the steady stream of positions, and one position in five seconds *)
                Corridor_sim.Agent.percept_name h.percept <> "position"
-               || Float.rem h.dispatched 5.0 < 0.1) r.handled));
+               || Float.rem h.dispatched 5.0 < 0.1) (Lazy.force r.handled)));
       "positions_handled", `Int (List.length (List.filter (fun (h : Sim.handled) ->
-          Corridor_sim.Agent.percept_name h.percept = "position") r.handled));
+          Corridor_sim.Agent.percept_name h.percept = "position") (Lazy.force r.handled)));
       "collisions", `List (List.map (fun (t, (p : Robome.Kinematics.pose)) -> `List [ f t; f p.x; f p.y ]) r.collisions);
       "falls", `List (List.map (fun (t, (p : Robome.Kinematics.pose)) -> `List [ f t; f p.x; f p.y ]) r.falls);
       "map", `List (List.map (fun (x, y, q) -> `List [ f x; f y; `String q; f (map_time x y) ]) r.world_map);

@@ -152,13 +152,41 @@ let args_for env rand =
   let params = match Typing.Tenv.agent_create env "Ag" with Some r -> r.r_params | None -> [] in
   List.map (fun (_, ty) -> Interp.Eval.literal_value env (Parse.expr ~file:"a" (Event_gen.small_literal rand ty))) params
 
+(* Does a percept handler of the program call one of the agent's
+   functions or procedures (Typed_gen writes them)? *)
+let calls_in_handlers env =
+  let module A = Ast in
+  let rec ex (e : A.expr) = match e.it with
+    | Call (g, es) -> Typing.Tenv.agent_function env "Ag" g.it <> None || List.exists ex es
+    | List es -> List.exists ex es
+    | Map kvs -> List.exists (fun (k, v) -> ex k || ex v) kvs
+    | Index (a, b) | Binop (_, a, b) -> ex a || ex b
+    | Of (_, x) | Unop (_, x) | Matches (x, _) -> ex x
+    | Invoke i -> ex i.target || List.exists ex i.args
+    | Lit _ | Name _ | This | Agent | Content | Message -> false
+  and st (s : A.stmt) = match s.it with
+    | Do _ -> true
+    | Assign (_, e) | Local (_, _, e) | Log e | Return (Some e) -> ex e
+    | If (bs, els) -> List.exists (fun (c, b) -> ex c || List.exists st b) bs || (match els with Some b -> List.exists st b | None -> false)
+    | While (c, b) | For (_, c, b) -> ex c || List.exists st b
+    | _ -> false in
+  List.exists (fun (b : Typing.Tenv.behaviour) ->
+      List.exists (fun (h : Typing.Tenv.handler) -> h.h_kind = Typing.Tenv.On_percept && List.exists st h.h_body)
+        (Typing.Tenv.behaviour_handlers env b.b_name)) (Typing.Tenv.behaviours env)
+
+(* Random programs whose percept handlers call functions or procedures and
+   all ran compiled: the random test must meet some (checked after it). *)
+let compiled_calls = ref 0 and random_runs = ref 0
+
 let on_random_programs (prog, seed) =
   let text = Print.program prog in
   let env = check_program ~file:"gen.jade" text in
   let rand = Random.State.make [| seed |] in
   let fuel = random_fuel rand and params = random_params seed rand in
   let agent_args = args_for env rand in
-  ignore (compare_runs ~env ~text ~fuel ~params ~agent_args (random_ops rand env));
+  let (compiled, total) = compare_runs ~env ~text ~fuel ~params ~agent_args (random_ops rand env) in
+  incr random_runs;
+  if compiled = total && total > 0 && calls_in_handlers env then incr compiled_calls;
   true
 
 let constructs_text = lazy (read_file (Filename.concat root "test/fastpath/programs/constructs.jade"))
@@ -205,16 +233,18 @@ let constructs_over_seeds () =
    bodies: the same answer of the guard, events (logs, errors with region
    and message, Ran with effects), properties. [expect] is a piece of what
    the reference records, checked by hand: the case does what it says. *)
-let unit_program guard body =
+let unit_program ?(routines = []) ?(beh_routines = []) guard body =
   let text = Lazy.force constructs_text in
   (* the ontology and the agent, without their behaviours *)
   let cut = match Str_free.find text "cyclic behaviour" 0 with Some i -> i | None -> String.length text in
-  String.sub text 0 cut
+  let lines ls = String.concat "" (List.map (fun l -> "\t" ^ l ^ "\n") ls) in
+  String.sub text 0 cut ^ lines routines
   ^ "cyclic behaviour B for agent Ag\n\tproperty seen as integer = 0\n\n\ton percept when " ^ guard ^ " do\n"
   ^ String.concat "" (List.map (fun l -> "\t\t" ^ l ^ "\n") body)
+  ^ lines beh_routines
 
-let one_handler ?(fuel = 500) ~guard ~body ~percept ~expect () =
-  let text = unit_program guard body in
+let one_handler ?(fuel = 500) ?routines ?beh_routines ~guard ~body ~percept ~expect () =
+  let text = unit_program ?routines ?beh_routines guard body in
   let text = Str_free.replace_first "activate behaviour Work\n\t\tactivate behaviour Other" "activate behaviour B" text in
   let env = check_program ~file:"unit.jade" text in
   let (p, _) = Interp.Eval.percept_value env ~agent_type:"Ag" (Parse.expr ~file:"e" percept) in
@@ -292,6 +322,10 @@ let unit_cases = [
   ("negation", tick, [ "log -k"; "log -ratio" ], "tick(4)", "-4");
   ("a double slot", "content matches level(x)", [ "x = x * 2"; "ratio = x"; "log x" ], "level(1.5)", "ratio=3");
   ("a boolean property", tick, [ "flag = not flag"; "log flag" ], "tick(4)", "flag=true");
+  (* a construction: the schema found at compile time, each slot converted
+     to its type (R1c), the arguments in order *)
+  ("a construction converts its slots", tick, [ "log level(k)"; "log pair(k, 10 / k)"; "log word(\"w\", k)" ], "tick(4)",
+   "log level(4.0) | log pair(4, 2)");
 ]
 
 let unit_tests =
@@ -300,10 +334,55 @@ let unit_tests =
       Alcotest.test_case name `Quick (one_handler ~fuel ~guard ~body ~percept ~expect))
     unit_cases
 
+(* Calls of the agent's and the behaviour's own functions and procedures,
+   compiled (issue 17): each against Eval.Bodies, the reference's answer
+   checked by hand. [routines] are the agent's, [beh] B's. *)
+let call_cases = [
+  ("a procedure's locals are its own", [ "procedure p with total as integer do"; "\tx = total + 1"; "\tlog x" ], [],
+   tick, [ "x = 7"; "do p with total = k"; "log x" ], "tick(4)", "log 5 | log 7");
+  ("a callee sees properties, not the caller's locals", [ "procedure p do"; "\tlog total" ], [],
+   tick, [ "total as integer = 5"; "do p"; "log total" ], "tick(4)", "log 0 | log 5");
+  ("a function's value, positional arguments", [ "function f(a as integer, b as integer) as integer do"; "\treturn a * 10 + b" ], [],
+   tick, [ "log f(k, 2) + f(1, k)" ], "tick(4)", "log 56");
+  ("named arguments, converted to the parameter's type",
+   [ "procedure p with a as double, b as text do"; "\tlog a / 8"; "\tlog b" ], [],
+   tick, [ "do p with b = \"x\", a = k" ], "tick(4)", "log 0.5 | log x");
+  ("recursion", [ "function fact(n as integer) as integer do"; "\tif n <= 1 do"; "\t\treturn 1"; "\treturn n * fact(n - 1)" ], [],
+   tick, [ "log fact(k + 1)" ], "tick(4)", "log 120");
+  ("recursion too deep", [ "function f(n as integer) as integer do"; "\treturn f(n + 1) + 1" ], [],
+   tick, [ "log 1"; "log f(k)"; "log 2" ], "tick(4)", "recursion too deep");
+  ("an error in a callee, at the callee's place", [ "function f(n as integer) as integer do"; "\tx = n - 4"; "\treturn 10 / x" ], [],
+   tick, [ "log f(k)"; "log 2" ], "tick(4)", "division by zero");
+  ("the step budget runs out in a callee", [ "procedure p do"; "\tlog 1"; "\tlog 2"; "\tlog 3" ], [],
+   tick, [ "do p"; "log 4" ], "tick(4)", "step budget");
+  ("a procedure returns early; a function's return in a branch",
+   [ "procedure p with n as integer do"; "\tif n > 2 do"; "\t\treturn"; "\tlog n";
+     "function g(n as integer) as integer do"; "\ttotal = n"; "\tif n > 2 do"; "\t\treturn 7"; "\treturn 8" ], [],
+   tick, [ "do p with n = k"; "do p with n = 1"; "log g(k)"; "log g(1) + total" ], "tick(4)", "log 1 | log 7 | log 9");
+  ("a procedure invokes the host, sends, activates", [ "procedure p with n as integer do"; "\tsend inform tick(n) to aid(\"r\")";
+                                                     "\tactivate behaviour B"; "\tlog n" ], [],
+   tick, [ "do p with n = k" ], "tick(4)", "send inform tick(4) to r | activate B | log 4");
+  ("a behaviour's procedure sees its properties and this", [],
+   [ "procedure q with n as integer do"; "\tseen = seen + n"; "\tlog this = this"; "\tdeactivate this" ],
+   tick, [ "do q with n = k"; "log seen" ], "tick(4)", "seen=4");
+  ("an agent's procedure: this is the agent", [ "procedure p do"; "\tlog this"; "\ttotal = 3" ], [],
+   tick, [ "do p"; "log total" ], "tick(4)", "log agent g");
+  ("a call inside a loop, break after it", [ "function f(n as integer) as integer do"; "\treturn n + 1" ], [],
+   tick, [ "i = 0"; "while true do"; "\ti = f(i)"; "\tif i > k do"; "\t\tbreak"; "log i" ], "tick(4)", "log 5");
+]
+
+let call_tests =
+  List.map (fun (name, routines, beh_routines, guard, body, percept, expect) ->
+      let fuel = if name = "the step budget runs out in a callee" then 4 else 500 in
+      Alcotest.test_case name `Quick (one_handler ~fuel ~routines ~beh_routines ~guard ~body ~percept ~expect))
+    call_cases
+
 (* A handler the compiler does not take falls back, whole, and still
-   agrees. *)
+   agrees: a call in its guard (the entry points do not give a guard a
+   fresh step budget, which a call's tick would need). *)
 let fallback_case () =
-  let text = unit_program tick [ "send inform tick(k) to aid(\"r\")"; "log k" ] in
+  let text = unit_program ~routines:[ "function f(n as integer) as boolean do"; "\treturn n > 0" ]
+      "content matches tick(k) and f(k)" [ "log k" ] in
   let text = Str_free.replace_first "activate behaviour Work\n\t\tactivate behaviour Other" "activate behaviour B" text in
   let env = check_program ~file:"unit.jade" text in
   let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
@@ -335,14 +414,88 @@ let inherited_handler () =
   | (n, t) -> Alcotest.(check int) "both instances' handlers compiled" t n
   | exception QCheck.Test.Test_fail (_, msgs) -> Alcotest.fail (String.concat "\n" msgs)
 
+(* An agent's procedure names the agent's property even where the calling
+   behaviour declares one of the same name (Eval runs it without the
+   behaviour); an error in a callee ends the handler, and the next run of
+   it finds its own slots. *)
+let agent_routine_shadowed () =
+  let text = String.concat "\n" [
+      "ontology W";
+      "\tpredicate tick(n as integer) extends percept with priority = 3";
+      "agent Ag uses ontology W";
+      "\tproperty x as integer = 1";
+      "\ton create do";
+      "\t\tactivate behaviour B";
+      "\tprocedure bump with n as integer do";
+      "\t\tx = x + 100 / (n - 2)";
+      "\t\tlog x";
+      "cyclic behaviour B for agent Ag";
+      "\tproperty x as integer = 50";
+      "\ton percept when content matches tick(k) do";
+      "\t\ty = k";
+      "\t\tdo bump with n = k";
+      "\t\tx = x + y";
+      "\t\tlog x";
+      "" ] in
+  let env = check_program ~file:"shadow.jade" text in
+  let tick n = fst (Interp.Eval.percept_value env ~agent_type:"Ag" (Parse.expr ~file:"e" (Printf.sprintf "tick(%d)" n))) in
+  match compare_runs ~env ~text ~fuel:500 ~params:Mc.default_params ~agent_args:[]
+          ([ Notify (tick 3, 3); Dispatches 1; Notify (tick 2, 3); Dispatches 1; Notify (tick 4, 3); Steps 20 ]
+           (* more errors in the callee than calls may nest: the depth comes
+              back after each *)
+           @ List.concat (List.init 205 (fun _ -> [ Notify (tick 2, 3); Dispatches 1 ]))
+           @ [ Notify (tick 5, 3); Steps 20 ]) with
+  | (n, t) -> Alcotest.(check int) "compiled" t n
+  | exception QCheck.Test.Test_fail (_, msgs) -> Alcotest.fail (String.concat "\n" msgs)
+
+(* The paper's program (examples/robome/robome.jade, which the simulation
+   runs): its four percept handlers compile, the two that call the agent's
+   procedures (each an invoke on the host) included; an obstacle percept
+   runs them as Eval.Bodies does, invoke by invoke. *)
+let robome_compiles () =
+  let text = read_file (Filename.concat root "examples/robome/robome.jade") in
+  let env = check_program ~file:"robome.jade" text in
+  let calls = ref [] in
+  let host = V.Native { nid = 1; cls = "RoboMe"; methods = List.map (fun m -> (m, fun _ -> calls := m :: !calls; V.Unit))
+      [ "startListening"; "callStop"; "callMoveForward"; "callTurnLeft"; "callTurnRight"; "callMoveBackward";
+        "callHeadTiltUp"; "callHeadTiltDown"; "callHeadReset" ] } in
+  let run (applicable, run) percept =
+    let (a, behs) = Interp.Eval.create_agent env ~name:"robome" ~atype:"RoboMe" ~args:[ host ] ~fuel:100 in
+    ignore (Interp.Eval.take_events a);
+    calls := [];   (* on create's *)
+    let b = List.hd behs in
+    let (p, _) = Interp.Eval.percept_value env ~agent_type:"RoboMe" (Parse.expr ~file:"e" percept) in
+    let out = List.map (fun h ->
+        let (a, ok) = applicable a ~id:1 b h p in
+        if ok then ignore (run a ~id:1 b h p);
+        String.concat " | " (List.map Show.event (Interp.Eval.take_events a))) [ 1; 2; 3; 4 ] in
+    (a, b, out, List.rev !calls) in
+  List.iter (fun percept ->
+      let (_, _, ev1, calls1) = run (Interp.Eval.Bodies.percept_applicable, Interp.Eval.Bodies.run_percept_handler) percept
+      and (a, b, ev2, calls2) = run (CB.percept_applicable, CB.run_percept_handler) percept in
+      Alcotest.(check int) "every handler compiled" 4 (CB.compiled_handlers a ~id:1 b);
+      Alcotest.(check (list string)) ("events of " ^ percept) ev1 ev2;
+      Alcotest.(check (list string)) ("host calls of " ^ percept) calls1 calls2)
+    [ "obstacle"; "falling"; "qrCodeRead(\"A-east\")"; "position(1.5, 2)" ];
+  let (_, _, _, calls) = run (CB.percept_applicable, CB.run_percept_handler) "obstacle" in
+  Alcotest.(check (list string)) "obstacle: stop, turn left, forward" [ "callStop"; "callTurnLeft"; "callMoveForward" ] calls
+
 let () =
   Alcotest.run "compiled" [
-    ("constructs", unit_tests @ [ Alcotest.test_case "a send falls back" `Quick fallback_case;
+    ("calls", call_tests @ [ Alcotest.test_case "an agent's procedure, a behaviour's property of its name" `Quick
+                               agent_routine_shadowed;
+                             Alcotest.test_case "robome.jade: every handler compiles, and runs as Eval" `Quick robome_compiles ]);
+    ("constructs", unit_tests @ [ Alcotest.test_case "a call in a guard falls back" `Quick fallback_case;
                                   Alcotest.test_case "an inherited handler, a property of the subtype" `Quick inherited_handler ]);
     ("runs", [
         Alcotest.test_case "every construct and error, 300 seeds, fuel tiny to generous" `Quick constructs_over_seeds;
         qcheck ~count:300 ~long_factor:10 "compiled = reference, random programs and events"
           (QCheck.pair Typed_gen.arb_program QCheck.small_nat) on_random_programs;
+        Alcotest.test_case "the random programs ran calls compiled" `Quick (fun () ->
+            Printf.printf "%d of %d random programs ran handlers with calls, all compiled\n" !compiled_calls !random_runs;
+            if !compiled_calls * 10 < !random_runs then
+              Alcotest.failf "only %d of %d random programs ran handlers with calls, all compiled"
+                !compiled_calls !random_runs);
         Alcotest.test_case "the bench's workload, 50 seeds" `Quick (fun () ->
             let text = Support.bench_workload () in
             let text = Str_free.replace_first "agent Loader" "agent Ag" text in

@@ -690,6 +690,10 @@ let () =
         qcheck ~count:300 "candidates and remove" pq_ops pqueue_candidates;
         qcheck ~count:500 "priority queue under any inserts, pops and removals" pq_any_ops pqueue_any_order;
         qcheck ~count:2000 "transfer's batch insert = inserts one by one" pq_batch pqueue_batch_insert;
+        (* the batch of one priority (the simulation's transfers of one
+           percept): no map of runs is built for it *)
+        qcheck ~count:500 "transfer's batch insert of one priority = inserts one by one" pq_batch
+          (fun (before, batch, shift) -> pqueue_batch_insert (before, List.map (fun (_, s) -> (3, s)) batch, shift));
         qcheck ~count:300 "fqueue is a FIFO" QCheck.(list_of_size Gen.(int_bound 80) small_int) fqueue_is_a_queue ]);
     ("rulings", [
         Alcotest.test_case "R3b ties in seq order" `Quick ties_in_seq_order;
