@@ -580,7 +580,14 @@ let interp_bench () =
   if Sys.getenv_opt "JSREF_BENCH_STEADY_ONLY" = Some "1" then exit 0;
   let floods = List.map (fun n -> interp_flood env n) flood_sizes in
   print_floods floods;
-  let rate_f = (List.nth floods (List.length floods - 1)).overall in   (* the largest *)
+  (* the largest flood twice more: the goal takes the median of the three
+     (one run of a second or so takes the machine's speed of that moment) *)
+  let largest = List.nth floods (List.length floods - 1) in
+  let again = List.init 2 (fun _ -> (interp_flood env largest.n).overall) in
+  let rates = largest.overall :: again in
+  let rate_f = median rates in
+  Printf.printf "  the %dM flood in 3 rounds: %s M/s overall, median %.2fM/s\n%!" (largest.n / 1_000_000)
+    (String.concat ", " (List.map (fun r -> Printf.sprintf "%.2f" (r /. 1e6)) rates)) (rate_f /. 1e6);
   let big = List.nth floods (List.length floods - 1) and small = List.hd floods in
   let bytes = big.live_words *. float_of_int (Sys.word_size / 8) in
   Goals.record ~met:(bytes <= 64.) "2 floods: at most 64 bytes live per waiting percept"
@@ -590,7 +597,7 @@ let interp_bench () =
     (Printf.sprintf "%dM / %dM: %.2f by wall clock" (big.n / 1_000_000) (small.n / 1_000_000) flat);
   let flood_goal steady what =
     Goals.record ~met:(rate_f >= 0.8 *. steady) "2 floods: the 10M flood at least 80% of the steady rate"
-      (Printf.sprintf "%.0f%% (%.2fM/s against %.2fM/s, %s)" (100. *. rate_f /. steady) (rate_f /. 1e6)
+      (Printf.sprintf "%.0f%% (%.2fM/s, the median of 3 floods, against %.2fM/s, %s)" (100. *. rate_f /. steady) (rate_f /. 1e6)
          (steady /. 1e6) what) in
   (* JSREF_BENCH_NO_JADE=1 leaves the JADE baseline out (while developing) *)
   if Sys.getenv_opt "JSREF_BENCH_NO_JADE" = Some "1" then flood_goal rate_s "the first steady run" else begin
@@ -823,20 +830,25 @@ let sim_bench () =
   (* the sim command's GC settings, whatever the parts before set (the
      interpreter's 32 MB minor heap makes the simulation slower) *)
   Corridor_sim.Run.tune_gc ();
+  (* a round is [runs] runs of the scenario (a run takes some 30 ms: one
+     alone would take the machine's speed of that moment, and processor
+     time is counted by the clock's tick) *)
+  let runs = 5 in
   let measure ?agent () =
     List.init rounds (fun _ ->
         Gc.compact ();
         let c0 = Sys.time () in
-        let (sim_s, wall_s) = Corridor_sim.Run.bench ?agent () in
+        let (sim_s, wall_s) = List.fold_left (fun (s, w) () ->
+            let (s', w') = Corridor_sim.Run.bench ?agent () in (s +. s', w +. w')) (0., 0.) (List.init runs ignore) in
         (sim_s, wall_s, Sys.time () -. c0)) in
   let show ?(short = "") what rs =
     let sim_s = (fun (s, _, _) -> s) (List.hd rs) in
     let walls = List.map (fun (_, w, _) -> sim_s /. w) rs and cpus = List.map (fun (_, _, c) -> sim_s /. c) rs in
     let range l = Printf.sprintf "%.0fx-%.0fx" (List.fold_left Float.min infinity l) (List.fold_left Float.max 0. l) in
-    Printf.printf "  %s: %.0f simulated s a run, %d rounds\n" what sim_s rounds;
+    Printf.printf "  %s: %.0f simulated s a run, %d rounds of %d runs\n" what (sim_s /. float_of_int runs) rounds runs;
     Printf.printf "    by wall clock: median %.0fx real time (%s)\n" (median walls) (range walls);
     Printf.printf "    by CPU time:   median %.0fx real time (%s) (goal: at least 10,000x); 1,000 seeds: %.0f s of CPU\n"
-      (median cpus) (range cpus) (1000. *. sim_s /. median cpus);
+      (median cpus) (range cpus) (1000. *. sim_s /. float_of_int runs /. median cpus);
     Goals.record ~met:(median cpus >= 10_000.) ("5 simulation at least 10,000x real time: " ^ short)
       (Printf.sprintf "median %.0fx by CPU time (%s); %.0fx by wall clock" (median cpus) (range cpus) (median walls)) in
   Printf.printf "simulation: the paper scenario with 50 Hz position percepts\n";
