@@ -404,11 +404,17 @@ and routine_code ce (r : T.routine) ~agent_only =
    very schema binds by position, which is what Eval.pattern does there. *)
 and matches ce x (p : Ast.pattern) =
   let x = expr ce x in
+  let test = pattern_test ce p in
+  fun c -> vbool (test c (x c))
+
+(* Whether a value matches [p] (Eval.pattern), the bindings made only
+   when it does, in order. *)
+and pattern_test ce (p : Ast.pattern) : ctx -> V.t -> bool =
   let general c v =
     let binds = ref [] in
     if Eval.pattern c.sf binds p v then begin
-      List.iter (fun (y, v) -> c.slots.(bind ce y) <- v) (List.rev !binds); vtrue
-    end else vfalse in
+      List.iter (fun (y, v) -> c.slots.(bind ce y) <- v) (List.rev !binds); true
+    end else false in
   (* the slots the variables bind, checked now (bind raises Unsupported) *)
   let rec check (p : Ast.pattern) = match p.it with
     | PName y when is_var ce y -> ignore (bind ce y)
@@ -423,25 +429,25 @@ and matches ce x (p : Ast.pattern) =
   | PCons (k, ps) when List.for_all (fun q -> var q <> None) ps ->
     let k = interned ce.env k.it and vars = Array.of_list (List.map (fun q -> Option.get (var q)) ps) in
     let n = Array.length vars in
-    fun c ->
-      (match x c with
-       | V.Schema s as v ->
+    fun c v ->
+      (match v with
+       | V.Schema s ->
          if (s.sname == k || String.equal s.sname k) && Array.length s.slots = n then begin
            for i = 0 to n - 1 do
              let j = Array.unsafe_get vars i in
              if j >= 0 then c.slots.(j) <- !(snd (Array.unsafe_get s.slots i))
            done;
-           vtrue
+           true
          end else general c v
        | v -> general c v)
   | PName k when not (is_var ce k) ->
     (* a schema: the value's own is Eval.pattern's first case *)
     let k = interned ce.env k in
-    fun c ->
-      (match x c with
-       | V.Schema s as v -> if s.sname == k || String.equal s.sname k then vtrue else general c v
+    fun c v ->
+      (match v with
+       | V.Schema s -> if s.sname == k || String.equal s.sname k then true else general c v
        | v -> general c v)
-  | _ -> fun c -> general c (x c)
+  | _ -> general
 
 and block ce (b : Ast.block) : ctx -> unit =
   match List.map (stmt ce) b with
@@ -641,6 +647,10 @@ let compile env (bt : T.behaviour) (at : T.agent) (h : T.handler) : code option 
     scan_block ce h.h_body;
     let guard = match h.h_guard with
       | None -> None
+      | Some { it = Matches ({ it = Content; _ }, p); _ } ->
+        (* the common guard: the percept matched as it is, a boolean at once *)
+        let test = pattern_test { ce with in_guard = true } p in
+        Some (fun c -> test c c.content)
       | Some g ->
         let x = expr { ce with in_guard = true } g and gat = g.at in
         Some (fun c -> match x c with
@@ -881,9 +891,12 @@ let percept_handle (a : Eval.agent) ~id (b : Eval.beh) h p : (Eval.agent, Eval.b
       (try code.body c with
        | Ret | Brk | Cont -> ()
        | x -> Eval.recover a x);
-      match Eval.take_ran a h with
-      | [] when c.ag == a -> c.handled
-      | effs -> Handled (a, effs)
+      (* Eval.take_ran, which has nothing to do when the body had no
+         effect and no Ran event is kept *)
+      if a.effects == [] && not a.record_ran && c.ag == a then c.handled
+      else match Eval.take_ran a h with
+        | [] when c.ag == a -> c.handled
+        | effs -> Handled (a, effs)
     end
 
 let compiled_handlers a ~id b =
