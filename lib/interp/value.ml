@@ -12,7 +12,11 @@ module Int_table = struct
     | Nil -> d
     | Cons c -> if c.key = k then c.data else find_or k d c.next
 
-  let find_default t k d = find_or k d (Array.unsafe_get t.places (index t k))
+  (* the first of its place's keys asked at once (a key is mostly alone there) *)
+  let[@inline] find_default t k d =
+    match Array.unsafe_get t.places (index t k) with
+    | Cons c when c.key = k -> c.data
+    | b -> find_or k d b
 
   (* Twice as many places once there are twice as many keys as places. *)
   let grow t =
@@ -155,7 +159,10 @@ let rec set_in_bucket k v = function
 let map_set m k v =
   let h = key_hash k in
   let bucket = Int_table.find_default m.table h [] in
-  if not (set_in_bucket k v bucket) then begin
+  let found = match bucket with
+    | (k', r) :: _ when same_key k k' -> r := v; true
+    | _ -> set_in_bucket k v bucket in
+  if not found then begin
     let r = ref v in
     Int_table.replace m.table h ((k, r) :: bucket);
     m.order <- (k, r) :: m.order;
