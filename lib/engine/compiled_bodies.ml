@@ -429,6 +429,15 @@ and pattern_test ce (p : Ast.pattern) : ctx -> V.t -> bool =
   | PCons (k, ps) when List.for_all (fun q -> var q <> None) ps ->
     let k = interned ce.env k.it and vars = Array.of_list (List.map (fun q -> Option.get (var q)) ps) in
     let n = Array.length vars in
+    if n = 1 && vars.(0) >= 0 then begin
+      (* one variable, the common [content matches S(x)] *)
+      let j = vars.(0) in
+      fun c v ->
+        (match v with
+         | V.Schema { sname; slots = [| (_, r) |] } when sname == k || String.equal sname k ->
+           Array.unsafe_set c.slots j !r; true
+         | v -> general c v)
+    end else
     fun c v ->
       (match v with
        | V.Schema s ->
