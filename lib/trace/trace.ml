@@ -412,11 +412,25 @@ let rec plain s i n =
   || (let c = String.unsafe_get s i in
       c >= ' ' && c <> '"' && c <> '\\' && c <> '\x7F' && plain s (i + 1) n)
 
+(* The last few texts found to need no escape, by address: a trace writes
+   the same few names (the agent's, its behaviours', a percept's text on
+   its notify, dequeue and handle lines) again and again, and a string
+   does not change. *)
+let plain_seen = Array.make 8 ""
+let plain_next = ref 0
+
+let known_plain s n =
+  let a = plain_seen in
+  s == Array.unsafe_get a 0 || s == Array.unsafe_get a 1 || s == Array.unsafe_get a 2
+  || s == Array.unsafe_get a 3 || s == Array.unsafe_get a 4 || s == Array.unsafe_get a 5
+  || s == Array.unsafe_get a 6 || s == Array.unsafe_get a 7
+  || (plain s 0 n && begin a.(!plain_next) <- s; plain_next := (!plain_next + 1) land 7; true end)
+
 (* A text as a JSON string: copied at once when it needs no escape,
    otherwise by Yojson. *)
 let write_string o s =
   let n = String.length s in
-  if plain s 0 n then begin
+  if known_plain s n then begin
     room o (n + 2);
     let b = o.b and p = o.p in
     Bytes.unsafe_set b p '"';
