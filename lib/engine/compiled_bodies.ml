@@ -825,6 +825,29 @@ let percept_kind = Interp_bodies.percept_kind
    rule, on the same agent). D38. *)
 let guards = ref 0
 
+(* A compiled guard on percept [p]: what the reference leaves in
+   [a.pending] for a body of another handler is nothing it can use (the
+   bindings wait here), the slots its head does not bind start empty; an
+   error makes it false and is recorded. *)
+let[@inline] guard_holds (a : Eval.agent) ~id code c p =
+  (match a.pending with None -> () | Some _ -> a.pending <- None);
+  let reset = code.reset in
+  for i = 0 to Array.length reset - 1 do
+    Array.unsafe_set c.slots (Array.unsafe_get reset i) unset
+  done;
+  c.content <- p;
+  c.id <- id;
+  match code.guard with
+  | None -> true
+  | Some g -> (try g c with x when Eval.record_error a x -> false)
+
+(* A compiled body, on a fresh step budget; an error ends it, recorded. *)
+let[@inline] run_body (a : Eval.agent) code c =
+  Eval.reset_fuel c.sf;
+  try code.body c with
+  | Ret | Brk | Cont -> ()
+  | x -> Eval.recover a x
+
 (* R3b, as Eval.Bodies.percept_applicable: the guard in fresh locals; an
    error makes the handler not applicable and is recorded. No pre-test
    here: a guard whose leftmost [content matches S...] is false is false at
@@ -835,18 +858,7 @@ let percept_applicable (a : Eval.agent) ~id (b : Eval.beh) h p =
   match k.handlers.(h - 1) with
   | Fallback -> with_inner b k (fun () -> Interp_bodies.percept_applicable a ~id b h p)
   | Compiled (code, c) ->
-    (* what the reference leaves in [a.pending] for a body of another
-       handler: nothing it can use (the bindings wait here) *)
-    (match a.pending with None -> () | Some _ -> a.pending <- None);
-    let reset = code.reset in
-    for i = 0 to Array.length reset - 1 do
-      Array.unsafe_set c.slots (Array.unsafe_get reset i) unset
-    done;
-    c.content <- p;
-    c.id <- id;
-    let ok = match code.guard with
-      | None -> true
-      | Some g -> (try g c with x when Eval.record_error a x -> false) in
+    let ok = guard_holds a ~id code c p in
     c.armed <- (if ok then !guards else -1);
     if c.ag != a then (a, ok) else if ok then c.yes else c.no
 
@@ -864,10 +876,7 @@ let run_percept_handler (a : Eval.agent) ~id (b : Eval.beh) h p =
       c.content <- p; c.id <- id
     end;
     incr guards;   (* the bindings are used once *)
-    Eval.reset_fuel c.sf;
-    (try code.body c with
-     | Ret | Brk | Cont -> ()
-     | x -> Eval.recover a x);
+    run_body a code c;
     match Eval.take_ran a h with
     | [] when c.ag == a -> c.ran
     | effs -> (a, effs)
@@ -882,24 +891,11 @@ let percept_handle (a : Eval.agent) ~id (b : Eval.beh) h p : (Eval.agent, Eval.b
   | Fallback -> Fast.handle_in_two percept_applicable run_percept_handler a ~id b h p
   | Compiled (code, c) ->
     incr guards;
-    (match a.pending with None -> () | Some _ -> a.pending <- None);
-    let reset = code.reset in
-    for i = 0 to Array.length reset - 1 do
-      Array.unsafe_set c.slots (Array.unsafe_get reset i) unset
-    done;
-    c.content <- p;
-    c.id <- id;
     c.armed <- -1;
-    let ok = match code.guard with
-      | None -> true
-      | Some g -> (try g c with x when Eval.record_error a x -> false) in
-    if not ok then (if c.ag != a then Not_applicable a else c.skipped)
+    if not (guard_holds a ~id code c p) then (if c.ag != a then Not_applicable a else c.skipped)
     else begin
       incr guards;
-      Eval.reset_fuel c.sf;
-      (try code.body c with
-       | Ret | Brk | Cont -> ()
-       | x -> Eval.recover a x);
+      run_body a code c;
       (* Eval.take_ran, which has nothing to do when the body had no
          effect and no Ran event is kept *)
       if a.effects == [] && not a.record_ran && c.ag == a then c.handled
