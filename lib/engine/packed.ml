@@ -723,7 +723,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
           done;
           t.plain_mask <- 0;
           Pqueue.of_runs !runs
-        end else Pqueue.insert_newest_first_list (take_plain t) c.pq in
+        end else Pqueue.insert_newest_first (fun add -> List.iter add (take_plain t)) c.pq in
       let (l, c) = F.transfer_into { c with next_seq = c.next_seq + n; phase = Transfer_phase } pq n in
       t.c <- c;
       Some l

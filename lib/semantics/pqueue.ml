@@ -157,52 +157,6 @@ let insert_newest_first feed q =
     !q
   end
 
-(* Into an empty queue, with at most [max_runs] priorities in [l]: one
-   pass, each entry consed onto its priority's run (which [l] giving them
-   newest first leaves oldest first), the runs in a small fresh array of
-   the priorities met. Otherwise, [insert_newest_first]. *)
-let max_runs = 8
-
-let insert_newest_first_list l q =
-  let general () = insert_newest_first (fun add -> List.iter add l) q in
-  if q.size <> 0 then general ()
-  else begin
-    let prios = Array.make max_runs min_int and runs = Array.make max_runs []
-    and lens = Array.make max_runs 0 and lasts = Array.make max_runs min_int in
-    let rec find p i nr = if i = nr then -1 else if Array.unsafe_get prios i = p then i else find p (i + 1) nr in
-    (* [cur]: the run of the entry before; [nr] runs so far *)
-    let rec go cur nr = function
-      | [] -> nr
-      | e :: rest ->
-        let p = e.prio in
-        let i = if Array.unsafe_get prios cur = p then cur else find p 0 nr in
-        if i >= 0 then begin
-          Array.unsafe_set runs i (e :: Array.unsafe_get runs i);
-          Array.unsafe_set lens i (Array.unsafe_get lens i + 1);
-          go i nr rest
-        end else if nr = max_runs then -1
-        else begin
-          (* the newest entry of its priority: the run's largest seq *)
-          prios.(nr) <- p; runs.(nr) <- [ e ]; lens.(nr) <- 1; lasts.(nr) <- e.seq;
-          go nr (nr + 1) rest
-        end in
-    match go 0 0 l with
-    | -1 -> general ()
-    | 0 -> q
-    | nr ->
-      let hi = ref 0 in
-      for i = 1 to nr - 1 do if prios.(i) > prios.(!hi) then hi := i done;
-      let hi = !hi in
-      let rest = ref Prio_map.empty and size = ref 0 in
-      for i = 0 to nr - 1 do
-        size := !size + lens.(i);
-        if i <> hi then
-          rest := Prio_map.add prios.(i) { q = Fqueue.of_list_length runs.(i) lens.(i); last = lasts.(i) } !rest
-      done;
-      { hi = prios.(hi); top = Fqueue.of_list_length runs.(hi) lens.(hi); top_last = lasts.(hi);
-        rest = !rest; size = !size }
-  end
-
 let of_runs runs =
   let rec go q = function
     | [] -> q

@@ -57,13 +57,6 @@ val remove : 'p entry -> 'p t -> 'p t
 val mem : 'p entry -> 'p t -> bool
 (** O(size of the entry's bucket). *)
 
-val insert_newest_first_list : 'p entry list -> 'p t -> 'p t
-(** [insert_newest_first_list l q]: [insert_newest_first (fun add ->
-    List.iter add l) q], [l] in decreasing seq order. Into an empty queue
-    (the agent loop's Transfer after a dispatch that emptied it) each
-    priority's run is gathered by a pass over [l], consed oldest first,
-    with no closure call or reference per entry. *)
-
 val of_runs : (int * 'p entry list * int * int) list -> 'p t
 (** [of_runs [(prio, entries, n, last); ...]]: the queue of those entries,
     each [entries] of priority [prio], [n] of them, in seq order, the last

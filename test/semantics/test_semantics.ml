@@ -126,18 +126,14 @@ let pqueue_batch_insert (before, batch, shift) =
       Pqueue.insert { e with p = e.p + 1000; seq = e.seq - 1 } q) q batch in
   let same a b = Pqueue.size a = Pqueue.size b && drain a [] = drain b [] && Pqueue.runs a = Pqueue.runs b
                  && drain (more a) [] = drain (more b) [] in
-  (* the same from a list, into this queue and into an empty one (its own
-     path, one pass; more than 8 priorities fall back) *)
-  let from_empty = List.fold_left (fun q e -> Pqueue.insert e q) Pqueue.empty batch in
   (* and from runs, one per priority, into an empty queue *)
+  let from_empty = List.fold_left (fun q e -> Pqueue.insert e q) Pqueue.empty batch in
   let prios = List.sort_uniq compare (List.map (fun (e : int Pqueue.entry) -> e.prio) batch) in
   let runs = List.map (fun prio ->
       let run = List.filter (fun (e : int Pqueue.entry) -> e.prio = prio) batch in
       (prio, run, List.length run, (List.nth run (List.length run - 1)).seq)) prios in
   same at_once one_by_one
   && same (Pqueue.of_runs runs) from_empty
-  && same (Pqueue.insert_newest_first_list (List.rev batch) q0) one_by_one
-  && same (Pqueue.insert_newest_first_list (List.rev batch) Pqueue.empty) from_empty
 
 let fqueue_is_a_queue l =
   let q = List.fold_left (fun q x -> Fqueue.push x q) Fqueue.empty l in
