@@ -435,22 +435,50 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
   (* The seq of a bucket's record of header [h]. *)
   let[@inline] seq_in b h = if is_word h then b.base + word_x h else x_of h
 
-  (* The front record of a bucket, decoded into its entry (not removed). *)
-  let front_entry t b =
-    let h = Ring.get b.ring 0 in
-    { p = percept_at t b.ring h ~pos:0 ~box:0; prio = b.bprio; seq = seq_in b h }
+  (* A bucket's record of header [h] at [pos], its boxes from the [box]th,
+     decoded into its entry (not removed). *)
+  let[@inline] entry_at t b h ~pos ~box = { p = percept_at t b.ring h ~pos ~box; prio = b.bprio; seq = seq_in b h }
 
-  (* Dequeue's pop (R3b): the highest bucket's oldest record, decoded. *)
-  let pop t =
-    let b = top_bucket t in
-    let h = Ring.get b.ring 0 in
-    let e = { p = percept_at t b.ring h ~pos:0 ~box:0; prio = b.bprio; seq = seq_in b h } in
-    let ni = ints_of h and nb = boxes_of h in
-    Ring.drop b.ring ni;
-    for _ = 1 to nb do Ring.drop_box b.ring done;
+  let front_entry t b = entry_at t b (Ring.get b.ring 0) ~pos:0 ~box:0
+
+  (* Dequeue's pops (R3b), the highest bucket's oldest record first: a
+     reader takes the records in place, bucket by bucket, and drops what it
+     has read from its bucket's front once ([settle]): when the bucket's
+     records of the priority queue are all taken, when a chunk has been
+     read (it goes back to the pool), or when the caller is done. Nothing
+     else may read or change the buckets before [settle]. *)
+  type reader = { mutable rb : bucket; mutable pos : int; mutable box : int; mutable taken : int }
+
+  let reader t = { rb = top_bucket t; pos = 0; box = 0; taken = 0 }
+
+  let settle t r =
+    let b = r.rb in
+    Ring.drop b.ring r.pos;
+    for _ = 1 to r.box do Ring.drop_box b.ring done;
     Ring.shrink b.ring;
-    b.nrec <- b.nrec - 1; b.tn <- b.tn - 1; b.tpos <- b.tpos - ni; b.tbox <- b.tbox - nb;
-    t.pq_n <- t.pq_n - 1;
+    b.nrec <- b.nrec - r.taken; b.tn <- b.tn - r.taken;
+    b.tpos <- b.tpos - r.pos; b.tbox <- b.tbox - r.box;
+    t.pq_n <- t.pq_n - r.taken;
+    r.pos <- 0; r.box <- 0; r.taken <- 0
+
+  (* The next record, decoded; there is one when [pq_n] exceeds what the
+     reader has taken. *)
+  let read_next t r =
+    if r.taken = r.rb.tn then begin settle t r; r.rb <- top_bucket t end;
+    let b = r.rb in
+    let h = Ring.get b.ring r.pos in
+    let e = entry_at t b h ~pos:r.pos ~box:r.box in
+    r.pos <- r.pos + ints_of h;
+    r.box <- r.box + boxes_of h;
+    r.taken <- r.taken + 1;
+    if r.pos > Ring.chunk_mask b.ring then settle t r;
+    e
+
+  (* One pop: a reader of one record. *)
+  let pop t =
+    let r = reader t in
+    let e = read_next t r in
+    settle t r;
     e
 
   (* ------------------------------------------------ packing, projecting *)
@@ -695,9 +723,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
               if s < !best_seq then begin best := b; best_seq := s end
             end) t.buckets;
         let b = !best in
-        let h = Ring.get b.ring b.tpos in
-        Fqueue.push (O_percept { p = percept_at t b.ring h ~pos:b.tpos ~box:b.tbox; prio = b.bprio; seq = !best_seq })
-          c.o2a
+        Fqueue.push (O_percept (entry_at t b (Ring.get b.ring b.tpos) ~pos:b.tpos ~box:b.tbox)) c.o2a
       end in
     let pq = if t.pq_n = 0 then Pqueue.empty else Pqueue.insert (front_entry t (top_bucket t)) Pqueue.empty in
     { c with o2a; pq }
@@ -789,32 +815,11 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
       (* the percepts popped from the buckets one by one, as long as
          Dequeue would be enabled: some wait, the budget is not spent *)
       let left = if t.p.variant = Budgeted then min max (t.p.budget - t.c.dispatched) else max in
-      (* the records read in place, bucket by bucket, each bucket's front
-         dropped once (a dispatch adds nothing to the queue, and nothing
-         else reads it meanwhile): what [pop] does, in fewer steps *)
-      let b = ref (top_bucket t) and pos = ref 0 and box = ref 0 and taken = ref 0 in
-      let settle () =
-        let bk = !b in
-        Ring.drop bk.ring !pos;
-        for _ = 1 to !box do Ring.drop_box bk.ring done;
-        Ring.shrink bk.ring;
-        bk.nrec <- bk.nrec - !taken; bk.tn <- bk.tn - !taken;
-        bk.tpos <- bk.tpos - !pos; bk.tbox <- bk.tbox - !box;
-        t.pq_n <- t.pq_n - !taken;
-        pos := 0; box := 0; taken := 0 in
-      let next () =
-        if !taken = (!b).tn then begin settle (); b := top_bucket t end;
-        let bk = !b in
-        let h = Ring.get bk.ring !pos in
-        let e = { p = percept_at t bk.ring h ~pos:!pos ~box:!box; prio = bk.bprio; seq = seq_in bk h } in
-        pos := !pos + ints_of h;
-        box := !box + boxes_of h;
-        incr taken;
-        (* a chunk read: dropped, back to the pool *)
-        if !pos > Ring.chunk_mask bk.ring then settle ();
-        e in
-      let (c, n) = F.dispatch_from t.p t.c (min left t.pq_n) next in
-      settle ();
+      (* one reader for the run: a dispatch adds nothing to the queue, and
+         nothing else reads it meanwhile *)
+      let r = reader t in
+      let (c, n) = F.dispatch_from t.p t.c (min left t.pq_n) (fun () -> read_next t r) in
+      settle t r;
       t.c <- c;
       maybe_unpack t;
       n
