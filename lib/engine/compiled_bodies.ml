@@ -568,19 +568,14 @@ and stmt ce (s : Ast.stmt) : ctx -> unit =
       let kvs = List.map (fun (n, e) -> (n, e c)) args in
       Eval.activate_at c.sf ~depth:c.depth at b kvs
   | Send (perf, k, rs) ->
-    (* Eval.stmt's Send, word for word *)
+    (* Eval.stmt's Send: the content, then each receiver in order *)
     let perf = perf.it and kat = k.at and k = expr ce k
     and rs = List.map (fun (r : Ast.expr) -> (expr ce r, r.at)) rs in
     fun c ->
       tick c at;
       let content = Eval.bounded_text ~quote:true kat (k c) in
-      let receivers = List.concat_map (fun (r, rat) -> match r c with
-          | V.Aid a -> [ a ]
-          | V.List l -> List.map (function V.Aid a -> a | v -> Eval.err rat "a receiver is an aid, not a %s" (V.type_name v)) (V.list_items l)
-          | v -> Eval.err rat "a receiver is an aid, not a %s" (V.type_name v)) rs in
-      let a = c.ag in
-      List.iter (fun r -> a.outbox <- (r, { Eval.perf; content; sender = a.name }) :: a.outbox) receivers;
-      a.events <- Eval.Sent { perf; content; receivers } :: a.events
+      let receivers = List.concat_map (fun (r, rat) -> Eval.receivers_of rat (r c)) rs in
+      Eval.post_send c.ag perf content receivers
 
 (* Eval.assign: the value is computed first, then the place. *)
 and assign ce (lv : Ast.lvalue) : ctx -> V.t -> unit =

@@ -46,9 +46,9 @@ module Make (B : BODIES) = struct
     (l, { c with pq; o2a = (if objects = [] then Fqueue.empty else Fqueue.of_list objects);
                  phase = Dispatch_phase; dispatched = 0; last = l })
 
-  (* The same where O2A holds exactly [items], [n] percepts newest first
-     (no object), [c.o2a] being empty: as [transfer] on the configuration
-     whose O2A holds them, without building that queue. *)
+  (* The same where O2A holds [n] percepts and no object, and [pq] is the
+     priority queue they make with [c]'s: as [transfer] on the
+     configuration whose O2A holds them, without building that queue. *)
   let transfer_into (c : M.t) pq n : M.lbl * M.t =
     let l = Transfer n in
     (l, { c with pq; o2a = Fqueue.empty; phase = Dispatch_phase; dispatched = 0; last = l })
@@ -205,8 +205,6 @@ module Make (B : BODIES) = struct
                       phase = Dispatch_phase; last = l } in
     match bs with Some s -> M.with_bs c' s | None -> c'
 
-  (* Dequeue of [e], already taken from the priority queue (which is now
-     [pq]), then its handlers and EndDispatch. *)
   (* The handlers of a plan, unobserved: the ones left out are Skips that
      change nothing and write no label. Once a body has effects, the rest
      of the snapshot from that handler on is taken by [dispatch_handlers]
@@ -232,6 +230,8 @@ module Make (B : BODIES) = struct
       dispatch_plan p c e world false plan.from plan.pbehs
     else dispatch_handlers None p c e world false None k.todo k.behs
 
+  (* Dequeue of [e], already taken from the priority queue (which is now
+     [pq]), then its handlers and EndDispatch. *)
   let dispatch_popped observe p (c : M.t) e pq =
     (match observe with Some f -> f (Dequeue e) | None -> ());
     let k = handlers_and_behs c in

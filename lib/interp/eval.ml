@@ -377,6 +377,17 @@ and literal = function
 
 (* [invoke] once its target and arguments are evaluated (in that order):
    each argument's literal within D21's bound, then the host's method. *)
+(* A send's receivers: an aid, or a list of aids (R6). *)
+let receivers_of at = function
+  | V.Aid a -> [ a ]
+  | V.List l -> List.map (function V.Aid a -> a | v -> err at "a receiver is an aid, not a %s" (V.type_name v)) (V.list_items l)
+  | v -> err at "a receiver is an aid, not a %s" (V.type_name v)
+
+(* The message of a send, in each receiver's outbox entry, and the event. *)
+let post_send (a : agent) perf content receivers =
+  List.iter (fun r -> a.outbox <- (r, { perf; content; sender = a.name }) :: a.outbox) receivers;
+  a.events <- Sent { perf; content; receivers } :: a.events
+
 let invoke_values (a : agent) at (i : Ast.invoke) target vs =
   let args = List.map2 (fun (e : Ast.expr) v -> bounded_text ~quote:true e.at v) i.args vs in
   match target with
@@ -563,12 +574,8 @@ and stmt (f : frame) (s : Ast.stmt) =
      | None -> err s.at "deactivate this outside a behaviour")
   | Send (perf, c, rs) ->
     let content = bounded_text ~quote:true c.at (expr f c) in
-    let receivers = List.concat_map (fun r -> match expr f r with
-        | V.Aid a -> [ a ]
-        | V.List l -> List.map (function V.Aid a -> a | v -> err r.at "a receiver is an aid, not a %s" (V.type_name v)) (V.list_items l)
-        | v -> err r.at "a receiver is an aid, not a %s" (V.type_name v)) rs in
-    List.iter (fun r -> f.ag.outbox <- (r, { perf = perf.it; content; sender = f.ag.name }) :: f.ag.outbox) receivers;
-    f.ag.events <- Sent { perf = perf.it; content; receivers } :: f.ag.events
+    let receivers = List.concat_map (fun (r : Ast.expr) -> receivers_of r.at (expr f r)) rs in
+    post_send f.ag perf.it content receivers
   | Log e -> let v = bounded_text ~quote:false e.at (expr f e) in f.ag.events <- Log (V.to_text v) :: f.ag.events
   | If (branches, els) ->
     let rec go = function

@@ -284,6 +284,15 @@ val agent_frame : frame -> frame
     from this frame's code: no behaviour, no content, fresh locals, the
     same step budget (shared, as a call's). *)
 
+val receivers_of : Syntax.Source.region -> Value.t -> string list
+(** The receivers a value of a [send] names: an aid, or a list of aids;
+    the error otherwise, at the region given. *)
+
+val post_send : agent -> string -> Value.t -> string list -> unit
+(** [post_send a perf content receivers]: the message in each receiver's
+    outbox entry of [a], and the [Sent] event, as a [send] does once its
+    content and receivers are evaluated. *)
+
 val invoke_values : agent -> Syntax.Source.region -> Syntax.Ast.invoke -> Value.t -> Value.t list -> Value.t
 (** [invoke] at a region (the statement's or the expression's), once its
     target and its arguments are evaluated, in that order: each
