@@ -93,8 +93,6 @@ let tag c (s : V.schema_v) =
       let t = by_text c s last 0 in
       if t >= 0 then t else if c.n < max_kinds then add c s ~texts:n else boxed_tag
 
-(* The tag and int of a percept of one 32-bit int slot (D8), for a word
-   (D39); 0 for any other. *)
 let min32 = - (1 lsl 31) and max32 = (1 lsl 31) - 1
 
 (* The tag of a schema of the one slot [name], written as [how]: the kind
@@ -142,6 +140,8 @@ let encode c (p : V.t) r =
     t
   | _ -> Packed.Ring.push_box r p; boxed_tag
 
+(* The tag and int of a percept of one 32-bit int slot (D8), or the tag of
+   one of no slot, for a word (D39); 0 for any other. *)
 let encode_one c (p : V.t) =
   match p with
   | V.Schema ({ slots = [| (name, v) |]; _ } as s) ->
