@@ -43,6 +43,23 @@ let log_grow l =
   l.d_notified <- floats l.d_notified; l.d_dispatched <- floats l.d_dispatched; l.d_kind <- ints l.d_kind;
   l.d_x <- floats l.d_x; l.d_y <- floats l.d_y; l.d_text <- texts l.d_text; l.d_source <- texts l.d_source
 
+(* One more dispatch, at the end of the columns. *)
+let[@inline] log_add l ~seq ~priority ~handlers ~notified ~dispatched ~source (percept : Agent.percept) =
+  if l.d_n = Array.length l.d_seq then log_grow l;
+  let i = l.d_n in
+  l.d_n <- i + 1;
+  Array.unsafe_set l.d_seq i seq;
+  Array.unsafe_set l.d_priority i priority;
+  Array.unsafe_set l.d_handlers i handlers;
+  Array.unsafe_set l.d_notified i notified;
+  Array.unsafe_set l.d_dispatched i dispatched;
+  Array.unsafe_set l.d_source i source;
+  match percept with
+  | Falling -> Array.unsafe_set l.d_kind i 0
+  | Obstacle -> Array.unsafe_set l.d_kind i 1
+  | Qr_code_read text -> Array.unsafe_set l.d_kind i 2; Array.unsafe_set l.d_text i text
+  | Position (x, y) -> Array.unsafe_set l.d_kind i 3; Array.unsafe_set l.d_x i x; Array.unsafe_set l.d_y i y
+
 (* the [i]th dispatch as a record *)
 let log_get l i : handled =
   let percept : Agent.percept = match l.d_kind.(i) with
@@ -329,21 +346,8 @@ module Make (A : Agent.AGENT) = struct
              | Some x -> x | None -> (d.percept, d.priority, "?", clk.now) in
            Seq_table.remove outstanding d.seq;
            ignore pc;
-           if log.d_n = Array.length log.d_seq then log_grow log;
-           let i = log.d_n in
-           log.d_n <- i + 1;
-           Array.unsafe_set log.d_seq i d.seq;
-           Array.unsafe_set log.d_priority i prio;
-           Array.unsafe_set log.d_handlers i d.handlers_run;
-           Array.unsafe_set log.d_notified i t0;
-           Array.unsafe_set log.d_dispatched i clk.now;
-           Array.unsafe_set log.d_source i src;
-           (match d.percept with
-            | Falling -> Array.unsafe_set log.d_kind i 0
-            | Obstacle -> Array.unsafe_set log.d_kind i 1
-            | Qr_code_read text -> Array.unsafe_set log.d_kind i 2; Array.unsafe_set log.d_text i text
-            | Position (x, y) ->
-              Array.unsafe_set log.d_kind i 3; Array.unsafe_set log.d_x i x; Array.unsafe_set log.d_y i y);
+           log_add log ~seq:d.seq ~priority:prio ~handlers:d.handlers_run ~notified:t0 ~dispatched:clk.now
+             ~source:src d.percept;
            if trace then
              tr "%.6f dispatch seq=%d %s prio=%d latency=%.6f handlers=%d" clk.now d.seq
                (Agent.percept_to_string d.percept) prio (clk.now -. t0) d.handlers_run
