@@ -222,12 +222,15 @@ let explorer_bench () =
 
 module P = Interp.Runtime.P
 module M = P.M
-module E = Interp.Runtime.E   (* the fast engine: what runs programs *)
 module V = Interp.Value
 
 (* The packed agent (lib/engine/packed.ml): the fast engine with the waiting
-   percepts as ints in rings, what the steady run and the floods drive. *)
-module PK = Engine.Packed.Make (Engine.Compiled_bodies) (Engine.Percept_codec)
+   percepts as ints in rings, what the steady run and the floods drive. Its
+   compiled bodies keep what they know of each behaviour instance (checked
+   to be that very instance), so one application serves the bench's
+   agents, one after the other. *)
+module CB = Engine.Private.Compiled_bodies.Make ()
+module PK = Engine.Private.Packed.Make (CB) (Engine.Private.Percept_codec)
 
 let load_program file =
   let r = Syntax.Parse.file file in
@@ -259,15 +262,17 @@ let percept_maker env =
 let machine_params = Semantics.Machine.default_params
 
 let new_agent env =
-  let (a, behs) = Interp.Eval.create_agent env ~name:"l" ~atype:"Loader" ~args:[] ~fuel:1000 in
-  a.record_ran <- false;   (* no trace is written *)
+  (* no trace is written: no record of each handler's effects *)
+  let config = { Interp.Eval.default_config with fuel = 1000; record_effects = false } in
+  let (a, behs) = Interp.Eval.create_agent ~config env ~name:"l" ~atype:"Loader" ~args:[] in
   PK.of_config machine_params (M.init machine_params ~world:a behs)
 
 (* Run the packed agent until idle, one [PK.step] at a time except that the
    dispatches of one iteration (each Dequeue, Handle or Skip per handler,
    EndDispatch) are taken as one run ([PK.dispatch_run]; with [every], runs
-   of at most that many), the bodies' events read after it; count the
-   percepts that left and call [window] every [every] of them. *)
+   of at most that many); count the percepts that left and call [window]
+   every [every] of them. The program logs nothing and no trace is
+   written: the bodies record no event. *)
 let drain ?(every = 0) ?(window = fun _ -> ()) t =
   let handled = ref 0 in
   let rec go () =
@@ -275,8 +280,6 @@ let drain ?(every = 0) ?(window = fun _ -> ()) t =
     match PK.dispatch_run ?max t with
     | 0 -> (match PK.step t with None -> () | Some _ -> go ())
     | n ->
-      (* a caller reads the bodies' events after each run *)
-      ignore (Interp.Eval.take_events (PK.world t));
       handled := !handled + n;
       if every > 0 && !handled mod every = 0 then window !handled;
       go () in
@@ -317,7 +320,7 @@ let interp_where env total =
   let words0 = Gc.minor_words () and minors0 = (Gc.quick_stat ()).minor_collections in
   let count l = incr steps; let i = rule l in counts.(i) <- counts.(i) + 1 in
   let rec go () =
-    if PK.dispatch ~observe:count t then begin ignore (Interp.Eval.take_events (PK.world t)); go () end
+    if PK.dispatch ~observe:(fun l w -> count l; w) t then go ()
     else match PK.step t with
       | None -> ()
       | Some l -> count l; go () in

@@ -82,10 +82,11 @@ let flush_stdout_quietly () = try flush stdout with Sys_error _ -> close_out_noe
 let try_writes : (string -> unit) ref =
   ref (fun m -> prerr_endline ("jadescript-ref: error: " ^ m); raise (Stop 1))
 
-let run files agent_specs events_file trace_file seed max_steps variant fuel capacity max_memory defect =
+let run files agent_specs events_file trace_file seed max_steps variant fuel capacity max_memory defect reference =
   match
+    let engine = if reference then Interp.Runtime.Reference else Interp.Runtime.Fast in
     let hooks = match defect with
-      | None -> Interp.Runtime.reference_hooks
+      | None -> Interp.Runtime.hooks_of engine
       | Some name ->
         (match Defects.find name with
          | Some d -> d.hooks
@@ -104,7 +105,6 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
     let fuel = Option.get (number ~opt:"fuel" ~lo:1 ~hi:int_max ~what:"statements per handler or step" (Some fuel)) in
     let capacity = number ~opt:"o2a-capacity" ~lo:1 ~hi:int_max ~what:"places in each O2A queue" capacity in
     let max_memory = number ~opt:"max-memory" ~lo:16 ~hi:1_048_576 ~what:"megabytes of heap the run may take" (Some max_memory) in
-    Interp.Eval.set_max_memory max_memory;   (* D22 *)
     let agents = List.map (fun (n, ty, _) -> (n, ty)) specs in
     Option.iter (check_events env agents) events_file;
     let variant = match Mc.variant_of_string variant with
@@ -140,7 +140,7 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
         if at.left.line = 0 then (List.hd files, 1, 1) else (at.left.file, at.left.line, at.left.column) in
       flush stdout;
       report_at file line col (Interp.Eval.wording kind msg) in
-    let opts = { Interp.Runtime.params; seed; fuel; max_steps; trace;
+    let opts = { Interp.Runtime.params; engine; seed; fuel; max_steps; max_memory; trace;
                  on_log = (fun a s -> print_string (a ^ ": " ^ s ^ "\n"));
                  on_error } in
     let rt = match Interp.Runtime.create ~hooks env opts specs with
@@ -214,6 +214,10 @@ let cmd =
      vectors' kill count (jadescript-ref defects) *)
   let defect = Arg.(value & opt (some string) None & info ["defect"] ~docs:Manpage.s_none ~docv:"NAME"
                       ~doc:"Run with this deliberate defect of the bug catalogue (lib/defects).") in
+  let reference = Arg.(value & flag & info ["reference"]
+                         ~doc:"Take every rule on the reference alone (the rules of lib/semantics and the \
+                               evaluator's bodies, one rule at a time), not on the fast engine beside it: \
+                               the same output and the same trace, more slowly.") in
   Cmd.v (Cmd.info "run" ~doc:"Run a Jadescript program on the reference semantics."
            ~man:[`S Manpage.s_description;
                  `P "Type-checks the program, creates the agents in order, applies the host \
@@ -227,4 +231,5 @@ let cmd =
                      anything runs, with exit status 1. The events file is read twice, one \
                      line at a time: every line is checked first, then the events are applied \
                      as they are read."])
-    Term.(const run $ files $ agents $ events $ trace $ seed $ max_steps $ variant $ fuel $ capacity $ max_memory $ defect)
+    Term.(const run $ files $ agents $ events $ trace $ seed $ max_steps $ variant $ fuel $ capacity $ max_memory $ defect
+          $ reference)

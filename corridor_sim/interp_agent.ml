@@ -68,7 +68,7 @@ let convert (l : (V.t, Interp.Eval.message, V.t) Mc.label) : Reference_controlle
 let make_with ?program:(path = program ()) ~record () : (module Agent.AGENT) =
   let env = load path in
   (module struct
-    type t = { params : Mc.params; mutable c : M.t }
+    type t = { params : Mc.params; mutable c : M.t; rules : (module Engine.INTERP) }
 
     let name = "jadescript"
 
@@ -81,13 +81,19 @@ let make_with ?program:(path = program ()) ~record () : (module Agent.AGENT) =
               match Robome.Host.call host m with
               | Ok () -> V.Unit
               | Error e -> failwith e)) host } in
-      let (a, behs) = Interp.Eval.create_agent env ~name:"robome" ~atype:"RoboMe" ~args:[ native ] ~fuel:100_000 in
-      ignore (Interp.Eval.take_events a);
       (* the simulation reads no event of the agent's (it drops them after
          each rule): no [Ran] event is made for a trace nobody writes *)
-      a.record_ran <- false;
+      let config = { Interp.Eval.default_config with fuel = 100_000; record_effects = false } in
+      let (a, behs) = Interp.Eval.create_agent ~config env ~name:"robome" ~atype:"RoboMe" ~args:[ native ] in
+      let (a, _) = Interp.Eval.take_events a in
       record Mc.Init;
-      { params; c = M.init params ~world:a behs }
+      { params; c = M.init params ~world:a behs; rules = Engine.for_agent () }
+
+    (* the configuration without the events and messages of its agent *)
+    let drop_output (c : M.t) =
+      match c.world.events, c.world.outbox with
+      | [], [] -> c
+      | _ -> { c with world = { c.world with events = []; outbox = [] } }
 
     let notify t p ~priority =
       match M.notify_event t.params t.c (value_of_percept p) ~default:(Agent.default_priority p) ~priority with
@@ -96,13 +102,12 @@ let make_with ?program:(path = program ()) ~record () : (module Agent.AGENT) =
       | Ok c -> t.c <- c; record c.last; Ok c.next_seq
 
     let take t =
-      match Interp.Runtime.E.step t.params t.c with
+      let module E = (val t.rules) in
+      match E.step t.params t.c with
       | [] -> None
       | (l, c) :: _ ->
-        t.c <- c;
+        t.c <- drop_output c;
         record l;
-        ignore (Interp.Eval.take_events c.world);
-        (match c.world.outbox with [] -> () | _ -> c.world.outbox <- []);
         Some l
 
     (* one rule at a time *)
@@ -113,16 +118,13 @@ let make_with ?program:(path = program ()) ~record () : (module Agent.AGENT) =
 
     let step t : Agent.work option =
       (* a whole dispatch in one call of the derived rule when it applies (the
-         same rules, labels and work as one at a time, issue 17); the
-         closures only then *)
+         same rules, labels and work as one at a time); the closures only
+         then *)
       if t.c.phase = Mc.Dispatch_phase then begin
+        let module E = (val t.rules) in
         let dispatch observe =
-          match Interp.Runtime.E.dispatch ~observe t.params t.c with
-          | Some c ->
-            t.c <- c;
-            ignore (Interp.Eval.take_events c.world);
-            (match c.world.outbox with [] -> () | _ -> c.world.outbox <- []);
-            true
+          match E.dispatch ~observe:(fun l w -> observe l; w) t.params t.c with
+          | Some c -> t.c <- drop_output c; true
           | None -> false in
         match Agent.dispatch_work ~dispatch ~record ~percept:percept_of_value with
         | Some w -> Some w

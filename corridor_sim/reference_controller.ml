@@ -17,6 +17,7 @@ module Bodies = struct
   type obj = unit
   type beh = unit     (* HandlePercepts, the only behaviour *)
   type nonrec world = world
+  type bindings = unit
 
   let cyclic () = true
   let has_action () = false
@@ -27,9 +28,9 @@ module Bodies = struct
     | 1, Falling | 2, Obstacle | 3, Qr_code_read _ | 4, Position _ -> true
     | _ -> false
 
-  let percept_applicable w ~id:_ () h p = (w, applies h p)
+  let percept_applicable w ~id:_ () h p = (w, if applies h p then Some () else None)
 
-  let run_percept_handler w ~id:_ () h (p : Agent.percept) =
+  let run_percept_handler w ~id:_ ~active:_ () h (p : Agent.percept) () =
     match h, p with
     | 1, Falling ->
       invoke w "callStop"; invoke w "callMoveBackward"; invoke w "callHeadTiltDown"; (w, [])
@@ -44,9 +45,9 @@ module Bodies = struct
     | 4, Position (x, y) -> ({ w with current = (x, y) }, [])
     | _ -> (w, [])
 
-  let run_action w ~id:_ () = (w, [])
-  let message_accepted _ ~id:_ () _ () = false
-  let run_message_handler w ~id:_ () _ () = (w, [])
+  let run_action w ~id:_ ~active:_ () = (w, [])
+  let message_accepted w ~id:_ () _ () = (w, None)
+  let run_message_handler w ~id:_ ~active:_ () _ () () = (w, [])
   let take_outbox w = (w, [])
 
   (* the fast engine's pre-test: handler h takes one percept kind *)
@@ -56,11 +57,11 @@ module Bodies = struct
   let percept_kind : Agent.percept -> int = function
     | Falling -> 0 | Obstacle -> 1 | Qr_code_read _ -> 2 | Position _ -> 3
 
-  let percept_handle w ~id b h p = Engine.Fast.handle_in_two percept_applicable run_percept_handler w ~id b h p
+  let percept_handle w ~id ~active b h p = Engine.handle_in_two percept_applicable run_percept_handler w ~id ~active b h p
 end
 
-module E = Engine.Fast.Make (Bodies)
-module M = E.M
+module E = Engine.Make (Bodies)
+module M = Machine.Make (Bodies)
 
 type label = (Agent.percept, unit, unit) Machine.label
 
@@ -105,11 +106,11 @@ let step_one t : Agent.work option =
 
 let step t : Agent.work option =
   (* a whole dispatch in one call of the derived rule when it applies (the
-     same rules, labels and work as one at a time, issue 17); the closures
-     only then *)
+     same rules, labels and work as one at a time); the closures only
+     then *)
   if t.c.phase = Machine.Dispatch_phase then begin
     let dispatch observe =
-      match E.dispatch ~observe t.params t.c with
+      match E.dispatch ~observe:(fun l w -> observe l; w) t.params t.c with
       | Some c -> t.c <- c; true
       | None -> false in
     match Agent.dispatch_work ~dispatch ~record:(record t) ~percept:Fun.id with

@@ -23,10 +23,11 @@ external setrlimit : int -> int -> bool = "fuzz_setrlimit"
 let memory_bound = ref 0
 external die_with_parent : unit -> bool = "fuzz_die_with_parent"
 let bound_memory bytes =
-  memory_bound := bytes; ignore (setrlimit 0 bytes); ignore (setrlimit 2 0); ignore (die_with_parent ());
-  (* D22, as run's --max-memory: the runs in this child stop at half its
-     address space, an exhaustion error, before the system refuses memory *)
-  Interp.Eval.set_max_memory (Some (max 16 (bytes / 2 / 1_048_576)))
+  memory_bound := bytes; ignore (setrlimit 0 bytes); ignore (setrlimit 2 0); ignore (die_with_parent ())
+
+(* D22, as run's --max-memory: the runs in this child stop at half its
+   address space, an exhaustion error, before the system refuses memory *)
+let run_memory () = if !memory_bound > 0 then Some (max 16 (!memory_bound / 2 / 1_048_576)) else None
 
 let finding kind message =
   Finding { kind; message = String.map (function '\n' | '\r' -> ' ' | c -> c) message }
@@ -398,8 +399,8 @@ let run_scenario env (sc : EG.scenario) ~events ~trace =
     if String.contains msg '\n' then fail "unlocated error" "a run-time error of several lines: %s" msg in
   let params = { Mc.default_params with variant = sc.variant; tie = sc.tie; budget = sc.budget;
                                         o2a_capacity = sc.capacity } in
-  let opts = { Rt.params; seed = sc.seed; fuel = sc.fuel; max_steps = sc.max_steps; trace = Some oc;
-               on_log = (fun _ _ -> ()); on_error } in
+  let opts = { Rt.params; engine = Rt.Fast; seed = sc.seed; fuel = sc.fuel; max_steps = sc.max_steps;
+               max_memory = run_memory (); trace = Some oc; on_log = (fun _ _ -> ()); on_error } in
   let rt = match Rt.create env opts specs with
     | rt -> rt
     | exception Interp.Eval.Link (_, m) -> close_out_noerr oc; fail "generator" "link error at creation: %s" m in

@@ -124,9 +124,13 @@ let on_event ?before st (pl : P.t) (e : P.event) =
   | P.Step (name, l) ->
     let i = index st name in
     let before = match before with Some c -> c | None -> prev.agents.(i).config in
-    let after = pl.agents.(i).config in
-    if after.active != before.active then E.set_live after.world (List.length after.active);  (* D19 *)
-    Interp.Tracer.step st.tr ~agent:name ~before ~after:pl.agents.(i).config l
+    (* the bodies' events, taken from the agent *)
+    let (world, evs) = E.take_events pl.agents.(i).config.world in
+    let after = { pl.agents.(i).config with world } in
+    let agents = Array.copy pl.agents in
+    agents.(i) <- { (agents.(i)) with config = after };
+    st.platform <- { P.agents };
+    Interp.Tracer.step st.tr ~agent:name ~before ~after l evs
   | P.Delivered { receiver; _ } ->
     Interp.Tracer.host st.tr ~agent:receiver pl.agents.(index st receiver).config
   | P.Undeliverable { sender; receiver; message } ->
@@ -190,14 +194,18 @@ let boot (s : setup) : (state, string list) result =
         Interp.Tracer.header st.tr env st.params ~seed:s.seed (List.map (fun (n, ty, _) -> (n, ty)) specs);
         let created = List.map (fun (name, ty, args) ->
             let (a, behs) =
-              try E.create_agent env ~name ~atype:ty ~args ~fuel:s.fuel
+              try E.create_agent ~config:{ E.default_config with fuel = s.fuel } env ~name ~atype:ty ~args
               with E.Link (_, m) -> raise (Bad ("error: " ^ m)) in
-            Interp.Tracer.created st.tr ~agent:name ~agent_type:ty args behs a;
-            E.set_live a (List.length behs);   (* D19 *)
+            let (a, evs) = E.take_events a in
+            Interp.Tracer.created st.tr ~agent:name ~agent_type:ty args behs evs;
             (name, M.init st.params ~world:a behs)) specs in
         st.platform <- P.create created;
-        Array.iter (fun (ag : P.agent) ->
-            let (_, out) = E.Bodies.take_outbox ag.config.world in
+        Array.iteri (fun i _ ->
+            let ag = st.platform.agents.(i) in
+            let (world, out) = E.Bodies.take_outbox ag.config.world in
+            let agents = Array.copy st.platform.agents in
+            agents.(i) <- { ag with config = { ag.config with world } };
+            st.platform <- { P.agents };
             List.iter (fun (receiver, m) ->
                 let (pl, ev) = P.deliver st.params st.platform ~sender:ag.name ~receiver m in
                 on_event st pl ev) out) st.platform.agents;
@@ -305,7 +313,8 @@ let do_rule ?refill ?agent st choice : outcome =
         let before = st.platform.agents.(i).config in
         set_config st i c;
         on_event ~before st st.platform (P.Step (name, l));
-        let (_, out) = E.Bodies.take_outbox (world st i) in
+        let (w, out) = E.Bodies.take_outbox (world st i) in
+        set_config st i { st.platform.agents.(i).config with world = w };
         List.iter (fun (receiver, m) ->
             let (pl, ev) = P.deliver st.params st.platform ~sender:name ~receiver m in
             on_event st pl ev) out;

@@ -30,8 +30,11 @@ let r = M.rules
 module A = Explore.Altered.Make (B)
 let ref_hooks = R.reference_hooks
 
+(* Every agent's rules: this step, one rule at a time. *)
+let with_step step = { ref_hooks with rules = (fun _ -> { R.step; dispatch = None }) }
+
 (* The reference machine's step on an altered rule table. *)
-let with_rules rules = { ref_hooks with step = M.step_by rules }
+let with_rules rules = with_step (M.step_by rules)
 
 (* Every result of a rule, changed. *)
 let map_results f rule p (c : M.t) = List.map (fun (l, c') -> (l, f p c l c')) (rule p c)
@@ -200,7 +203,7 @@ let newest_message_first p (c : M.t) =
 let sends_reversed rule =
   map_results (fun _ _ _ (c' : M.t) ->
       let (a : Interp_eval.Eval.agent) = c'.world in
-      a.outbox <- List.rev a.outbox; c') rule
+      { c' with world = { a with outbox = List.rev a.outbox } }) rule
 
 (* Ids of the instances a rule activated, renamed by [pick]. *)
 let renumber pick =
@@ -278,17 +281,19 @@ module Mo = Semantics.Machine.Make (Oneshot_cyclic)
 
 module Deactivate_ignored = struct
   include B
-  let run_percept_handler w ~id b h p =
-    let (w, effs) = B.run_percept_handler w ~id b h p in
+  let run_percept_handler w ~id ~active b h p bd =
+    let (w, effs) = B.run_percept_handler w ~id ~active b h p bd in
     (w, List.filter (function Deactivate -> false | Activate _ -> true) effs)
 end
 module Md = Semantics.Machine.Make (Deactivate_ignored)
 
 module Effects_reversed = struct
   include B
-  let run_percept_handler w ~id b h p = let (w, e) = B.run_percept_handler w ~id b h p in (w, List.rev e)
-  let run_action w ~id b = let (w, e) = B.run_action w ~id b in (w, List.rev e)
-  let run_message_handler w ~id b h m = let (w, e) = B.run_message_handler w ~id b h m in (w, List.rev e)
+  let run_percept_handler w ~id ~active b h p bd =
+    let (w, e) = B.run_percept_handler w ~id ~active b h p bd in (w, List.rev e)
+  let run_action w ~id ~active b = let (w, e) = B.run_action w ~id ~active b in (w, List.rev e)
+  let run_message_handler w ~id ~active b h m bd =
+    let (w, e) = B.run_message_handler w ~id ~active b h m bd in (w, List.rev e)
 end
 module Me = Semantics.Machine.Make (Effects_reversed)
 
@@ -305,7 +310,7 @@ module Exact_type = struct
     match b.phandlers.(h - 1).h_guard, p with
     | Some g, Interp_eval.Value.Schema s
       when (match required g with Some x -> x <> s.sname && Typing.Tenv.schema w.env x <> None | None -> false) ->
-      w.pending <- None; (w, false)
+      (w, None)
     | _ -> B.percept_applicable w ~id b h p
 end
 module Mx = Semantics.Machine.Make (Exact_type)
@@ -315,7 +320,7 @@ module Message_handlers_reversed = struct
   include B
   let flip b h = B.message_handlers b + 1 - h
   let message_accepted w ~id b h m = B.message_accepted w ~id b (flip b h) m
-  let run_message_handler w ~id b h m = B.run_message_handler w ~id b (flip b h) m
+  let run_message_handler w ~id ~active b h m bd = B.run_message_handler w ~id ~active b (flip b h) m bd
 end
 module Mm = Semantics.Machine.Make (Message_handlers_reversed)
 
@@ -330,7 +335,7 @@ module Own_handlers_first = struct
     let inherited = n - o in
     if h <= o then inherited + h else h - o
   let percept_applicable w ~id b h p = B.percept_applicable w ~id b (map b h) p
-  let run_percept_handler w ~id b h p = B.run_percept_handler w ~id b (map b h) p
+  let run_percept_handler w ~id ~active b h p bd = B.run_percept_handler w ~id ~active b (map b h) p bd
 end
 module Mi = Semantics.Machine.Make (Own_handlers_first)
 
@@ -382,7 +387,7 @@ let all = [
   d "discard-not-recorded" "R3b" "a percept no handler took ends as end_dispatch, not discard"
     (with_rules { r with end_dispatch = discard_not_recorded });
   d "one-dispatch-per-iteration" "R3b" "one percept is dispatched per iteration, not all"
-    { ref_hooks with step = one_dispatch_per_iteration };
+    (with_step one_dispatch_per_iteration);
   d "transfer-moves-one" "R3a" "Transfer moves only the first percept"
     (with_rules { r with transfer = A.transfer_moves_one });
   d "objects-dropped" "R3a" "Transfer throws the objects away instead of leaving them"
@@ -417,7 +422,7 @@ let all = [
     (with_rules { r with handle_or_skip = activated_at_front r.handle_or_skip;
                          behaviour_step = activated_at_front r.behaviour_step });
   d "woken-at-front" "R5f" "a behaviour woken by a message joins the front of the ready list"
-    { ref_hooks with step = woken_at_front };
+    (with_step woken_at_front);
   d "removal-skips" "R5f" "a behaviour that leaves ready does not correct the position"
     (with_rules { r with behaviour_step = removal_skips });
   d "newest-message-first" "R5b" "a step takes the newest matching message"
@@ -438,9 +443,9 @@ let all = [
     (with_rules { r with behaviour_step = sends_reversed r.behaviour_step;
                          handle_or_skip = sends_reversed r.handle_or_skip });
   d "budget-off-by-one" "R3b" "the budgeted loop dispatches budget + 1 percepts"
-    { ref_hooks with step = (fun p -> M.step { p with budget = p.budget + 1 }) };
+    (with_step (fun p -> M.step { p with budget = p.budget + 1 }));
   d "waits-bookkeeping" "R8" "keeps the spec's ghost bookkeeping of waits (memory grows; nothing observable)"
-    ~can_differ:false { ref_hooks with step = (fun p -> M.step { p with ghosts = true }) };
+    ~can_differ:false (with_step (fun p -> M.step { p with ghosts = true }));
   d "guard-evaluated-twice" "R7" "a percept guard is evaluated twice (an error in it is recorded twice)"
     (with_rules { r with handle_or_skip = Mg.handle_or_skip });
 ]

@@ -1,9 +1,11 @@
-(* Percept handlers compiled to OCaml closures (issue 17): the same rules as
-   Eval's, with the names resolved and the dispatch on the syntax done once.
-   Every rule that computes something is Eval's own (arith, compare_values,
-   equal_values, pattern, map_set_bounded, tick, set_cell...); what is here
-   is only the walk over the tree, done once instead of per run.
-   docs/semantics.md, "Compiled percept handlers" (D38). *)
+(* Percept handlers compiled to OCaml closures: the same rules as Eval's,
+   with the names resolved and the dispatch on the syntax done once.
+   Every rule that computes something is Eval's own (arith,
+   compare_values, equal_values, pattern, map_set_bounded, tick,
+   set_cell...); what is here is only the walk over the tree, done once
+   instead of per run. docs/semantics.md, "Compiled percept handlers"
+   (D38). The state (handlers compiled, one context per behaviour
+   instance) is one agent's: {!Make} is applied once per agent. *)
 
 module Eval = Interp_eval.Eval
 module V = Interp_eval.Value
@@ -16,30 +18,25 @@ module Names = Syntax.Strtbl
 
 (* What one handler of one behaviour instance runs on: the slots of its
    locals (pattern variables and locals, by number), the cells of the
-   properties it names (by number), the percept, and a frame of Eval's for
-   the rules that take one (the step budget, [of], patterns, names not
-   resolved). *)
+   properties it names (by number), the percept, and Eval's frame and run
+   for the rules that take one (the step budget, [of], names not
+   resolved, what the body did). *)
 type ctx = {
-  ag : Eval.agent;
+  mutable ag : Eval.agent;      (* the agent as the running body started *)
+  aname : string;
+  props : Eval.cell Names.t;    (* the agent's properties *)
   beh : Eval.beh;
   mutable slots : V.t array;
       (* the running body's: the handler's, or a called routine's while it
          runs (put back when it ends, however it ends) *)
   cells : Eval.cell array;
   mutable content : V.t;
-  sf : Eval.frame;
-  mutable id : int;
-  yes : Eval.agent * bool;      (* what the bodies answer, made once *)
-  no : Eval.agent * bool;
-  ran : Eval.agent * Eval.beh Semantics.Machine.effect list;   (* no effects *)
-  skipped : (Eval.agent, Eval.beh) Fast.handled;
-  handled : (Eval.agent, Eval.beh) Fast.handled;               (* no effects *)
-  mutable armed : int;
-      (* the guard's bindings wait for the body (R3b) while [armed] is the
-         number of the last guard evaluated ({!guards}) *)
-  rsf : Eval.frame;
+  brun : Eval.run;              (* the running body's, reset for each body *)
+  mutable id : int;             (* the instance's id in the machine *)
+  mutable sf : Eval.frame;      (* Eval's frame of the instance, in [run] *)
+  mutable rsf : Eval.frame;
       (* Eval's frame of an agent's function or procedure (no behaviour),
-         for the rules that read one there; the same step budget as [sf] *)
+         for the rules that read one there; the same run *)
   mutable depth : int;          (* nested calls, as Eval's frame's [depth] *)
   mutable ret : V.t;            (* the value of the last [return] *)
 }
@@ -179,9 +176,9 @@ let bind ce x = match Hashtbl.find_opt ce.locals x with
    (eval.ml), word for word. *)
 let not_boolean at what v = Eval.err at "%s needs booleans, not a %s" what (V.type_name v)
 let condition_not_boolean at v = Eval.err at "a condition is a boolean, not a %s" (V.type_name v)
-let too_deep at =
+let too_deep at limit =
   raise (Eval.Exhaustion (at, Printf.sprintf "recursion too deep: more than %d nested calls of functions and procedures"
-                            Eval.max_call_depth))
+                            limit))
 
 (* The function or procedure a name calls from this code (Eval.call,
    Eval.stmt's Do): the behaviour's, then the agent's; from an agent's
@@ -204,9 +201,9 @@ let rec expr ce (e : Ast.expr) : ctx -> V.t =
   match e.it with
   | Lit l -> let v = Eval.literal l in fun _ -> v
   | Name x -> name ce at x
-  | This when ce.agent_only -> fun c -> V.Agent_ref c.ag.Eval.name
+  | This when ce.agent_only -> fun c -> V.Agent_ref c.aname
   | This -> fun c -> V.Behaviour_ref c.beh.Eval.uid
-  | Agent -> fun c -> V.Agent_ref c.ag.Eval.name
+  | Agent -> fun c -> V.Agent_ref c.aname
   | Content when ce.agent_only -> raise Unsupported   (* the checker rejects it *)
   | Content -> fun c -> c.content
   | Message -> raise Unsupported
@@ -320,7 +317,7 @@ let rec expr ce (e : Ast.expr) : ctx -> V.t =
          let a = V.to_text (Eval.bounded_text ~quote:false at a)
          and b = V.to_text (Eval.bounded_text ~quote:false at b) in
          if String.length a + String.length b > Eval.max_text then Eval.too_big at "the text would be too long";
-         if String.length a + String.length b > 65536 then Eval.check_memory at;
+         if String.length a + String.length b > 65536 then Eval.check_memory c.ag at;
          V.Text (a ^ b)
        | _ -> Eval.arith at Add a b)
   | Binop (op, l, r) ->
@@ -335,7 +332,7 @@ and invoke ce at (i : Ast.invoke) =
   fun c ->
     let t = target c in
     let vs = List.map (fun a -> a c) args in
-    Eval.invoke_values c.ag at i t vs
+    Eval.invoke_values c.sf at i t vs
 
 (* A call of a function or procedure, as Eval.run_routine: the arguments
    (evaluated by the caller, in order), a tick at the call, the depth, the
@@ -367,7 +364,7 @@ and call ce at (r : T.routine) ~agent_only (args : args) : ctx -> V.t =
   fun c ->
     let vs = eval_args c in
     tick c at;
-    if c.depth >= Eval.max_call_depth then too_deep at;
+    if c.depth >= c.ag.config.max_call_depth then too_deep at c.ag.config.max_call_depth;
     (match mismatch with Some e -> e () | None -> ());
     let slots = if k.nslots = 0 then empty_slots else Array.make k.nslots unset in
     let ps = k.params in
@@ -412,7 +409,7 @@ and matches ce x (p : Ast.pattern) =
 and pattern_test ce (p : Ast.pattern) : ctx -> V.t -> bool =
   let general c v =
     let binds = ref [] in
-    if Eval.pattern c.sf binds p v then begin
+    if Eval.pattern ce.env binds p v then begin
       List.iter (fun (y, v) -> c.slots.(bind ce y) <- v) (List.rev !binds); true
     end else false in
   (* the slots the variables bind, checked now (bind raises Unsupported) *)
@@ -500,19 +497,12 @@ and stmt ce (s : Ast.stmt) : ctx -> unit =
   | Deactivate ->
     fun c ->
       tick c at;
-      let a = c.ag in
-      if List.mem Semantics.Machine.Deactivate a.effects then ()   (* R5h: once *)
-      else begin
-        a.effects <- Semantics.Machine.Deactivate :: a.effects;
-        a.live <- a.live - 1;   (* D19 *)
-        a.events <- Eval.Deactivated c.id :: a.events
-      end
+      Eval.deactivate_at c.sf at
   | Log e ->
     let e = expr ce e and at_e = e.at in
     fun c ->
       tick c at;
-      let v = Eval.bounded_text ~quote:false at_e (e c) in
-      c.ag.events <- Eval.Log (V.to_text v) :: c.ag.events
+      Eval.log_value c.sf at_e (e c)
   | If (branches, els) ->
     let branches = List.map (fun ((k : Ast.expr), b) -> (expr ce k, k.at, block ce b)) branches in
     let els = match els with Some b -> block ce b | None -> fun _ -> () in
@@ -575,7 +565,7 @@ and stmt ce (s : Ast.stmt) : ctx -> unit =
       tick c at;
       let content = Eval.bounded_text ~quote:true kat (k c) in
       let receivers = List.concat_map (fun (r, rat) -> Eval.receivers_of rat (r c)) rs in
-      Eval.post_send c.ag perf content receivers
+      Eval.post_send c.sf perf content receivers
 
 (* Eval.assign: the value is computed first, then the place. *)
 and assign ce (lv : Ast.lvalue) : ctx -> V.t -> unit =
@@ -605,7 +595,7 @@ and assign ce (lv : Ast.lvalue) : ctx -> V.t -> unit =
       (match e c with
        | V.Schema s -> (Eval.slot at s p) := v
        | V.Agent_ref _ as o ->
-         (match Names.find_opt c.ag.props p with
+         (match Names.find_opt c.props p with
           | Some cell -> Eval.set_cell cell v
           | None -> Eval.err at "cannot set %s of a %s" p (V.type_name o))
        | V.Behaviour_ref _ when ce.agent_only -> Eval.err at "no such behaviour property %s" p
@@ -628,11 +618,10 @@ type code = {
          routine names it (the agent's property, not the behaviour's) *)
   guard : (ctx -> bool) option;
   body : ctx -> unit;
-  required : string option;
-      (* the pre-test, as Interp_bodies': the schema the guard's leftmost
-         conjunct requires of content *)
 }
 
+(* The schema a guard requires of content, when its leftmost conjunct is
+   [content matches S] or [content matches S(...)]: the pre-test's. *)
 let rec required_schema (e : Ast.expr) = match e.it with
   | Matches ({ it = Content; _ }, { it = PCons (c, _); _ }) -> Some c.it
   | Matches ({ it = Content; _ }, { it = PName x; _ }) -> Some x
@@ -665,11 +654,6 @@ let compile env (bt : T.behaviour) (at : T.agent) (h : T.handler) : code option 
   with
   | exception Unsupported -> None
   | (guard, body) ->
-    let required = match h.h_guard with
-      | None -> None
-      | Some g -> (match required_schema g with
-          | Some x when T.schema env x <> None -> Some (interned env x)
-          | _ -> None) in
     (* the variables of the guard's leftmost conjunct, when that is
        [content matches S(x1, ...)]: bound by any percept it holds for *)
     let rec head (e : Ast.expr) = match e.it with
@@ -684,46 +668,22 @@ let compile env (bt : T.behaviour) (at : T.agent) (h : T.handler) : code option 
     let n = Hashtbl.length ce.locals in
     let reset = if List.mem (-1) bound then Array.init n Fun.id
       else Array.of_list (List.filter (fun i -> not (List.mem i bound)) (List.init n Fun.id)) in
-    Some { nslots = n; reset; prop_names = Array.of_list (List.rev !(ce.prop_names));
-           guard; body; required }
+    Some { nslots = n; reset; prop_names = Array.of_list (List.rev !(ce.prop_names)); guard; body }
 
-(* Handlers compiled, by the handler, the behaviour type and the agent type
-   (all by address: a handler inherited by a behaviour type is the very one
-   of its super type, and means something else where the subtype declares
-   more properties): a behaviour activated many times is compiled once. The
-   newest few are kept. *)
-let compiled : (T.handler * T.behaviour * T.agent * code option) list ref = ref []
-let cache_size = 64
-
-let code_for env bt at h =
-  let rec find = function
-    | [] -> None
-    | (h', b', a', c) :: rest -> if h' == h && b' == bt && a' == at then Some c else find rest in
-  match find !compiled with
-  | Some c -> c
-  | None ->
-    let c = compile env bt at h in
-    compiled := (h, bt, at, c) :: List.filteri (fun i _ -> i < cache_size - 1) !compiled;
-    c
-
-(* What one handler of an instance runs: compiled, or Interp_bodies'. *)
+(* What one handler of an instance runs: compiled, or the reference's
+   ({!Eval.Bodies}). *)
 type handler = Compiled of code * ctx | Fallback
 
-(* Kept with the instance (Eval.keep): its handlers, and what
-   Interp_bodies keeps there for the handlers that fall back, which is put
-   back in place while they run. *)
-type kept = {
+(* What the engine keeps of a behaviour instance: its handlers, and per
+   handler the schema its pre-test requires of content ([""]: none) and
+   the pre-test's answers per percept type, by the type name (its
+   address first: the lexer and the type environment intern names). *)
+type inst = {
+  ibeh : Eval.beh;
   handlers : handler array;
   req : string array;
-      (* per handler, the schema its pre-test requires of content, or
-         {!no_pretest}, or {!falls_back} *)
   memo : (string * bool) list array;
-      (* per handler, the pre-test's answer per percept type, by the type
-         name's address (the lexer and the type environment intern names) *)
-  mutable inner : Eval.engine_slot;
-  mutable self : Eval.engine_slot;
 }
-type Eval.engine_slot += Kept of kept
 
 (* The cell of property x for the instance: Eval.prop_cell's answer. *)
 let cell_of (a : Eval.agent) (b : Eval.beh) x =
@@ -736,169 +696,231 @@ let make_ctx (a : Eval.agent) (b : Eval.beh) ~id (code : code) =
       if agent_only then Names.find_opt a.props x else cell_of a b x) code.prop_names in
   if Array.exists Option.is_none cells then None   (* an initialiser failed: fall back *)
   else
-    let sf = Eval.guard_frame a ~id b V.Unit in
-    Some { ag = a; beh = b; slots = Array.make code.nslots unset; cells = Array.map Option.get cells;
-           content = V.Unit; sf; id; armed = -1;
-           yes = (a, true); no = (a, false); ran = (a, []);
-           skipped = Fast.Not_applicable a; handled = Fast.Handled (a, []);
-           rsf = Eval.agent_frame sf; depth = 0; ret = V.Unit }
+    let run = Eval.new_run a ~active:0 in
+    let sf = Eval.body_frame a run ~id b in
+    Some { ag = a; aname = a.name; props = a.props; beh = b; slots = Array.make code.nslots unset;
+           cells = Array.map Option.get cells; content = V.Unit; brun = run; id; sf; rsf = Eval.agent_frame sf;
+           depth = 0; ret = V.Unit }
 
-(* Interp_bodies on the instance, its own slot in place. *)
-let with_inner (b : Eval.beh) k f =
-  Eval.keep b k.inner;
-  match f () with
-  | r -> k.inner <- b.kept; Eval.keep b k.self; r
-  | exception x -> k.inner <- b.kept; Eval.keep b k.self; raise x
-
-(* Marks in [req] (compared by address). *)
-let no_pretest = String.make 1 '-'
-let falls_back = String.make 1 '*'
-
-let install (a : Eval.agent) ~id (b : Eval.beh) =
-  let handlers = Array.map (fun h ->
-      match code_for a.env b.btype a.atype h with
-      | None -> Fallback
-      | Some code -> (match make_ctx a b ~id code with Some c -> Compiled (code, c) | None -> Fallback))
-      b.phandlers in
-  let req = Array.map (function
-      | Compiled ({ required = Some x; _ }, _) -> x
-      | Compiled ({ required = None; _ }, _) -> no_pretest
-      | Fallback -> falls_back) handlers in
-  let k = { handlers; req; memo = Array.map (fun _ -> []) handlers; inner = b.kept; self = Eval.Nothing_kept } in
-  k.self <- Kept k;
-  Eval.keep b k.self;
-  k
-
-let[@inline] kept a ~id (b : Eval.beh) = match b.kept with Kept k -> k | _ -> install a ~id b
-
-(* ----------------------------------------------------- the bodies *)
-
-include (Interp_bodies : Semantics.Machine.BODIES
-         with type percept = V.t and type message = Eval.message and type obj = V.t
-          and type beh = Eval.beh and type world = Eval.agent)
-
-(* Interp_bodies' pre-test, on this instance's own memo: [false] only
-   where the guard's leftmost [content matches S...] is surely false, with
-   no effect. *)
-let may_apply_slow (a : Eval.agent) b k h p =
-  let x = k.req.(h - 1) in
-  if x == falls_back then with_inner b k (fun () -> Interp_bodies.percept_may_apply a b h p)
-  else if x == no_pretest then true
-  else match p with
-    | V.Schema { sname = n; _ } ->
-      let memo = k.memo.(h - 1) in
-      (match List.find_opt (fun (m, _) -> String.equal m n) memo with
-       | Some (_, r) -> r
-       | None ->
-         let r = String.equal x n || T.subschema a.env n x in
-         k.memo.(h - 1) <- (n, r) :: memo; r)
-    | _ -> true
+(* The context of a body of instance [id], in agent [a] as it starts:
+   its frames name the instance's id (made again in the rare case the
+   context was made before the id was known). *)
+let[@inline] enter c (a : Eval.agent) ~id ~active =
+  Eval.reset_run c.brun a ~active;
+  c.ag <- a;
+  if c.id <> id then begin
+    c.id <- id;
+    c.sf <- Eval.body_frame a c.brun ~id c.beh;
+    c.rsf <- Eval.agent_frame c.sf
+  end
 
 let rec memo_by_address n = function
   | (m, r) :: rest -> if m == n then (if r then 1 else 0) else memo_by_address n rest
   | [] -> -1
 
-let percept_may_apply a (b : Eval.beh) h p =
-  match b.kept, p with
-  | Kept k, V.Schema { sname = n; _ } ->
-    n == k.req.(h - 1)
-    || (match memo_by_address n (Array.unsafe_get k.memo (h - 1)) with   (* as long as [req] *)
-        | 1 -> true
-        | 0 -> false
-        | _ -> may_apply_slow a b k h p)
-  | Kept k, _ -> may_apply_slow a b k h p
-  | _, _ -> may_apply_slow a b (kept a ~id:0 b) h p
-
-(* Its answer depends on the schema's name, the behaviour and the handler
-   only: the kinds are the interpreter's (Fast.BODIES.percept_kind). *)
-let percept_kind = Interp_bodies.percept_kind
-
-(* Guards evaluated so far, compiled or not. A compiled guard that holds
-   records the number of its own evaluation; its bindings are still waiting
-   for the body when no guard was evaluated since (what [a.pending] says in
-   the reference: the machine runs a body right after its guard, in the same
-   rule, on the same agent). D38. *)
-let guards = ref 0
-
-(* A compiled guard on percept [p]: what the reference leaves in
-   [a.pending] for a body of another handler is nothing it can use (the
-   bindings wait here), the slots its head does not bind start empty; an
-   error makes it false and is recorded. *)
-let[@inline] guard_holds (a : Eval.agent) ~id code c p =
-  (match a.pending with None -> () | Some _ -> a.pending <- None);
+(* A compiled guard on percept [p], in the context's run: the slots its
+   head does not bind start empty; an error makes it false and is
+   recorded in the run. *)
+let[@inline] guard_holds code c p =
   let reset = code.reset in
   for i = 0 to Array.length reset - 1 do
     Array.unsafe_set c.slots (Array.unsafe_get reset i) unset
   done;
   c.content <- p;
-  c.id <- id;
   match code.guard with
   | None -> true
-  | Some g -> (try g c with x when Eval.record_error a x -> false)
+  | Some g -> (try g c with x when Eval.record_error c.sf x -> false)
 
-(* A compiled body, on a fresh step budget; an error ends it, recorded. *)
-let[@inline] run_body (a : Eval.agent) code c =
-  Eval.reset_fuel c.sf;
+(* A compiled body, in the context's run (reset: a fresh step budget); an
+   error ends it, recorded. *)
+let[@inline] run_body code c =
+  c.depth <- 0;
   try code.body c with
   | Ret | Brk | Cont -> ()
-  | x -> Eval.recover a x
+  | x -> Eval.recover c.sf x
 
-(* R3b, as Eval.Bodies.percept_applicable: the guard in fresh locals; an
-   error makes the handler not applicable and is recorded. No pre-test
-   here: a guard whose leftmost [content matches S...] is false is false at
-   once, with no effect, as the pre-test would answer. *)
-let percept_applicable (a : Eval.agent) ~id (b : Eval.beh) h p =
-  let k = kept a ~id b in
-  incr guards;
-  match k.handlers.(h - 1) with
-  | Fallback -> with_inner b k (fun () -> Interp_bodies.percept_applicable a ~id b h p)
-  | Compiled (code, c) ->
-    let ok = guard_holds a ~id code c p in
-    c.armed <- (if ok then !guards else -1);
-    if c.ag != a then (a, ok) else if ok then c.yes else c.no
+(* The bindings a guard hands its body (R3b): a compiled guard's slots,
+   copied, or the reference's locals for a handler that falls back. *)
+type bindings = Slots of V.t array | Plain of Eval.Bodies.bindings
 
-(* The body in the guard's bindings when they wait for it, else in fresh
-   locals (Eval.Bodies.run_percept_handler); a fresh step budget. *)
-let run_percept_handler (a : Eval.agent) ~id (b : Eval.beh) h p =
-  let k = kept a ~id b in
-  match k.handlers.(h - 1) with
-  | Fallback -> incr guards; with_inner b k (fun () -> Interp_bodies.run_percept_handler a ~id b h p)
-  | Compiled (code, c) ->
-    if c.armed = !guards && c.id = id && c.content == p then c.armed <- -1
-    else begin
-      (match a.pending with None -> () | Some _ -> a.pending <- None);
-      Array.fill c.slots 0 (Array.length c.slots) unset;
-      c.content <- p; c.id <- id
+module Make () = struct
+  type percept = V.t
+  type message = Eval.message
+  type obj = V.t
+  type beh = Eval.beh
+  type world = Eval.agent
+  type nonrec bindings = bindings
+
+  let cyclic = Eval.Bodies.cyclic
+  let has_action = Eval.Bodies.has_action
+  let percept_handlers = Eval.Bodies.percept_handlers
+  let message_handlers = Eval.Bodies.message_handlers
+  let run_action = Eval.Bodies.run_action
+  let take_outbox = Eval.Bodies.take_outbox
+
+  let message_accepted a ~id b h m =
+    match Eval.Bodies.message_accepted a ~id b h m with
+    | (a, Some bd) -> (a, Some (Plain bd))
+    | (a, None) -> (a, None)
+
+  let run_message_handler a ~id ~active b h m = function
+    | Plain bd -> Eval.Bodies.run_message_handler a ~id ~active b h m bd
+    | Slots _ -> Semantics.Fault.crash "Compiled_bodies: a message handler given a compiled guard's slots"
+
+  (* Handlers compiled, by the handler, the behaviour type and the agent
+     type (all by address: a handler inherited by a behaviour type is the
+     very one of its super type, and means something else where the
+     subtype declares more properties): a behaviour activated many times is
+     compiled once. The newest few are kept. *)
+  let compiled : (T.handler * T.behaviour * T.agent * code option) list ref = ref []
+  let code_cache_size = 64
+
+  let code_for env bt at h =
+    let rec find = function
+      | [] -> None
+      | (h', b', a', c) :: rest -> if h' == h && b' == bt && a' == at then Some c else find rest in
+    match find !compiled with
+    | Some c -> c
+    | None ->
+      let c = compile env bt at h in
+      compiled := (h, bt, at, c) :: List.filteri (fun i _ -> i < code_cache_size - 1) !compiled;
+      c
+
+  (* The agent's instances, by number: the last 16 in an array by the
+     number's low bits, every one in a table; an entry is the instance's
+     when it was made for that very instance (the same record). An
+     instance that left is forgotten when the table is emptied (past
+     [table_limit] entries): its context is made again if it is ever
+     asked for. *)
+  let table : (int, inst) Hashtbl.t = Hashtbl.create 16
+  let table_limit = 4096
+  let recent : inst option array = Array.make 16 None
+
+  let install (a : Eval.agent) ~id (b : Eval.beh) =
+    let handlers = Array.map (fun h ->
+        match code_for a.env b.btype a.atype h with
+        | None -> Fallback
+        | Some code -> (match make_ctx a b ~id code with Some c -> Compiled (code, c) | None -> Fallback))
+        b.phandlers in
+    let req = Array.map (fun (h : T.handler) ->
+        match h.h_guard with
+        | Some g -> (match required_schema g with
+            | Some x -> (match T.schema a.env x with
+                | Some s when String.equal s.s_name x -> s.s_name   (* the environment's own string *)
+                | Some _ -> x
+                | None -> "")
+            | None -> "")
+        | None -> "") b.phandlers in
+    let k = { ibeh = b; handlers; req; memo = Array.map (fun _ -> []) handlers } in
+    if Hashtbl.length table >= table_limit then begin
+      Hashtbl.reset table; Array.fill recent 0 (Array.length recent) None
     end;
-    incr guards;   (* the bindings are used once *)
-    run_body a code c;
-    match Eval.take_ran a h with
-    | [] when c.ag == a -> c.ran
-    | effs -> (a, effs)
+    Hashtbl.replace table b.uid k;
+    k
 
-(* The guard and, when it holds, the body at once (Fast.BODIES.percept_handle):
-   what [percept_applicable] then [run_percept_handler] do, the bindings
-   going straight from one to the other (the count of guards ends as
-   theirs would: one for the guard, one for the bindings used). *)
-let percept_handle (a : Eval.agent) ~id (b : Eval.beh) h p : (Eval.agent, Eval.beh) Fast.handled =
-  let k = kept a ~id b in
-  match k.handlers.(h - 1) with
-  | Fallback -> Fast.handle_in_two percept_applicable run_percept_handler a ~id b h p
-  | Compiled (code, c) ->
-    incr guards;
-    c.armed <- -1;
-    if not (guard_holds a ~id code c p) then (if c.ag != a then Not_applicable a else c.skipped)
-    else begin
-      incr guards;
-      run_body a code c;
-      (* Eval.take_ran, which has nothing to do when the body had no
-         effect and no Ran event is kept *)
-      if a.effects == [] && not a.record_ran && c.ag == a then c.handled
-      else match Eval.take_ran a h with
-        | [] when c.ag == a -> c.handled
-        | effs -> Handled (a, effs)
-    end
+  let inst a ~id (b : Eval.beh) =
+    let i = b.uid land 15 in
+    match Array.unsafe_get recent i with
+    | Some k when k.ibeh == b -> k
+    | _ ->
+      let k = match Hashtbl.find_opt table b.uid with
+        | Some k when k.ibeh == b -> k
+        | _ -> install a ~id b in
+      Array.unsafe_set recent i (Some k);
+      k
 
-let compiled_handlers a ~id b =
-  let k = kept a ~id b in
-  Array.fold_left (fun n -> function Compiled _ -> n + 1 | Fallback -> n) 0 k.handlers
+  (* The pre-test: [false] only where the guard's leftmost
+     [content matches S...] is surely false (the percept's type is neither
+     S nor a subtype of S), which makes the guard false with no effect. *)
+  let may_apply_slow (a : Eval.agent) k h p =
+    let x = k.req.(h - 1) in
+    if x = "" then true
+    else match p with
+      | V.Schema { sname = n; _ } ->
+        let memo = k.memo.(h - 1) in
+        (match List.find_opt (fun (m, _) -> String.equal m n) memo with
+         | Some (_, r) -> r
+         | None ->
+           let r = String.equal x n || T.subschema a.env n x in
+           k.memo.(h - 1) <- (n, r) :: memo; r)
+      | _ -> true
+
+  let percept_may_apply a (b : Eval.beh) h p =
+    let k = inst a ~id:0 b in
+    match p with
+    | V.Schema { sname = n; _ } ->
+      n == Array.unsafe_get k.req (h - 1)
+      || (match memo_by_address n (Array.unsafe_get k.memo (h - 1)) with
+          | 1 -> true
+          | 0 -> false
+          | _ -> may_apply_slow a k h p)
+    | _ -> may_apply_slow a k h p
+
+  (* Kinds (Fast.BODIES.percept_kind): a number per schema name (the
+     pre-test's answer depends on the name, the behaviour and the handler
+     only). The names are usually the type environment's own strings: the
+     last one asked is found by address. *)
+  let kind_numbers : (string, int) Hashtbl.t = Hashtbl.create 16
+  let last_name = ref ""
+  let last_kind = ref (-1)
+
+  let percept_kind = function
+    | V.Schema { sname; _ } ->
+      if sname == !last_name then !last_kind
+      else begin
+        let k = match Hashtbl.find_opt kind_numbers sname with
+          | Some k -> k
+          | None -> let k = Hashtbl.length kind_numbers in Hashtbl.add kind_numbers sname k; k in
+        last_name := sname; last_kind := k; k
+      end
+    | _ -> -1
+
+  (* R3b, as Eval.Bodies.percept_applicable: the guard in fresh locals; an
+     error makes the handler not applicable and is recorded. The slots it
+     bound go to the body, copied. *)
+  let percept_applicable (a : Eval.agent) ~id (b : Eval.beh) h p =
+    let k = inst a ~id b in
+    match k.handlers.(h - 1) with
+    | Fallback ->
+      (match Eval.Bodies.percept_applicable a ~id b h p with
+       | (a, Some bd) -> (a, Some (Plain bd))
+       | (a, None) -> (a, None))
+    | Compiled (code, c) ->
+      enter c a ~id ~active:0;
+      let ok = guard_holds code c p in
+      (Eval.finish_run a c.brun, if ok then Some (Slots (Array.copy c.slots)) else None)
+
+  (* The body in its guard's bindings, on a fresh step budget. *)
+  let run_percept_handler (a : Eval.agent) ~id ~active (b : Eval.beh) h p bindings =
+    let k = inst a ~id b in
+    match k.handlers.(h - 1), bindings with
+    | Fallback, Plain bd -> Eval.Bodies.run_percept_handler a ~id ~active b h p bd
+    | Compiled (code, c), Slots s ->
+      enter c a ~id ~active;
+      Array.blit s 0 c.slots 0 (Array.length s);
+      c.content <- p;
+      run_body code c;
+      Eval.finish a c.brun ~handler:h
+    | _ -> Semantics.Fault.crash "Compiled_bodies: a handler given bindings that are not its guard's"
+
+  (* The guard and, when it holds, the body at once (Fast.BODIES.percept_handle):
+     what [percept_applicable] then [run_percept_handler] do, the bindings
+     going straight from one to the other in the slots. *)
+  let percept_handle (a : Eval.agent) ~id ~active (b : Eval.beh) h p : (Eval.agent, Eval.beh) Fast.handled =
+    let k = inst a ~id b in
+    match k.handlers.(h - 1) with
+    | Fallback -> Fast.handle_in_two percept_applicable run_percept_handler a ~id ~active b h p
+    | Compiled (code, c) ->
+      enter c a ~id ~active;
+      if not (guard_holds code c p) then Not_applicable (Eval.finish_run a c.brun)
+      else begin
+        Eval.reset_run c.brun a ~active;
+        run_body code c;
+        let (a', effs) = Eval.finish a c.brun ~handler:h in
+        Handled (a', effs)
+      end
+
+  let compiled_handlers a ~id b =
+    let k = inst a ~id b in
+    Array.fold_left (fun n -> function Compiled _ -> n + 1 | Fallback -> n) 0 k.handlers
+end

@@ -10,14 +10,14 @@ type ('w, 'b) handled =
   | Not_applicable of 'w
   | Handled of 'w * 'b Semantics.Machine.effect list
 
-let handle_in_two applicable run world ~id b h p =
-  let (world, ok) = applicable world ~id b h p in
-  if not ok then Not_applicable world
-  else let (world, effs) = run world ~id b h p in Handled (world, effs)
+let handle_in_two applicable run world ~id ~active b h p =
+  match applicable world ~id b h p with
+  | (world, None) -> Not_applicable world
+  | (world, Some bindings) -> let (world, effs) = run world ~id ~active b h p bindings in Handled (world, effs)
 
 module type BODIES = sig
   include Semantics.Machine.BODIES
-  val percept_handle : world -> id:int -> beh -> int -> percept -> (world, beh) handled
+  val percept_handle : world -> id:int -> active:int -> beh -> int -> percept -> (world, beh) handled
   val percept_may_apply : world -> beh -> int -> percept -> bool
   val percept_kind : percept -> int
 end
@@ -30,18 +30,13 @@ module Make (B : BODIES) = struct
   let transfer p (c : M.t) : M.lbl * M.t =
     let n = ref 0 and objects = ref [] in
     let pq =
-      if p.flood then
-        (* the flood abstraction: a percept already waiting is not added again *)
-        Fqueue.fold (fun pq x -> match x with
-            | O_percept e -> incr n; if Pqueue.mem e pq then pq else Pqueue.insert e pq
-            | O_object _ -> objects := x :: !objects; pq) c.pq c.o2a
-      else
-        (* newest first: the objects left behind are consed back into order *)
-        Pqueue.insert_newest_first (fun add ->
-            Fqueue.fold_newest (fun () x -> match x with
-                | O_percept e -> incr n; add e
-                | O_object _ -> objects := x :: !objects) () c.o2a) c.pq in
-    let objects = if p.flood then List.rev !objects else !objects in
+      Fqueue.fold (fun pq x -> match x with
+          | O_percept e ->
+            incr n;
+            (* the flood abstraction: a percept already waiting is not added again *)
+            if p.flood && Pqueue.mem e pq then pq else Pqueue.insert e pq
+          | O_object _ -> objects := x :: !objects; pq) c.pq c.o2a in
+    let objects = List.rev !objects in
     let l = Transfer !n in
     (l, { c with pq; o2a = (if objects = [] then Fqueue.empty else Fqueue.of_list objects);
                  phase = Dispatch_phase; dispatched = 0; last = l })
@@ -61,6 +56,7 @@ module Make (B : BODIES) = struct
     of_active : B.beh instance list;
     todo : (int * int) list;
     behs : B.beh list;
+    nactive : int;                 (* instances in [of_active] (D19) *)
     mutable plans : plan array;
       (* by percept kind ({!B.percept_kind}): the handlers the pre-test
          leaves, made when a percept of that kind is first dispatched *)
@@ -88,7 +84,8 @@ module Make (B : BODIES) = struct
     | _ ->
       let pairs = List.concat_map (fun (a : B.beh instance) ->
           List.init (B.percept_handlers a.beh) (fun j -> ((a.id, j + 1), a.beh))) c.active in
-      let k = { of_active = c.active; todo = List.map fst pairs; behs = List.map snd pairs; plans = [||] } in
+      let k = { of_active = c.active; todo = List.map fst pairs; behs = List.map snd pairs;
+                nactive = List.length c.active; plans = [||] } in
       handlers_cache := Some k;
       k
 
@@ -134,8 +131,9 @@ module Make (B : BODIES) = struct
     match c.phase with
     | Transfer_phase when p.variant = Reference || p.variant = Budgeted -> [ transfer p c ]
     | Dispatch_phase when single_candidate p && not (M.dispatch_over p c) ->
-      if Pqueue.is_empty c.pq then M.step p c
-      else [ dequeue_top p c (Pqueue.first c.pq) (Pqueue.drop_first c.pq) ]
+      (match Pqueue.pop c.pq with
+       | None -> M.step p c
+       | Some (e, pq) -> [ dequeue_top p c e pq ])
     | Dispatch_phase when M.dispatch_over p c ->
       (* the dispatch is over: of the ten rules only BehaviourStep (a
          behaviour ready), NextIteration and Idle (none ready) can be
@@ -146,13 +144,25 @@ module Make (B : BODIES) = struct
     | Idle_phase -> []                     (* no rule is enabled in Idle *)
     | _ -> M.step p c
 
+  (* What an observer is told of a rule taken inside a dispatch: its label
+     and the world after it; it answers the world to go on with (the
+     runtime takes the bodies' events from it there). *)
+  let tell observe l world = match observe with Some f -> f l world | None -> world
+
+  (* Active instances in the behaviour part: [c]'s, or [bs] once a body
+     had effects. *)
+  let count_active (c : M.t) = function
+    | Some (s : M.bs) -> List.length s.active
+    | None -> List.length c.active
+
   (* Dispatch: the Handle arm of the rules over the snapshot [todo] of the
      dispatch of [e], from configuration [c] (whose behaviour part is [bs]
-     once a handler had effects), on local variables; what the rules would
-     have written in each configuration (world, todo, applied, the behaviour
-     part) is written once, at the end. No closure or option is allocated
-     for a handler: this runs once per handler per percept. *)
-  let rec dispatch_handlers observe p (c : M.t) e world applied bs todo behs =
+     once a handler had effects; [n] instances active), on local
+     variables; what the rules would have written in each configuration
+     (world, todo, applied, the behaviour part) is written once, at the
+     end. No closure or option is allocated for a handler: this runs once
+     per handler per percept. *)
+  let rec dispatch_handlers observe p (c : M.t) e world applied bs n todo behs =
     match todo with
     | [] -> (world, applied, bs)
     | (id, h) :: rest ->
@@ -160,47 +170,48 @@ module Make (B : BODIES) = struct
          [c.active], when the snapshot was just taken from it ([] otherwise);
          while no body had effects, the instance is found there *)
       match bs, behs with
-      | None, b :: brest -> try_handler observe p c e world applied bs todo b brest
+      | None, b :: brest -> try_handler observe p c e world applied bs n todo b brest
       | _ ->
         let brest = match behs with _ :: r -> r | [] -> [] in
         let found = match bs with
           | Some (s : M.bs) -> M.find_instance id s.active
           | None -> M.find_instance id c.active in
         match found with
-        | Some b -> try_handler observe p c e world applied bs todo b brest
+        | Some b -> try_handler observe p c e world applied bs n todo b brest
         | None ->                                                            (* skip *)
-          (match observe with Some f -> f (Skip { id; h }) | None -> ());
-          dispatch_handlers observe p c e world applied bs rest brest
+          let world = tell observe (Skip { id; h }) world in
+          dispatch_handlers observe p c e world applied bs n rest brest
 
   (* The head of [todo], a handler of an instance whose behaviour is [b]. *)
-  and try_handler observe p c e world applied bs todo b behs =
+  and try_handler observe p c e world applied bs n todo b behs =
     match todo with
     | [] -> (world, applied, bs)
     | (id, h) :: rest ->
       (* the pre-test: where it says no, percept_applicable would answer
          false, changing nothing *)
       if not (B.percept_may_apply world b h e.p) then begin                 (* skip *)
-        (match observe with Some f -> f (Skip { id; h }) | None -> ());
-        dispatch_handlers observe p c e world applied bs rest behs
+        let world = tell observe (Skip { id; h }) world in
+        dispatch_handlers observe p c e world applied bs n rest behs
       end else
-        match B.percept_handle world ~id b h e.p with
+        match B.percept_handle world ~id ~active:n b h e.p with
         | Not_applicable world ->                                            (* skip *)
-          (match observe with Some f -> f (Skip { id; h }) | None -> ());
-          dispatch_handlers observe p c e world applied bs rest behs
+          let world = tell observe (Skip { id; h }) world in
+          dispatch_handlers observe p c e world applied bs n rest behs
         | Handled (world, effs) ->                                           (* handle *)
-          let bs = match effs with
-            | [] -> bs
+          let (bs, n) = match effs with
+            | [] -> (bs, n)
             | _ ->
               let s = match bs with Some s -> s | None -> M.bs_of c in
-              Some (M.apply_effects p s id effs (List.map fst todo)) in
-          (match observe with Some f -> f (Handle { id; h; p = e.p; seq = e.seq }) | None -> ());
-          dispatch_handlers observe p c e world true bs rest behs
+              let s = M.apply_effects p s id effs (List.map fst todo) in
+              (Some s, List.length s.active) in
+          let world = tell observe (Handle { id; h; p = e.p; seq = e.seq }) world in
+          dispatch_handlers observe p c e world true bs n rest behs
 
   (* The configuration after the handlers and EndDispatch; [pq], [waits]
      and [dispatched] are [c]'s, or what Dequeue made of them. *)
   let dispatch_end observe p (c : M.t) e ~pq ~waits ~dispatched (world, applied, bs) =
     let l = End_dispatch { seq = e.seq; discarded = not applied } in        (* end_dispatch *)
-    (match observe with Some f -> f l | None -> ());
+    let world = tell observe l world in
     let c' = { c with pq; waits; dispatched; world; done_ = add_done p c e.seq; cur = None;
                       phase = Dispatch_phase; last = l } in
     match bs with Some s -> M.with_bs c' s | None -> c'
@@ -210,15 +221,15 @@ module Make (B : BODIES) = struct
      of the snapshot from that handler on is taken by [dispatch_handlers]
      (an instance may have left; ApplyEffects reserves the ids still to be
      tried). *)
-  let rec dispatch_plan p (c : M.t) e world applied from behs =
+  let rec dispatch_plan p (c : M.t) e world applied n from behs =
     match from, behs with
     | ((id, h) :: rest as todo) :: from', b :: behs' ->
-      (match B.percept_handle world ~id b h e.p with
-       | Not_applicable world -> dispatch_plan p c e world applied from' behs'
-       | Handled (world, []) -> dispatch_plan p c e world true from' behs'
+      (match B.percept_handle world ~id ~active:n b h e.p with
+       | Not_applicable world -> dispatch_plan p c e world applied n from' behs'
+       | Handled (world, []) -> dispatch_plan p c e world true n from' behs'
        | Handled (world, effs) ->
          let s = M.apply_effects p (M.bs_of c) id effs (List.map fst todo) in
-         dispatch_handlers None p c e world true (Some s) rest [])
+         dispatch_handlers None p c e world true (Some s) (List.length s.active) rest [])
     | _ -> (world, applied, None)
 
   (* A percept's handlers, unobserved: those of its kind's plan, or every
@@ -227,29 +238,28 @@ module Make (B : BODIES) = struct
     let kind = B.percept_kind e.p in
     if kind >= 0 then
       let plan = plan_for k world kind e.p in
-      dispatch_plan p c e world false plan.from plan.pbehs
-    else dispatch_handlers None p c e world false None k.todo k.behs
+      dispatch_plan p c e world false k.nactive plan.from plan.pbehs
+    else dispatch_handlers None p c e world false None k.nactive k.todo k.behs
 
   (* Dequeue of [e], already taken from the priority queue (which is now
      [pq]), then its handlers and EndDispatch. *)
   let dispatch_popped observe p (c : M.t) e pq =
-    (match observe with Some f -> f (Dequeue e) | None -> ());
+    let world = tell observe (Dequeue e) c.world in
     let k = handlers_and_behs c in
     dispatch_end observe p c e ~pq ~waits:(bump_waits p c e) ~dispatched:(c.dispatched + 1)
       (match observe with
-       | None -> handle_unobserved p c k c.world e
-       | Some _ -> dispatch_handlers observe p c e c.world false None k.todo k.behs)
+       | None -> handle_unobserved p c k world e
+       | Some _ -> dispatch_handlers observe p c e world false None k.nactive k.todo k.behs)
 
   let dispatch ?observe p (c : M.t) : M.t option =
     match c.phase, c.cur with
     | Handle_phase, Some d ->
       Some (dispatch_end observe p c d.e ~pq:c.pq ~waits:c.waits ~dispatched:c.dispatched
-              (dispatch_handlers observe p c d.e c.world d.applied None d.todo []))
+              (dispatch_handlers observe p c d.e c.world d.applied None (count_active c None) d.todo []))
     | Dispatch_phase, _ when single_candidate p && not (M.dispatch_over p c) ->
-      if Pqueue.is_empty c.pq then None
-      else                                                                   (* dequeue *)
-        (* Pqueue.pop without its option and pair *)
-        Some (dispatch_popped observe p c (Pqueue.first c.pq) (Pqueue.drop_first c.pq))
+      (match Pqueue.pop c.pq with
+       | None -> None
+       | Some (e, pq) -> Some (dispatch_popped observe p c e pq))                (* dequeue *)
     | _ -> None
 
   let dispatch_entry ?observe p c e ~pq = dispatch_popped observe p c e pq
@@ -274,7 +284,7 @@ module Make (B : BODIES) = struct
      behaviour part. *)
   let after_effects p (c : M.t) e world id effs todo todo_rest =
     let s = M.apply_effects p (M.bs_of c) id effs (List.map fst todo) in
-    match dispatch_handlers None p c e world true (Some s) todo_rest [] with
+    match dispatch_handlers None p c e world true (Some s) (List.length s.active) todo_rest [] with
     | (world, _, Some s) -> (world, s)
     | (world, _, None) -> (world, s)
 
@@ -288,7 +298,7 @@ module Make (B : BODIES) = struct
         let plan = if kind >= 0 then plan_for k world kind e.p else no_plan in
         match plan.one with
         | Some { oid = id; oh = h; otodo = todo; orest = todo_rest; ob = b } ->
-          (match B.percept_handle world ~id b h e.p with
+          (match B.percept_handle world ~id ~active:k.nactive b h e.p with
            | Not_applicable world -> go c k world (dispatched + 1) e.seq true (n + 1)
            | Handled (world, []) -> go c k world (dispatched + 1) e.seq false (n + 1)
            | Handled (world, effs) ->
@@ -316,7 +326,7 @@ module Make (B : BODIES) = struct
         let plan = if kind >= 0 then plan_for k world kind e.p else no_plan in
         match plan.one with
         | Some { oid = id; oh = h; otodo = todo; orest = todo_rest; ob = b } ->
-          (match B.percept_handle world ~id b h e.p with
+          (match B.percept_handle world ~id ~active:k.nactive b h e.p with
            | Not_applicable world -> over_run c k world (dispatched + 1) e.seq true (n + 1) rest runs
            | Handled (world, []) -> over_run c k world (dispatched + 1) e.seq false (n + 1) rest runs
            | Handled (world, effs) ->
@@ -334,21 +344,23 @@ module Make (B : BODIES) = struct
 
   (* Runs of dispatches from the configuration's own priority queue, in pop
      order (R3b). In [reference] they go on until the queue is empty: its
-     entries are taken as Pqueue.runs lists them, and the queue is empty at
-     the end. Elsewhere (budgeted, printed) by pops, until the queue is
-     empty or the budget spent. *)
+     entries are taken in the order Pqueue.to_sorted_list lists them, and
+     the queue is empty at the end. Elsewhere (budgeted, printed) by pops,
+     until the queue is empty or the budget spent. *)
   let dispatch_run p (c : M.t) =
     match c.phase, c.cur with
     | Dispatch_phase, None when single_candidate p && not p.ghosts && not (M.dispatch_over p c) ->
       if p.variant = Reference then begin
-        let (c', n) = dispatch_lists p c (Pqueue.runs c.pq) in
+        let (c', n) = dispatch_lists p c [ Pqueue.to_sorted_list c.pq ] in
         Some ({ c' with pq = Pqueue.empty }, n)
       end else begin
         (* the dispatches change the behaviours, never the queue: how
            many pops the queue and the budget allow is known now *)
         let left = if p.variant = Budgeted then p.budget - c.dispatched else max_int in
         let pq = ref c.pq in
-        let pop () = let e = Pqueue.first !pq in pq := Pqueue.drop_first !pq; e in
+        let pop () = match Pqueue.pop !pq with
+          | Some (e, q) -> pq := q; e
+          | None -> Semantics.Fault.crash "Fast.dispatch_run: the queue is shorter than its size" in
         let (c', n) = dispatch_from p c (min left (Pqueue.size c.pq)) pop in
         Some ({ c' with pq = !pq }, n)
       end

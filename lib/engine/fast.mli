@@ -4,9 +4,8 @@
     plain and is what it is tested against, rule for rule.
 
     What is faster here, and what stands for it in the reference:
-    - Transfer in one pass over O2A from its newest entry, each priority's
-      run going to its bucket in one piece ({!Semantics.Pqueue.insert_newest_first})
-      — the reference folds [Pqueue.insert] over the percepts;
+    - Transfer in one pass over O2A — the reference partitions O2A, then
+      folds [Pqueue.insert] over the percepts;
     - Dequeue under stable ties as one pop, with the snapshot of the
       registered handlers remembered for the last [active] list seen
       (physically) — the reference asks for the candidates and rebuilds
@@ -27,16 +26,16 @@ type ('w, 'b) handled =
       (** the guard held and the body ran: this world, these effects *)
 
 val handle_in_two :
-  ('w -> id:int -> 'b -> int -> 'p -> 'w * bool) ->
-  ('w -> id:int -> 'b -> int -> 'p -> 'w * 'b Semantics.Machine.effect list) ->
-  'w -> id:int -> 'b -> int -> 'p -> ('w, 'b) handled
+  ('w -> id:int -> 'b -> int -> 'p -> 'w * 'g option) ->
+  ('w -> id:int -> active:int -> 'b -> int -> 'p -> 'g -> 'w * 'b Semantics.Machine.effect list) ->
+  'w -> id:int -> active:int -> 'b -> int -> 'p -> ('w, 'b) handled
 (** [handle_in_two percept_applicable run_percept_handler]: the guard, then
     the body when it holds: a {!BODIES.percept_handle} for any bodies. *)
 
 module type BODIES = sig
   include Semantics.Machine.BODIES
 
-  val percept_handle : world -> id:int -> beh -> int -> percept -> (world, beh) handled
+  val percept_handle : world -> id:int -> active:int -> beh -> int -> percept -> (world, beh) handled
   (** [percept_applicable] and, when it holds, [run_percept_handler] at
       once, as the Handle rule takes them (R3b): what the two give in turn
       ({!handle_in_two}). Bodies that keep the guard's bindings for the
@@ -74,11 +73,18 @@ module Make (B : BODIES) : sig
       without building that O2A queue. Variant [Reference] or [Budgeted],
       no flood abstraction, phase Transfer. *)
 
+  val dispatch_lists : Semantics.Machine.params -> M.t -> B.percept Semantics.Machine.entry list list -> M.t * int
+  (** {!dispatch_run} where the percepts wait elsewhere, as lists: each
+      entry in turn, the lists in order (highest priority first, each in
+      seq order), to the end; the priority queue of the result is the
+      configuration's own. From phase Dispatch, unobserved, no ghosts,
+      variant [Reference]. *)
+
   val step : Semantics.Machine.params -> M.t -> (M.lbl * M.t) list
   (** What [M.step] answers, faster: the batch Transfer, Dequeue as one pop
       with a remembered snapshot, every other rule the reference's. *)
 
-  val dispatch : ?observe:(M.lbl -> unit) -> Semantics.Machine.params -> M.t -> M.t option
+  val dispatch : ?observe:(M.lbl -> B.world -> B.world) -> Semantics.Machine.params -> M.t -> M.t option
   (** One percept's whole dispatch in one call, when the configuration is in
       phase Handle (the rest of the dispatch in progress) or in phase
       Dispatch with Dequeue the one rule enabled (stable ties, no flood
@@ -86,7 +92,9 @@ module Make (B : BODIES) : sig
       handler of the snapshot, then EndDispatch. The result is the
       configuration that [M.step] reaches by applying those rules one at a
       time (each is then the only rule enabled), without building the
-      configurations in between; [observe] sees their labels in order.
+      configurations in between; [observe] sees their labels in order,
+      each with the world after its rule, and answers the world to go on
+      with (an observer may take the bodies' events there).
       [None] in any other configuration. *)
 
   val dispatch_run : Semantics.Machine.params -> M.t -> (M.t * int) option
@@ -115,7 +123,7 @@ module Make (B : BODIES) : sig
       entry the one candidate. What [M.dequeue] answers there. The packed
       agent ({!Packed}) keeps its percepts apart and gives them here. *)
 
-  val dispatch_entry : ?observe:(M.lbl -> unit) -> Semantics.Machine.params -> M.t ->
+  val dispatch_entry : ?observe:(M.lbl -> B.world -> B.world) -> Semantics.Machine.params -> M.t ->
     B.percept Semantics.Machine.entry -> pq:B.percept Semantics.Pqueue.t -> M.t
   (** {!dispatch} from phase Dispatch, the entry already taken from the top
       of the priority queue as in {!dequeue_entry}. *)

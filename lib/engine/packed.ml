@@ -336,6 +336,12 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
     plain_lens : int array;
     mutable plain_mask : int;
     mutable plain_big : B.percept entry list;
+    mutable pq_runs : B.percept entry list list;
+    mutable pq_runs_n : int;
+      (* plain: the priority queue's entries when a Transfer took them as
+         they waited (highest priority first, each run oldest first, R3b),
+         [pq_runs_n] of them; [c.pq] is then empty. Written into [c.pq]
+         before anything but a run of dispatches reads it ({!sync}). *)
       (* plain (and packable): the [pend] notifies' entries, not yet in
          [c.o2a] (as O2A items), by priority: those of priority [k] below
          {!plain_small} in [plain_runs.(k)], newest first, [plain_lens.(k)]
@@ -399,7 +405,15 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
   (* The notifies not yet written into [c], written: what the reference's
      Notify does to the configuration's fields other than O2A (next_seq, an
      idle agent woken, last), once for a run of notifies. *)
+  let settle_runs t =
+    if t.pq_runs <> [] then begin
+      let pq = List.fold_left (List.fold_left (fun q e -> Pqueue.insert e q)) t.c.pq t.pq_runs in
+      t.c <- { t.c with pq };
+      t.pq_runs <- []; t.pq_runs_n <- 0
+    end
+
   let sync t =
+    settle_runs t;
     if t.pend > 0 then begin
       let c = t.c in
       let seq = c.next_seq + t.pend in
@@ -488,7 +502,8 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
       o2a_n = 0; after = Fqueue.empty;
       buckets = [||]; pq_n = 0; by_prio = Array.make small_prios no_bucket; top = 0;
       pend = 0; pend_at = 0; pend_box = 0; pend_prio = 0; pend_with = false;
-      plain_runs = Array.make plain_small []; plain_lens = Array.make plain_small 0; plain_mask = 0; plain_big = [] }
+      plain_runs = Array.make plain_small []; plain_lens = Array.make plain_small 0; plain_mask = 0; plain_big = [];
+      pq_runs = []; pq_runs_n = 0 }
 
   (* A record pushed onto [ring]: a word, when the codec answers the
      percept's tag and int ([encode_one]), the tag is one a word stands
@@ -660,7 +675,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
 
   (* [maybe_pack] after a plain notify (packable, not packed) *)
   let[@inline] pack_if_due t =
-    if Fqueue.length t.c.o2a + Pqueue.size t.c.pq + t.pend >= t.pack_above then begin sync t; pack_now t end
+    if Fqueue.length t.c.o2a + Pqueue.size t.c.pq + t.pq_runs_n + t.pend >= t.pack_above then begin sync t; pack_now t end
 
   let notify t percept prio =
     if t.is_packed then notify_effect t percept prio ~with_:false
@@ -734,22 +749,24 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
   let transfer_plain_run t =
     if (t.plain_mask <> 0 || t.plain_big <> []) && Fqueue.is_empty t.c.o2a
        && (t.c.phase = Transfer_phase || t.c.phase = Idle_phase) then begin
+      settle_runs t;
       let c = t.c and n = t.pend in
       t.pend <- 0;
       let pq =
-        if Pqueue.is_empty c.pq && t.plain_big = [] then begin
-          (* each priority's run, oldest first, is its bucket *)
+        if Pqueue.is_empty c.pq && t.plain_big = [] && t.p.variant = Reference then begin
+          (* each priority's run, oldest first, waits as it is, the highest
+             priority's first, for a run of dispatches *)
           let runs = ref [] in
-          for k = plain_small - 1 downto 0 do
+          for k = 0 to plain_small - 1 do
             if t.plain_mask land (1 lsl k) <> 0 then begin
-              let r = t.plain_runs.(k) in
-              runs := (k, List.rev r, t.plain_lens.(k), (List.hd r).seq) :: !runs;
+              runs := List.rev t.plain_runs.(k) :: !runs;
               t.plain_runs.(k) <- []; t.plain_lens.(k) <- 0
             end
           done;
           t.plain_mask <- 0;
-          Pqueue.of_runs !runs
-        end else Pqueue.insert_newest_first (fun add -> List.iter add (take_plain t)) c.pq in
+          t.pq_runs <- !runs; t.pq_runs_n <- n;
+          Pqueue.empty
+        end else List.fold_left (fun q e -> Pqueue.insert e q) c.pq (take_plain t) in
       let (l, c) = F.transfer_into { c with next_seq = c.next_seq + n; phase = Transfer_phase } pq n in
       t.c <- c;
       Some l
@@ -800,6 +817,16 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
   let dispatch ?observe t = if transfer_next t then false else dispatch_synced ?observe t
 
   let dispatch_run_synced ~max t =
+    if t.pq_runs <> [] && max = max_int && t.pend = 0 && t.c.phase = Dispatch_phase && t.c.cur = None
+       && not t.p.ghosts then begin
+      (* the runs a Transfer left, dispatched as they are: the variant is
+         Reference, so they all go *)
+      let runs = t.pq_runs in
+      t.pq_runs <- []; t.pq_runs_n <- 0;
+      let (c, n) = F.dispatch_lists t.p t.c runs in
+      t.c <- c;
+      n
+    end else begin
     sync t;
     if not t.is_packed then begin
       if max = max_int then
@@ -824,6 +851,7 @@ module Make (B : Fast.BODIES) (C : CODEC with type percept = B.percept) = struct
       maybe_unpack t;
       n
     end else 0
+    end
 
   let dispatch_run ?(max = max_int) t = if transfer_next t then 0 else dispatch_run_synced ~max t
 end

@@ -305,7 +305,7 @@ module Make (B : Fast.BODIES) (_ : CODEC with type percept = B.percept) : sig
       stable ties there is one), as that rule does; [None] (nothing
       changes) when no rule is enabled. *)
 
-  val dispatch : ?observe:(M.lbl -> unit) -> t -> bool
+  val dispatch : ?observe:(M.lbl -> B.world -> B.world) -> t -> bool
   (** The derived rule Dispatch ({!Fast.Make.dispatch}): [true] when it
       was taken, [false] (nothing changes) where {!Fast.Make.dispatch}
       answers [None]. *)

@@ -40,10 +40,10 @@ module Fast_bodies = struct
   let percept_may_apply () (b : Model.beh) h p = List.mem p b.percept_handlers.(h - 1).accepts
   (* a model's percepts are numbered from 0: the number is the kind *)
   let percept_kind p = if p >= 0 && p < 4096 then p else -1
-  let percept_handle w ~id b h p = Engine.Fast.handle_in_two percept_applicable run_percept_handler w ~id b h p
+  let percept_handle w ~id ~active b h p = Engine.handle_in_two percept_applicable run_percept_handler w ~id ~active b h p
 end
 
-module FE = Engine.Fast.Make (Fast_bodies)
+module FE = Engine.Make (Fast_bodies)
 
 (* ------------------------------------------------------------- keys *)
 
@@ -290,7 +290,7 @@ let pq_sum = ref 0
 let pq_entry (e : int entry) = pq_sum := !pq_sum + avalanche (mix_entry fp_seed e)
 let part_pq pq =
   pq_sum := 0;
-  Semantics.Pqueue.iter pq_entry pq;
+  Semantics.Pqueue.fold (fun () e -> pq_entry e) () pq;
   avalanche (mix (mix fp_seed (Semantics.Pqueue.size pq)) !pq_sum)
 let part_active l = avalanche (mix_active fp_seed l)
 let part_cur = function

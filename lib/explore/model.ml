@@ -207,6 +207,7 @@ module Bodies = struct
   type obj = int
   type nonrec beh = beh
   type world = unit
+  type bindings = unit
 
   let cyclic b = b.cyclic
   let has_action b = b.has_action
@@ -218,11 +219,12 @@ module Bodies = struct
         | E_activate i -> Semantics.Machine.Activate (Lazy.force b.all).(i)
         | E_deactivate -> Semantics.Machine.Deactivate) effs
 
-  let percept_applicable () ~id:_ b h p = ((), List.mem p b.percept_handlers.(h - 1).accepts)
-  let run_percept_handler () ~id:_ b h _ = ((), effects b b.percept_handlers.(h - 1).effects)
-  let run_action () ~id:_ b = ((), effects b b.action_effects)
-  let message_accepted () ~id:_ b h m = List.mem m b.message_handlers.(h - 1).accepts
-  let run_message_handler () ~id:_ b h _ = ((), effects b b.message_handlers.(h - 1).effects)
+  let accepted l x = if List.mem x l then Some () else None
+  let percept_applicable () ~id:_ b h p = ((), accepted b.percept_handlers.(h - 1).accepts p)
+  let run_percept_handler () ~id:_ ~active:_ b h _ () = ((), effects b b.percept_handlers.(h - 1).effects)
+  let run_action () ~id:_ ~active:_ b = ((), effects b b.action_effects)
+  let message_accepted () ~id:_ b h m = ((), accepted b.message_handlers.(h - 1).accepts m)
+  let run_message_handler () ~id:_ ~active:_ b h _ () = ((), effects b b.message_handlers.(h - 1).effects)
   let take_outbox () = ((), [])
 end
 

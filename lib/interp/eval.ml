@@ -1,114 +1,48 @@
-(* The interpreter's evaluation rules. docs/semantics.md ("Running programs")
-   states them; the names of the functions follow the syntactic categories. *)
+(* The interpreter's evaluation rules: the reference. docs/semantics.md
+   ("Running programs") states them; the functions follow the syntactic
+   categories (expressions, patterns, statements), then the bodies the
+   machine runs (Bodies, at the end).
+
+   Plain on purpose: no caches, no comparison of addresses, no slot or hook
+   for the fast engine, no state outside the values passed. What a rule
+   changes is given back: a body takes the agent and answers the agent
+   after it. Only the program's own data changes in place: its properties
+   and the lists, maps and schema values they reach, which Jadescript (as
+   Java) shares by reference (docs/semantics.md, "Values").
+
+   The fast engine's twin of the percept handlers, compiled to closures,
+   is lib/engine/compiled_bodies.ml: it calls the rules below for every
+   value it computes, and test/fastpath holds it equal to this file. *)
 
 open Syntax
 module Ast = Syntax.Ast
 module T = Typing.Tenv
 module Ty = Typing.Types
 module V = Value
+module Names = Syntax.Strtbl
 
 type message = { perf : string; content : V.t; sender : string }
-
-(* The kinds of run-time errors (the exceptions Trap, Exhaustion, Link below). *)
-type error_kind = Trap_error | Exhaustion_error | Link_error
 
 (* A property: its value and its declared type, to which assignments convert
    (integer to float or double). *)
 type cell = { mutable v : V.t; ty : Ty.t }
 
-module Names = Syntax.Strtbl
-
-(* What the fast engine (lib/engine) keeps with a behaviour instance; the
-   evaluation rules never look at it. *)
-type engine_slot = ..
-type engine_slot += Nothing_kept
-
 type beh = {
   uid : int;
   btype : T.behaviour;
   bprops : cell Names.t;
-  mutable bcache : (string * cell option) list;
-      (* properties found by name from this behaviour's code, by address *)
   phandlers : T.handler array;
   mhandlers : T.handler array;
   action : Ast.block option;
-  mutable kept : engine_slot;
 }
 
-type event =
-  | Log of string
-  | Invoke of { meth : string; cls : string; args : V.t list; result : V.t }
-  | Sent of { perf : string; content : V.t; receivers : string list }
-  | Activated of string
-  | Deactivated of int
-  | Error of error_kind * Source.region * string
-  | Ran of { handler : int; effects : beh Semantics.Machine.effect list }
+(* ------------------------------------------------------------ errors *)
 
-(* Local variables: few per frame, so an association list of cells is
-   cheaper than a hash table (frames are made for every guard evaluated). *)
-type locals = { mutable vars : (string * V.t ref) list }
+(* One exception per kind of run-time error, as the WebAssembly reference
+   interpreter's util/error.ml makes them; the kind decides the wording of
+   a report, never the trace line. *)
+type error_kind = Trap_error | Exhaustion_error | Link_error
 
-(* Names are interned by the lexer (Syntax.Lexer): equal names are usually
-   the same string. *)
-let[@inline] same_name (x : string) y =
-  x == y || (String.length x = String.length y && String.equal x y)
-
-let new_locals () = { vars = [] }
-(* [no_local]: what [local_cell] answers for a name no local has (compared
-   by address; never written), so that a lookup allocates nothing. *)
-let no_local : V.t ref = ref V.Unit
-let rec local_cell x = function
-  | [] -> no_local
-  | (y, r) :: rest -> if same_name x y then r else local_cell x rest
-let local_set l x v =
-  let r = local_cell x l.vars in
-  if r != no_local then r := v else l.vars <- (x, ref v) :: l.vars
-
-let beh_type b = b.btype.b_name
-let keep b x = b.kept <- x
-
-type agent = {
-  env : T.t;
-  name : string;
-  atype : T.agent;
-  props : cell Names.t;
-  mutable acache : (string * cell option) list;
-      (* properties found by name from the agent's own code, by address *)
-  mutable outbox : (string * message) list;
-  mutable events : event list;
-  mutable effects : beh Semantics.Machine.effect list;
-  mutable fuel_limit : int;
-  mutable pending : (int * int * frame) option;
-  mutable record_ran : bool;   (* record Ran events (for a trace) *)
-  mutable live : int;
-      (* D19: active instances when the current rule started (set_live),
-         plus the activations its bodies made since, minus their
-         deactivations *)
-}
-
-(* What a running body sees. *)
-and frame = {
-  ag : agent;
-  beh : beh option;          (* the behaviour whose code runs, if any *)
-  id : int;                  (* its machine instance id (0 in agent code) *)
-  locals : locals;
-  content : V.t option;
-  message : message option;
-  fuel : int ref;
-  depth : int;               (* nested calls of functions and procedures *)
-}
-
-let property a x = match Names.find_opt a.props x with Some c -> Some c.v | None -> None
-
-let take_events a = match a.events with
-  | [] -> []
-  | [ _ ] as e -> a.events <- []; e
-  | e -> a.events <- []; List.rev e
-
-(* Run-time errors, one exception per kind (as the WebAssembly reference
-   interpreter's util/error.ml): the kind decides the wording of a report,
-   never the trace line, which is the same [error] event for all three. A
-   broken invariant of the implementation is Semantics.Fault.Crash. *)
 exception Trap of Source.region * string
 exception Exhaustion of Source.region * string
 exception Link of Source.region * string
@@ -124,41 +58,128 @@ let error_of_exn = function
   | Link (at, m) -> Some (Link_error, at, m)
   | _ -> None
 
+let err at fmt = Printf.ksprintf (fun s -> raise (Trap (at, s))) fmt
+let exhausted at fmt = Printf.ksprintf (fun s -> raise (Exhaustion (at, s))) fmt
+let link at fmt = Printf.ksprintf (fun s -> raise (Link (at, s))) fmt
+
+(* What ends a block early. *)
 exception Return of V.t
 exception Break
 exception Continue
 
-let err at fmt = Printf.ksprintf (fun s -> raise (Trap (at, s))) fmt
-let link at fmt = Printf.ksprintf (fun s -> raise (Link (at, s))) fmt
+(* ------------------------------------------------------------ config *)
 
-(* Nested calls of Jadescript functions and procedures one body may make:
-   deeper recursion is an exhaustion error, never an OCaml stack overflow. *)
-let max_call_depth = 200
+(* The limits of a run, as the WebAssembly reference interpreter's config
+   holds its budget. *)
+type config = {
+  fuel : int;
+  max_call_depth : int;
+  max_behaviours : int;
+  max_memory : int option;
+  record_effects : bool;
+}
 
-(* D19: active behaviour instances one agent may have. *)
-let max_behaviours = 10_000
-
-let set_live a n = a.live <- n
+let default_config = {
+  fuel = 100_000; max_call_depth = 200; max_behaviours = 10_000;
+  max_memory = None; record_effects = true;
+}
 
 (* D21: the largest text (bytes, also as printed by log, send, invoke) and
-   map (entries) a run may build. *)
+   map (entries) a run may build: part of the conformance contract. *)
 let max_text = 1_000_000
 let max_map_size = 1_000_000
 
+type event =
+  | Log of string
+  | Invoke of { meth : string; cls : string; args : V.t list; result : V.t }
+  | Sent of { perf : string; content : V.t; receivers : string list }
+  | Activated of string
+  | Deactivated of int
+  | Error of error_kind * Source.region * string
+  | Ran of { handler : int; effects : beh Semantics.Machine.effect list }
+
+type agent = {
+  env : T.t;
+  name : string;
+  atype : T.agent;
+  props : cell Names.t;
+  config : config;
+  next_uid : int;
+  events : event list;
+  outbox : (string * message) list;
+}
+
+let property a x = match Names.find_opt a.props x with Some c -> Some c.v | None -> None
+
+let take_events a = match a.events with
+  | [] -> (a, [])
+  | evs -> ({ a with events = [] }, List.rev evs)
+
+let beh_type b = b.btype.b_name
+
+(* ------------------------------------------------------------ frames *)
+
+(* A body's run: its step budget left, and what it did so far (newest
+   first), which the agent gets when the body ends ({!finish}). Made afresh
+   for each body, and shared by the calls it makes and the behaviours it
+   activates. *)
+type run = {
+  mutable fuel : int;
+  mutable events : event list;
+  mutable outbox : (string * message) list;
+  mutable effects : beh Semantics.Machine.effect list;
+  mutable next_uid : int;
+  mutable live : int;
+      (* D19: the agent's active instances as the body started, plus the
+         activations it made, minus its [deactivate this] *)
+}
+
+(* Local variables: few per frame, an association list of cells. *)
+type locals = { mutable vars : (string * V.t ref) list }
+
+(* What a running body sees. *)
+type frame = {
+  ag : agent;
+  run : run;
+  beh : beh option;          (* the behaviour whose code runs, if any *)
+  id : int;                  (* its machine instance id (0 in agent code) *)
+  locals : locals;
+  content : V.t option;
+  message : message option;
+  depth : int;               (* nested calls of functions and procedures *)
+  in_guard : bool;           (* a when condition, or code it calls (D41) *)
+}
+
+let new_run (a : agent) ~active =
+  { fuel = a.config.fuel; events = []; outbox = []; effects = []; next_uid = a.next_uid; live = active }
+
+let frame (a : agent) run ?beh ?(id = 0) ?content ?message ?(locals = []) () =
+  { ag = a; run; beh; id; locals = { vars = List.map (fun (x, v) -> (x, ref v)) locals };
+    content; message; depth = 0; in_guard = false }
+
+let add_event (f : frame) e = f.run.events <- e :: f.run.events
+
+let local_cell x l = List.assoc_opt x l.vars
+
+let local_set l x v =
+  match local_cell x l with
+  | Some r -> r := v
+  | None -> l.vars <- (x, ref v) :: l.vars
+
+(* ------------------------------------------------------------ limits *)
+
 let too_big at what =
-  raise (Exhaustion (at, Printf.sprintf "value too large: %s (at most %d bytes in a text, %d entries in a map)"
-                       what max_text max_map_size))
+  exhausted at "value too large: %s (at most %d bytes in a text, %d entries in a map)" what max_text max_map_size
 
 (* The text of [v] (log), or its literal (what a trace line carries), when
-   it is at most max_text bytes long. *)
+   it is at most max_text bytes long (D21). *)
 let bounded_text ~quote at v =
   if not (V.printed_within ~quote max_text v) then too_big at "its text would be too long";
   v
 
 (* D37: a comparison or a hash past V.max_visits values. *)
 let too_large_to_compare at =
-  raise (Exhaustion (at, Printf.sprintf "value too large: comparing or hashing it would visit more than %d values"
-                       V.max_visits))
+  exhausted at "value too large: comparing or hashing it would visit more than %d values" V.max_visits
 
 let map_set_bounded at (m : V.map_v) k v =
   try
@@ -166,41 +187,31 @@ let map_set_bounded at (m : V.map_v) k v =
     V.map_set m k v
   with V.Too_large -> too_large_to_compare at
 
-let uids = ref 0
-
-
-(* ------------------------------------------------------------ frames *)
-
-
-(* D22: the memory a run may take, in megabytes ([None]: no bound). Every
-   1,024 statements, and before a text of more than 64 KB is built, the
-   major heap's size is compared with it; over it, the heap is compacted
-   (garbage may be most of it) and compared again; still over it, the
-   statement is an exhaustion error (R7). *)
-let max_memory : int option ref = ref None
-
-let set_max_memory mb = max_memory := mb
-
-let check_memory at =
-  match !max_memory with
+(* D22: every 1,024 statements, and before a text of more than 64 KB is
+   built, the major heap's size is compared with the run's bound; over it,
+   the heap is compacted (garbage may be most of it) and compared again;
+   still over it, the statement is an exhaustion error (R7). *)
+let check_memory (a : agent) at =
+  match a.config.max_memory with
   | None -> ()
   | Some mb ->
     let words = mb * (1024 * 1024 / (Sys.word_size / 8)) in
     if (Gc.quick_stat ()).heap_words > words then begin
       Gc.compact ();
       if (Gc.quick_stat ()).heap_words > words then
-        raise (Exhaustion (at, Printf.sprintf "out of memory: the run takes more than %d MB (--max-memory)" mb))
+        exhausted at "out of memory: the run takes more than %d MB (--max-memory)" mb
     end
 
+(* One statement or loop iteration of the body's step budget (R7). *)
 let tick (f : frame) at =
-  decr f.fuel;
-  if !(f.fuel) < 0 then
-    raise (Exhaustion (at, Printf.sprintf "step budget exhausted: more than %d statements in one handler or step (--fuel)" f.ag.fuel_limit));
-  if !(f.fuel) land 1023 = 0 then check_memory at
+  f.run.fuel <- f.run.fuel - 1;
+  if f.run.fuel < 0 then
+    exhausted at "step budget exhausted: more than %d statements in one handler or step (--fuel)" f.ag.config.fuel;
+  if f.run.fuel land 1023 = 0 then check_memory f.ag at
 
 (* ------------------------------------------------------- conversions *)
 
-let rec coerce_param (ty : Ty.t) (v : V.t) : V.t option =
+let coerce_param (ty : Ty.t) (v : V.t) : V.t option =
   match Ty.repr ty, v with
   | Ty.Integer, V.Int _ -> Some v
   | Ty.Double, V.Int i -> Some (V.Double (float_of_int i))
@@ -214,48 +225,21 @@ let rec coerce_param (ty : Ty.t) (v : V.t) : V.t option =
   | (Ty.Var _ | Ty.Error), _ -> Some v
   | _ -> None
 
-and coerce ty v = match coerce_param ty v with Some v -> v | None -> v
+let coerce ty v = match coerce_param ty v with Some v -> v | None -> v
 
-(* ------------------------------------------------------- names *)
+(* ------------------------------------------------------------ names *)
 
 (* The property a name denotes where no local has it: the running
    behaviour's, else the agent's. *)
-let prop_cell_slow (f : frame) x =
-  match (match f.beh with
-      | Some b when Names.length b.bprops > 0 -> Names.find_opt b.bprops x
-      | _ -> None) with
+let prop_cell (f : frame) x =
+  match (match f.beh with Some b -> Names.find_opt b.bprops x | None -> None) with
   | Some _ as c -> c
   | None -> Names.find_opt f.ag.props x
 
-(* The same, remembered per behaviour instance (or for the agent's code) by
-   the name's address: the lexer interns names, so a name of the program is
-   found by one comparison. Only properties found are remembered, at most
-   [cache_size] names, after which the tables answer. A table is complete
-   once its initialisers have run; what they remembered is forgotten then
-   (a later property of the same name may have replaced a cell). *)
-let cache_size = 8
-
-let rec cached x = function
-  | [] -> None
-  | (y, c) :: rest -> if x == y then c else cached x rest
-
-let prop_cell (f : frame) x =
-  let cache = match f.beh with Some b -> b.bcache | None -> f.ag.acache in
-  match cached x cache with
-  | Some _ as c -> c
-  | None ->
-    let r = prop_cell_slow f x in
-    (match r with
-     | Some _ when List.length cache < cache_size ->
-       (match f.beh with
-        | Some b -> b.bcache <- (x, r) :: b.bcache
-        | None -> f.ag.acache <- (x, r) :: f.ag.acache)
-     | _ -> ());
-    r
-
 let lookup (f : frame) at x =
-  let r = local_cell x f.locals.vars in
-  if r != no_local then !r else
+  match local_cell x f.locals with
+  | Some r -> !r
+  | None ->
     match prop_cell f x with
     | Some c -> c.v
     | None ->
@@ -266,8 +250,9 @@ let lookup (f : frame) at x =
 let set_cell c v = c.v <- coerce c.ty v
 
 let assign_name (f : frame) x v =
-  let r = local_cell x f.locals.vars in
-  if r != no_local then r := v else
+  match local_cell x f.locals with
+  | Some r -> r := v
+  | None ->
     match prop_cell f x with
     | Some c -> set_cell c v
     | None -> local_set f.locals x v
@@ -289,7 +274,7 @@ let construct (env : T.t) at name (args : V.t list) =
     V.Schema { sname = s.s_name; slots = Array.of_list slots }
 
 let slot at (s : V.schema_v) x =
-  match Array.find_opt (fun (n, _) -> n = x) s.slots with
+  match Array.find_opt (fun (n, _) -> String.equal n x) s.slots with
   | Some (_, r) -> r
   | None -> err at "%s has no slot %s" s.sname x
 
@@ -345,50 +330,50 @@ let compare_values at (op : Ast.binop) a b =
 
 (* ------------------------------------------------------- patterns *)
 
-let rec pattern (f : frame) binds (p : Ast.pattern) (v : V.t) : bool =
-  match p.it, v with
-  | PWild, _ -> true
-  | PLit l, _ -> V.equal (literal l) v
-  | PName x, V.Schema s when same_name s.sname x -> true   (* the value's own schema *)
-  | PName x, _ ->
-    (match T.schema f.ag.env x with
-     | Some _ -> (match v with V.Schema s -> T.subschema f.ag.env s.sname x | _ -> false)
-     | None -> binds := (x, v) :: !binds; true)
-  | PCons (c, ps), V.Schema s when same_name s.sname c.it && List.length ps = Array.length s.slots ->
-    (* the value's own schema: its slots are the constructor's, in order *)
-    let rec all i = function
-      | [] -> true
-      | p :: rest -> pattern f binds p !(snd s.slots.(i)) && all (i + 1) rest in
-    all 0 ps
-  | PCons (c, ps), V.Schema s ->
-    T.subschema f.ag.env s.sname c.it
-    && (match T.schema f.ag.env c.it with
-        | Some sc ->
-          List.length ps = List.length sc.s_slots
-          && List.for_all2 (fun p (n, _) -> pattern f binds p !(slot p.at s n)) ps sc.s_slots
-        | None -> false)
-  | PCons _, _ -> false
-
-and literal = function
+let literal = function
   | Ast.Int i -> V.Int i
   | Ast.Real r -> V.Double (float_of_string r)
   | Ast.Text s -> V.Text s
   | Ast.Bool b -> V.Bool b
 
-(* [invoke] once its target and arguments are evaluated (in that order):
-   each argument's literal within D21's bound, then the host's method. *)
-(* A send's receivers: an aid, or a list of aids (R6). *)
+(* Does [v] match [p]? A name that is a schema tests the value's schema
+   (itself or a subschema); any other name is a variable and binds; a
+   constructor pattern tests the schema, then matches the slots it names,
+   in its order. The bindings go into [binds], newest first. *)
+let rec pattern (env : T.t) binds (p : Ast.pattern) (v : V.t) : bool =
+  match p.it, v with
+  | PWild, _ -> true
+  | PLit l, _ -> V.equal (literal l) v
+  | PName x, _ ->
+    (match T.schema env x with
+     | Some _ -> (match v with V.Schema s -> T.subschema env s.sname x | _ -> false)
+     | None -> binds := (x, v) :: !binds; true)
+  | PCons (c, ps), V.Schema s ->
+    T.subschema env s.sname c.it
+    && (match T.schema env c.it with
+        | Some sc ->
+          List.length ps = List.length sc.s_slots
+          && List.for_all2 (fun (q : Ast.pattern) (n, _) -> pattern env binds q !(slot q.at s n)) ps sc.s_slots
+        | None -> false)
+  | PCons _, _ -> false
+
+(* ------------------------------------------------ sends and invokes *)
+
+(* A send's receivers: an aid, or a list of aids. *)
 let receivers_of at = function
   | V.Aid a -> [ a ]
   | V.List l -> List.map (function V.Aid a -> a | v -> err at "a receiver is an aid, not a %s" (V.type_name v)) (V.list_items l)
   | v -> err at "a receiver is an aid, not a %s" (V.type_name v)
 
-(* The message of a send, in each receiver's outbox entry, and the event. *)
-let post_send (a : agent) perf content receivers =
-  List.iter (fun r -> a.outbox <- (r, { perf; content; sender = a.name }) :: a.outbox) receivers;
-  a.events <- Sent { perf; content; receivers } :: a.events
+(* The message of a send in each receiver's outbox entry, and the event
+   (R5e), once its content and receivers are evaluated. *)
+let post_send (f : frame) perf content receivers =
+  List.iter (fun r -> f.run.outbox <- (r, { perf; content; sender = f.ag.name }) :: f.run.outbox) receivers;
+  add_event f (Sent { perf; content; receivers })
 
-let invoke_values (a : agent) at (i : Ast.invoke) target vs =
+(* [invoke] once its target and arguments are evaluated (in that order):
+   each argument's literal within D21's bound, then the host's method. *)
+let invoke_values (f : frame) at (i : Ast.invoke) target vs =
   let args = List.map2 (fun (e : Ast.expr) v -> bounded_text ~quote:true e.at v) i.args vs in
   match target with
   | V.Native n ->
@@ -399,7 +384,7 @@ let invoke_values (a : agent) at (i : Ast.invoke) target vs =
          | (Trap _ | Exhaustion _ | Link _) as x -> raise x
          | Invalid_argument msg -> link at "%s.%s failed: %s" n.cls i.meth.it msg
          | Failure msg -> err at "%s.%s failed: %s" n.cls i.meth.it msg in
-       a.events <- Invoke { meth = i.meth.it; cls = n.cls; args; result } :: a.events;
+       add_event f (Invoke { meth = i.meth.it; cls = n.cls; args; result });
        result)
   | v -> err i.target.at "invoke needs a host object (any), not a %s" (V.type_name v)
 
@@ -444,7 +429,7 @@ let rec expr (f : frame) (e : Ast.expr) : V.t =
   | Matches (x, p) ->
     let v = expr f x in
     let binds = ref [] in
-    if pattern f binds p v then (List.iter (fun (x, v) -> local_set f.locals x v) (List.rev !binds); V.Bool true)
+    if pattern f.ag.env binds p v then (List.iter (fun (x, v) -> local_set f.locals x v) (List.rev !binds); V.Bool true)
     else V.Bool false
   | Unop (Not, x) -> (match expr f x with V.Bool b -> V.Bool (not b) | v -> err e.at "not needs a boolean, not a %s" (V.type_name v))
   | Unop (Neg, x) ->
@@ -455,16 +440,18 @@ let rec expr (f : frame) (e : Ast.expr) : V.t =
                                             | v -> err e.at "and needs booleans, not a %s" (V.type_name v))
   | Binop (Or, l, r) -> (match expr f l with V.Bool true -> V.Bool true | V.Bool false -> expr f r
                                            | v -> err e.at "or needs booleans, not a %s" (V.type_name v))
-  | Binop (Eq, l, r) -> V.Bool (equal_values e.at (expr f l) (expr f r))
-  | Binop (Neq, l, r) -> V.Bool (not (equal_values e.at (expr f l) (expr f r)))
-  | Binop ((Lt | Gt | Le | Ge) as op, l, r) -> compare_values e.at op (expr f l) (expr f r)
+  (* the right operand first, then the left, for = != < > <= >= *)
+  | Binop (Eq, l, r) -> let b = expr f r in let a = expr f l in V.Bool (equal_values e.at a b)
+  | Binop (Neq, l, r) -> let b = expr f r in let a = expr f l in V.Bool (not (equal_values e.at a b))
+  | Binop ((Lt | Gt | Le | Ge) as op, l, r) -> let b = expr f r in let a = expr f l in compare_values e.at op a b
   | Binop (Add, l, r) ->
-    let a = expr f l and b = expr f r in
+    let a = expr f l in
+    let b = expr f r in
     (match a, b with
      | V.Text _, _ | _, V.Text _ ->
        let a = V.to_text (bounded_text ~quote:false e.at a) and b = V.to_text (bounded_text ~quote:false e.at b) in
        if String.length a + String.length b > max_text then too_big e.at "the text would be too long";
-       if String.length a + String.length b > 65536 then check_memory e.at;
+       if String.length a + String.length b > 65536 then check_memory f.ag e.at;
        V.Text (a ^ b)
      | _ -> arith e.at Add a b)
   | Binop (op, l, r) -> let a = expr f l in let b = expr f r in arith e.at op a b
@@ -505,12 +492,15 @@ and call (f : frame) at g args =
     | "aid", [ V.Aid n ] -> V.Aid n
     | _ -> construct f.ag.env at g args
 
+(* A call of a function or procedure (D18: at most max_call_depth nested):
+   a tick at the call, the depth, the arguments against the parameters,
+   then the body in fresh locals. An agent's routine ([beh = None]) sees the
+   agent's properties only. *)
 and run_routine (f : frame) at (r : T.routine) beh args : V.t option =
   tick f at;
-  if f.depth >= max_call_depth then
-    raise (Exhaustion (at, Printf.sprintf "recursion too deep: more than %d nested calls of functions and procedures"
-                         max_call_depth));
-  let locals = new_locals () in
+  if f.depth >= f.ag.config.max_call_depth then
+    exhausted at "recursion too deep: more than %d nested calls of functions and procedures" f.ag.config.max_call_depth;
+  let locals = { vars = [] } in
   (match args with
    | `Positional vs ->
      if List.length vs <> List.length r.r_params then
@@ -529,7 +519,7 @@ and run_routine (f : frame) at (r : T.routine) beh args : V.t option =
 
 and invoke (f : frame) at (i : Ast.invoke) =
   let target = expr f i.target in
-  invoke_values f.ag at i target (List.map (expr f) i.args)
+  invoke_values f at i target (List.map (expr f) i.args)
 
 (* ----------------------------------------------------- statements *)
 
@@ -542,7 +532,7 @@ and stmt (f : frame) (s : Ast.stmt) =
   | Local (x, ty, e) ->
     let v = expr f e in
     let v = match ty.it with
-      | TName ("float") -> coerce Ty.Float v | TName "double" -> coerce Ty.Double v | _ -> v in
+      | TName "float" -> coerce Ty.Float v | TName "double" -> coerce Ty.Double v | _ -> v in
     local_set f.locals x.it v
   | Do (p, args) ->
     let r = match f.beh with
@@ -562,21 +552,12 @@ and stmt (f : frame) (s : Ast.stmt) =
   | Activate (b, args) ->
     let kvs = List.map (fun ((n : Ast.name), e) -> (n.it, expr f e)) args in
     activate f s.at b.it kvs
-  | Deactivate ->
-    (match f.beh with
-     | Some _ when List.mem Semantics.Machine.Deactivate f.ag.effects ->
-       (* R5h: this body already deactivated its behaviour; doing it again does nothing *)
-       ()
-     | Some _ ->
-       f.ag.effects <- Semantics.Machine.Deactivate :: f.ag.effects;
-       f.ag.live <- f.ag.live - 1;   (* D19: the instance leaves at the end of the rule *)
-       f.ag.events <- Deactivated f.id :: f.ag.events
-     | None -> err s.at "deactivate this outside a behaviour")
+  | Deactivate -> deactivate f s.at
   | Send (perf, c, rs) ->
     let content = bounded_text ~quote:true c.at (expr f c) in
     let receivers = List.concat_map (fun (r : Ast.expr) -> receivers_of r.at (expr f r)) rs in
-    post_send f.ag perf.it content receivers
-  | Log e -> let v = bounded_text ~quote:false e.at (expr f e) in f.ag.events <- Log (V.to_text v) :: f.ag.events
+    post_send f perf.it content receivers
+  | Log e -> let v = bounded_text ~quote:false e.at (expr f e) in add_event f (Log (V.to_text v))
   | If (branches, els) ->
     let rec go = function
       | [] -> (match els with Some b -> block f b | None -> ())
@@ -636,33 +617,51 @@ and assign (f : frame) (lv : Ast.lvalue) v =
         | _ -> err lv.at "no such behaviour property %s" p.it)
      | o -> err lv.at "cannot set %s of a %s" p.it (V.type_name o))
 
-(* R5g: a new instance; its properties, then its on create, run now; then the
-   machine appends it to the active behaviours and the ready list. *)
+(* D41: a when condition changes no behaviour (R3b, R4b): an activate or a
+   deactivate reached from one, through a call, is an error there. *)
+and no_effect_in_guard at =
+  err at "a when condition cannot activate or deactivate a behaviour"
+
+(* R5g: a new instance; its properties, then its on create, run now; then
+   the machine appends it to the active behaviours and the ready list
+   (the [Activate] effect). D19: not past max_behaviours active instances.
+   D40: instance numbers ([this]) come from the agent's own supply. *)
 and activate (f : frame) at name kvs =
+  if f.in_guard then no_effect_in_guard at;
   match T.behaviour f.ag.env name with
   | None -> err at "unknown behaviour %s" name
   | Some bt ->
-    if f.ag.live >= max_behaviours then
-      raise (Exhaustion (at, Printf.sprintf "too many behaviours: an agent has at most %d active behaviour instances"
-                           max_behaviours));
-    incr uids;
+    if f.run.live >= f.ag.config.max_behaviours then
+      exhausted at "too many behaviours: an agent has at most %d active behaviour instances" f.ag.config.max_behaviours;
+    let uid = f.run.next_uid in
+    f.run.next_uid <- uid + 1;
     let handlers = T.behaviour_handlers f.ag.env name in
-    let phandlers = Array.of_list (List.filter (fun (h : T.handler) -> h.h_kind = T.On_percept) handlers) in
-    let b = { uid = !uids; btype = bt; bprops = Names.create 8; bcache = []; kept = Nothing_kept;
-              phandlers;
+    let b = { uid; btype = bt; bprops = Names.create 8;
+              phandlers = Array.of_list (List.filter (fun (h : T.handler) -> h.h_kind = T.On_percept) handlers);
               mhandlers = Array.of_list (List.filter (fun (h : T.handler) -> h.h_kind <> T.On_percept) handlers);
               action = T.behaviour_action f.ag.env name } in
-    let bf = { f with beh = Some b; id = 0; locals = new_locals (); content = None; message = None } in
+    let bf = { f with beh = Some b; id = 0; locals = { vars = [] }; content = None; message = None } in
     List.iter (fun (p : T.property) ->
         let v = match p.p_init with Some e -> coerce p.p_type (expr bf e) | None -> default_value p.p_type in
         Names.replace b.bprops p.p_name { v; ty = p.p_type }) (T.behaviour_properties f.ag.env name);
-    b.bcache <- [];
     (match T.behaviour_create f.ag.env name with
      | Some r -> ignore (run_routine bf at r (Some b) (`Named kvs))
      | None -> ());
-    f.ag.effects <- Semantics.Machine.Activate b :: f.ag.effects;
-    f.ag.live <- f.ag.live + 1;
-    f.ag.events <- Activated name :: f.ag.events
+    f.run.effects <- Semantics.Machine.Activate b :: f.run.effects;
+    f.run.live <- f.run.live + 1;
+    add_event f (Activated name)
+
+(* R5h: [deactivate this] takes effect once (D16: a second one in the same
+   body does nothing and is not traced). *)
+and deactivate (f : frame) at =
+  if f.in_guard then no_effect_in_guard at;
+  match f.beh with
+  | Some _ when List.mem Semantics.Machine.Deactivate f.run.effects -> ()
+  | Some _ ->
+    f.run.effects <- Semantics.Machine.Deactivate :: f.run.effects;
+    f.run.live <- f.run.live - 1;
+    add_event f (Deactivated f.id)
+  | None -> err at "deactivate this outside a behaviour"
 
 and default_value (ty : Ty.t) = match Ty.repr ty with
   | Ty.Integer -> V.Int 0 | Ty.Float -> V.Float 0. | Ty.Double -> V.Double 0.
@@ -672,60 +671,66 @@ and default_value (ty : Ty.t) = match Ty.repr ty with
 
 (* -------------------------------------------------------- running *)
 
-let frame ag ?beh ?(id = 0) ?content ?message () =
-  { ag; beh; id; locals = new_locals (); content; message; fuel = ref ag.fuel_limit; depth = 0 }
-
-(* Run a body: a run-time error stops it and is recorded (R7). *)
-let record_error (a : agent) x =
+(* A run-time error recorded as an [Error] event (R7): [true]; any other
+   exception: [false]. *)
+let record_error (f : frame) x =
   match error_of_exn x with
-  | Some (kind, at, msg) -> a.events <- Error (kind, at, msg) :: a.events; true
+  | Some (kind, at, msg) -> add_event f (Error (kind, at, msg)); true
   | None -> false
 
-let recover (a : agent) = function
+(* What ends a body: [return], [break] and [continue] nothing, a run-time
+   error recorded, any other exception raised again. *)
+let recover (f : frame) = function
   | Return _ | Break | Continue -> ()
   | Stack_overflow ->
     (* what max_call_depth does not bound (an expression nested too deeply;
        a smaller stack, as in a browser) *)
-    a.events <- Error (Exhaustion_error, Source.no_region, "recursion too deep") :: a.events
-  | x -> if not (record_error a x) then raise x
+    add_event f (Error (Exhaustion_error, Source.no_region, "recursion too deep"))
+  | x -> if not (record_error f x) then raise x
 
-let protect (a : agent) body = try body () with x -> recover a x
+let protect (f : frame) body = try body () with x -> recover f x
 
-(* The same for a block, without a closure (a handler body, once per percept). *)
-let protect_block (a : agent) f b = try block f b with x -> recover a x
+(* The agent after a run: what the body did added to what it had. *)
+let finish_run (a : agent) (r : run) =
+  match r.events, r.outbox with
+  | [], [] when r.next_uid = a.next_uid -> a
+  | _ -> { a with events = r.events @ a.events; outbox = r.outbox @ a.outbox; next_uid = r.next_uid }
 
-(* The effects of the body that just ran, for the machine. *)
-let take_effects a =
-  match a.effects with
-  | [] -> []
-  | effs -> a.effects <- []; List.rev effs
-
-(* The same, recorded with the body that ran them (the trace's [effects],
-   [action_effects] and [handler]): [handler] is 0 for an action block. *)
-let take_ran a handler =
-  let effects = take_effects a in
-  if a.record_ran then a.events <- Ran { handler; effects } :: a.events;
-  effects
+(* The end of a handler ([handler], from 1) or an action block ([0]): its
+   effects on the behaviours, in order, recorded with it as a [Ran] event
+   when the trace needs them ([record_effects]). *)
+let finish_body (f : frame) handler =
+  let effects = List.rev f.run.effects in
+  if f.ag.config.record_effects then add_event f (Ran { handler; effects });
+  (finish_run f.ag f.run, effects)
 
 (* The value of a when condition [g] (or of its last conjunct). *)
 let condition_value (g : Ast.expr) = function
   | V.Bool b -> b
   | v -> err g.at "a when condition is a boolean, not a %s" (V.type_name v)
 
-let condition (f : frame) (g : Ast.expr) = condition_value g (expr f g)
+(* R3b: a guard is evaluated now, in fresh locals and on a fresh step
+   budget; an error makes it false, and is recorded. When it holds, the
+   locals it bound go to the body. *)
+let guard (a : agent) ~id b (h : T.handler) ?content ?message () =
+  let run = new_run a ~active:0 in
+  let f = { (frame a run ~beh:b ~id ?content ?message ()) with in_guard = true } in
+  let holds = match h.h_guard with
+    | None -> true
+    | Some g -> (try condition_value g (expr f g) with x when record_error f x -> false) in
+  (finish_run a run, if holds then Some (List.rev_map (fun (x, r) -> (x, !r)) f.locals.vars) else None)
 
-let guard_holds (f : frame) (h : T.handler) =
-  match h.h_guard with
-  | None -> true
-  | Some g -> condition f g
+(* A handler's body, in its guard's bindings, on a fresh step budget. *)
+let body (a : agent) ~id ~active b (h : T.handler) hi ?content ?message bindings =
+  let f = frame a (new_run a ~active) ~beh:b ~id ?content ?message ~locals:bindings () in
+  protect f (fun () -> block f h.h_body);
+  finish_body f hi
 
-let create_agent env ~name ~atype ~args ~fuel =
+let create_agent ?(config = default_config) env ~name ~atype ~args =
   match T.agent env atype with
   | None -> link Source.no_region "unknown agent type %s" atype
   | Some at ->
-    let a = { env; name; atype = at; props = Names.create 16; acache = []; outbox = []; events = [];
-              effects = []; fuel_limit = fuel; pending = None; record_ran = true; live = 0 } in
-    let f = frame a () in
+    let a = { env; name; atype = at; props = Names.create 16; config; next_uid = 1; events = []; outbox = [] } in
     let params = match T.agent_create env atype with Some r -> r.r_params | None -> [] in
     if List.length params <> List.length args then
       link Source.no_region "agent type %s takes %d creation argument%s, not %d"
@@ -734,21 +739,26 @@ let create_agent env ~name ~atype ~args ~fuel =
         | Some v -> v
         | None -> link Source.no_region "creation argument %s of %s is a %s, not a %s" n atype (Ty.to_string ty) (V.type_name v))
         params args in
-    protect a (fun () ->
+    let run = new_run a ~active:0 in
+    let f = frame a run () in
+    protect f (fun () ->
         List.iter (fun (p : T.property) ->
             let v = match p.p_init with Some e -> coerce p.p_type (expr f e) | None -> default_value p.p_type in
             Names.replace a.props p.p_name { v; ty = p.p_type }) (T.agent_properties env atype);
-        a.acache <- [];
         match T.agent_create env atype with
         | Some r -> ignore (run_routine f Source.no_region r None (`Positional args))
         | None -> ());
-    let behs = List.filter_map (function Semantics.Machine.Activate b -> Some b | _ -> None) (take_effects a) in
-    (a, behs)
+    let behs = List.filter_map (function Semantics.Machine.Activate b -> Some b | _ -> None) (List.rev run.effects) in
+    (finish_run a run, behs)
 
 let destroy_agent a =
   match a.atype.a_destroy with
-  | None -> ()
-  | Some b -> protect a (fun () -> block (frame a ()) b)
+  | None -> a
+  | Some b ->
+    let run = new_run a ~active:0 in
+    let f = frame a run () in
+    protect f (fun () -> block f b);
+    finish_run a run
 
 let rec literal_value env (e : Ast.expr) : V.t =
   match e.it with
@@ -793,17 +803,25 @@ let percept_value env ~agent_type (e : Ast.expr) =
 
 (* ------------------------------------------- for the fast engine *)
 
-let percept_handler b h = b.phandlers.(h - 1)
-let percept_handler_count b = Array.length b.phandlers
-let guard_frame a ~id b p = frame a ~beh:b ~id ~content:p ()
-let bind_local (f : frame) x v = local_set f.locals x v
-let condition_part (f : frame) ~(whole : Ast.expr) (part : Ast.expr) = condition_value whole (expr f part)
-
-(* What lib/engine/compiled_bodies.ml reuses of the rules above, unchanged. *)
-let reset_fuel (f : frame) = f.fuel := f.ag.fuel_limit
+let reset_run (r : run) (a : agent) ~active =
+  r.fuel <- a.config.fuel; r.events <- []; r.outbox <- []; r.effects <- [];
+  r.next_uid <- a.next_uid; r.live <- active
+let body_frame (a : agent) run ~id b = frame a run ~beh:b ~id ()
 let agent_frame (f : frame) =
-  { f with beh = None; id = 0; locals = new_locals (); content = None; message = None }
+  { f with beh = None; id = 0; locals = { vars = [] }; content = None; message = None }
 let activate_at (f : frame) ~depth at name kvs = activate { f with depth } at name kvs
+let deactivate_at (f : frame) at = deactivate f at
+let log_value (f : frame) at v = add_event f (Log (V.to_text (bounded_text ~quote:false at v)))
+let run_effects (r : run) = List.rev r.effects
+
+(* The end of handler [h] (0: an action block) that ran in [r], on the
+   agent [a] as it was when the body started. *)
+let finish (a : agent) (r : run) ~handler =
+  let effects = List.rev r.effects in
+  if a.config.record_effects then r.events <- Ran { handler; effects } :: r.events;
+  (finish_run a r, effects)
+
+(* ------------------------------------------------------- the bodies *)
 
 module Bodies = struct
   type percept = V.t
@@ -811,37 +829,22 @@ module Bodies = struct
   type obj = V.t
   type nonrec beh = beh
   type world = agent
+  type bindings = (string * V.t) list
 
   let cyclic b = b.btype.b_kind = Ast.Cyclic
   let has_action b = b.action <> None
   let percept_handlers b = Array.length b.phandlers
   let message_handlers b = Array.length b.mhandlers
 
-  (* R3b: the pattern and the when are evaluated now; an error makes the
-     handler not applicable, and is recorded. The bindings are kept for the
-     body. *)
-  let percept_applicable a ~id b h p =
-    let f = frame a ~beh:b ~id ~content:p () in
-    let ok = try guard_holds f b.phandlers.(h - 1) with x when record_error a x -> false in
-    a.pending <- (if ok then Some (id, h, f) else None);
-    (a, ok)
+  let percept_applicable a ~id b h p = guard a ~id b b.phandlers.(h - 1) ~content:p ()
 
-  (* The body runs in the frame its guard was evaluated in (for the
-     bindings), with a fresh step budget. *)
-  let run_percept_handler a ~id b h p =
-    let f = match a.pending with
-      | Some (i, j, f) when i = id && j = h && (match f.content with Some q -> q == p | None -> false) ->
-        a.pending <- None; f.fuel := a.fuel_limit; f
-      | Some _ -> a.pending <- None; frame a ~beh:b ~id ~content:p ()
-      | None -> frame a ~beh:b ~id ~content:p () in
-    protect_block a f b.phandlers.(h - 1).h_body;
-    (a, take_ran a h)
+  let run_percept_handler a ~id ~active b h p bindings =
+    body a ~id ~active b b.phandlers.(h - 1) h ~content:p bindings
 
-  let run_action a ~id b =
-    (match b.action with
-     | Some body -> protect a (fun () -> block (frame a ~beh:b ~id ()) body)
-     | None -> ());
-    (a, take_ran a 0)
+  let run_action a ~id ~active b =
+    let f = frame a (new_run a ~active) ~beh:b ~id () in
+    (match b.action with Some code -> protect f (fun () -> block f code) | None -> ());
+    finish_body f 0
 
   let perf_ok (h : T.handler) (m : message) = match h.h_kind with
     | T.On_message (Some p) -> p = m.perf
@@ -850,18 +853,13 @@ module Bodies = struct
 
   let message_accepted a ~id b h (m : message) =
     let hd = b.mhandlers.(h - 1) in
-    perf_ok hd m
-    && (let f = frame a ~beh:b ~id ~content:m.content ~message:m () in
-        try guard_holds f hd with x when record_error a x -> false)
+    if not (perf_ok hd m) then (a, None)
+    else guard a ~id b hd ~content:m.content ~message:m ()
 
-  let run_message_handler a ~id b h (m : message) =
-    let hd = b.mhandlers.(h - 1) in
-    let f = frame a ~beh:b ~id ~content:m.content ~message:m () in
-    protect a (fun () ->
-        (* the guard again, for its pattern variables *)
-        ignore (guard_holds f hd);
-        block f hd.h_body);
-    (a, take_ran a h)
+  let run_message_handler a ~id ~active b h (m : message) bindings =
+    body a ~id ~active b b.mhandlers.(h - 1) h ~content:m.content ~message:m bindings
 
-  let take_outbox a = let o = List.rev a.outbox in a.outbox <- []; (a, o)
+  let take_outbox (a : agent) = match a.outbox with
+    | [] -> (a, [])
+    | o -> ({ a with outbox = [] }, List.rev o)
 end

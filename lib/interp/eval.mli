@@ -1,45 +1,47 @@
-(** Evaluation of Jadescript code, and the bodies it gives the machine.
+(** Evaluation of Jadescript code, and the bodies it gives the machine: the
+    reference.
 
-    An agent's state ({!agent}) holds its properties, the host objects it was
-    given, and what its code produced during the current step: trace events
-    (log, invoke, send, activate, deactivate, error), effects on the behaviours
-    (for the machine, R5g/R5h) and messages to send (for the platform, R5e).
-    {!Bodies} runs handlers and action blocks on it; {!create_agent} runs an
-    agent's property initialisers and [on create].
+    An agent ({!agent}) is a value: its properties, the limits of the run
+    ({!config}), the supply of behaviour instance numbers, and what its code
+    did that nobody has taken yet (trace events, messages to send). A body
+    (a handler, an action block, [on create]) takes the agent and answers
+    the agent after it, with its effects on the behaviours (R5g, R5h) for
+    the machine; {!Bodies} is that, for {!Semantics.Machine}. What changes
+    in place is only the program's own data: its properties, and the lists,
+    maps and schema values they reach, which Jadescript shares by reference
+    as Java does (docs/semantics.md, "Values").
 
     Run-time errors (R7) stop the handler, action block or [on create] that
     raised them; they are recorded as an [Error] event with their source
-    location, and what the code did before the error stays done. A step budget
-    ([fuel], statements and loop iterations per handler or step) turns an endless
-    loop into such an error. *)
+    location, and what the code did before the error stays done. A step
+    budget ([config.fuel], statements and loop iterations per handler or
+    step) turns an endless loop into such an error.
+
+    The fast engine's twin of the percept handlers is
+    [lib/engine/compiled_bodies.ml]: it calls the rules of the section "For
+    the fast engine" for every value it computes. *)
 
 type message = {
   perf : string;       (** the performative *)
   content : Value.t;
-  sender : string;     (** an agent's name, or ["host"] *)
+  sender : string;     (** an agent's name, ["host"] or a platform agent ([ams]) *)
 }
 
 type cell = { mutable v : Value.t; ty : Typing.Types.t }
 (** A property of an agent or a behaviour: its value, and its declared type,
     to which every assignment converts (an integer to float or double). *)
 
-(** What the fast engine keeps with a behaviour instance (its resolved
-    guards): a slot the evaluation rules never read. *)
-type engine_slot = ..
-type engine_slot += Nothing_kept
-
-type beh = private {
-  uid : int;
+type beh = {
+  uid : int;                              (** its number ([this], D40) *)
   btype : Typing.Tenv.behaviour;
   bprops : cell Syntax.Strtbl.t;          (** its properties *)
-  mutable bcache : (string * cell option) list;
-      (** properties its code found by name, by the name's address *)
   phandlers : Typing.Tenv.handler array;  (** percept handlers, in order *)
   mhandlers : Typing.Tenv.handler array;  (** message handlers, in order *)
   action : Syntax.Ast.block option;
-  mutable kept : engine_slot;             (** the fast engine's, never read here *)
 }
 (** A behaviour instance: its type, its properties, its handlers. *)
+
+val beh_type : beh -> string
 
 (** {1 Run-time errors}
 
@@ -56,10 +58,9 @@ exception Trap of Syntax.Source.region * string
     type). *)
 
 exception Exhaustion of Syntax.Source.region * string
-(** A resource ran out: the step budget of one handler or step ([--fuel]),
-    or the depth of nested calls of functions and procedures
-    ({!max_call_depth}: deep recursion never becomes an OCaml stack
-    overflow). *)
+(** A resource ran out: the step budget of one handler or step, the depth
+    of nested calls, the active behaviours, the size of a value, the
+    memory. *)
 
 exception Link of Syntax.Source.region * string
 (** Something the host gave does not fit: a host object without the native
@@ -73,10 +74,34 @@ val wording : error_kind -> string -> string
 (** A report of an error of this kind: a trap's message as it is,
     ["exhaustion: "] or ["link error: "] before the others'. *)
 
-val max_call_depth : int
+(** {1 The limits of a run} *)
 
-(** 200 nested calls: what a browser's JavaScript stack holds (the playground
-    must report what [run] reports), with room to spare. *)
+type config = {
+  fuel : int;
+      (** statements one handler or step may execute (R7; [run --fuel]) *)
+  max_call_depth : int;
+      (** D18: nested calls of functions and procedures; the next is an
+          exhaustion error (never an OCaml stack overflow) *)
+  max_behaviours : int;
+      (** D19: active behaviour instances per agent; an [activate] past it
+          is an exhaustion error at the [activate], the instance not made *)
+  max_memory : int option;
+      (** D22: megabytes of heap the run may take ([None]: no bound). The
+          heap is compared with it every 1,024 statements and before a text
+          of more than 64 KB is built; over it (after a compaction), the
+          statement is an exhaustion error. Where it falls depends on the
+          garbage collector: a safety net, not part of the conformance
+          contract (D21 is). *)
+  record_effects : bool;
+      (** record a [Ran] event after each handler and action block (what
+          the trace says of a rule's effects); off when no trace is
+          written *)
+}
+
+val default_config : config
+(** Fuel 100,000; 200 nested calls (what a browser's JavaScript stack holds,
+    so that the playground reports what [run] reports); 10,000 active
+    behaviours; no memory bound; effects recorded. *)
 
 val max_text : int
 val max_map_size : int
@@ -84,24 +109,10 @@ val max_map_size : int
     entries. Building a bigger one ([s + t], [m[k] = v] with a new key), or
     a [log], [send] or [invoke] of a value whose text or literal would be
     longer than [max_text], is an exhaustion error at that expression or
-    assignment (R7); the length is counted without building the text. *)
+    assignment (R7). These bounds are part of the conformance contract, the
+    same in every run. *)
 
-val set_max_memory : int option -> unit
-(** D22: [set_max_memory (Some mb)]: a run takes at most [mb] megabytes of
-    heap. The evaluator compares the heap with it every 1,024 statements
-    and before building a text of more than 64 KB; over it (after a
-    compaction), the statement is an exhaustion error (R7): ["out of
-    memory: the run takes more than MB MB (--max-memory)"]. [None] (the
-    default of the library): no bound. Where the error falls depends on the
-    garbage collector: it is a safety net, not part of the conformance
-    contract (D21 is). *)
-
-val max_behaviours : int
-(** D19: 10,000 active behaviour instances per agent. An [activate] when
-    the agent has that many is an exhaustion error at the [activate]
-    (R7): the body stops, the instance is not made. The bound keeps the
-    rules' own work in each step (the ready list, the handler snapshot)
-    bounded. *)
+(** {1 Agents} *)
 
 type event =
   | Log of string
@@ -115,64 +126,33 @@ type event =
           ended, with these effects on the behaviours (R5g, R5h); not a
           trace line, but what the trace says of the rule that ran it *)
 
-type frame
-(** What a running body sees: its agent, behaviour, locals, content or
-    message, and step budget. *)
-
-val beh_type : beh -> string
-
-val keep : beh -> engine_slot -> unit
-(** Fills the instance's slot for the fast engine. *)
-
 type agent = {
   env : Typing.Tenv.t;
   name : string;
   atype : Typing.Tenv.agent;
   props : cell Syntax.Strtbl.t;   (** the agent's properties, by name *)
-  mutable acache : (string * cell option) list;
-      (** properties the agent's own code found by name, remembered by the
-          name's address (names are interned by the lexer) *)
-  mutable outbox : (string * message) list;     (** newest first *)
-  mutable events : event list;                  (** newest first *)
-  mutable effects : beh Semantics.Machine.effect list;  (** newest first *)
-  mutable fuel_limit : int;
-  mutable pending : (int * int * frame) option;
-      (** the frame of the last applicable percept guard (instance, handler):
-          its body runs in it, with the guard's bindings *)
-  mutable record_ran : bool;
-      (** record a [Ran] event after each handler and action block (what
-          the trace says of a rule's effects); [true] unless set otherwise
-          by a caller that writes no trace (the bench) *)
-  mutable live : int;
-      (** D19: the agent's active behaviour instances when the current rule
-          started ({!set_live}), plus the activations its bodies made since,
-          minus their [deactivate this]: what [activate] checks against
-          {!max_behaviours} *)
+  config : config;
+  next_uid : int;                 (** the number of its next behaviour instance (D40) *)
+  events : event list;            (** not yet taken, newest first *)
+  outbox : (string * message) list;   (** not yet taken, newest first *)
 }
 
 val property : agent -> string -> Value.t option
 (** The current value of an agent property. *)
 
-val take_events : agent -> event list
-(** The events since the last call, oldest first. *)
-
-val set_live : agent -> int -> unit
-(** [set_live a n]: the agent has [n] active instances now. Whoever runs
-    the machine calls it after each rule that changed them (the runtime,
-    the playground), so that {!max_behaviours} counts what is active, not
-    every activation ever made. *)
+val take_events : agent -> agent * event list
+(** The agent without its events, and the events, oldest first. *)
 
 val create_agent :
-  Typing.Tenv.t -> name:string -> atype:string -> args:Value.t list -> fuel:int ->
-  agent * beh list
+  ?config:config -> Typing.Tenv.t -> name:string -> atype:string -> args:Value.t list -> agent * beh list
 (** Creates the agent: its properties in declaration order (inherited first),
-    then its [on create] with [args] (R5g). Returns the behaviours that
-    [on create] activated, in activation order. An error in [on create] is an
-    [Error] event, as in a handler.
+    then its [on create] with [args] (R5g). Returns the agent and the
+    behaviours that [on create] activated, in activation order. An error in
+    [on create] is an [Error] event, as in a handler.
     @raise Link when the agent type does not exist or the arguments do not
     fit the parameters (the host's mistake, reported to the host). *)
 
-val destroy_agent : agent -> unit
+val destroy_agent : agent -> agent
 (** Runs [on destroy], if any. *)
 
 val percept_value : Typing.Tenv.t -> agent_type:string -> Syntax.Ast.expr -> Value.t * int
@@ -187,37 +167,60 @@ val literal_value : Typing.Tenv.t -> Syntax.Ast.expr -> Value.t
     numbers, texts, booleans, lists, maps, [aid("r")] and schema
     constructions. @raise Trap *)
 
+(** {1 The bodies} *)
+
+module Bodies : Semantics.Machine.BODIES
+  with type percept = Value.t and type message = message and type obj = Value.t
+   and type beh = beh and type world = agent and type bindings = (string * Value.t) list
+(** The reference bodies: a guard evaluated by the rules of this module in
+    fresh locals, its bindings (its pattern variables, oldest first) handed
+    to the body (R3b). D41: a guard that reaches an [activate] or a
+    [deactivate] (through a call) fails there with an error. *)
+
 (** {1 For the fast engine}
 
-    What [lib/engine/interp_bodies.ml] needs to evaluate a percept guard the
-    way the general rules do, faster. *)
-
-val percept_handler : beh -> int -> Typing.Tenv.handler
-(** Percept handler [h] (from 1) of the instance, in declaration order. *)
-
-val percept_handler_count : beh -> int
-
-val guard_frame : agent -> id:int -> beh -> Value.t -> frame
-(** The frame a percept guard of the instance is evaluated in, for this
-    percept (a fresh step budget). *)
-
-val record_error : agent -> exn -> bool
-(** Records a run-time error (a trap, an exhaustion or a link error) as an
-    [Error] event of the agent: [true]; any other exception: [false]. *)
-
-val bind_local : frame -> string -> Value.t -> unit
-(** Binds a pattern variable, as a pattern does. *)
-
-val condition_part : frame -> whole:Syntax.Ast.expr -> Syntax.Ast.expr -> bool
-(** The value of [part], a conjunct of the [when] condition [whole], which
-    must be a boolean. @raise Trap *)
-
-(** {2 What the compiled percept handlers reuse}
-
     [lib/engine/compiled_bodies.ml] compiles percept handlers to closures;
-    every rule it needs is one of these, exactly as the evaluator above uses
-    it. A frame made by {!guard_frame} gives the rules that read a frame
-    (names, [of], patterns, the step budget) the agent and the behaviour. *)
+    every rule it needs is one of these, exactly as the evaluator uses it. *)
+
+type run
+(** A body's run: its step budget left and what it did so far. *)
+
+type frame
+(** What a running body sees: its agent, its run, its behaviour, locals,
+    content or message. *)
+
+val new_run : agent -> active:int -> run
+(** A fresh run for a body of the agent: the step budget of the agent's
+    config, nothing done yet, [active] instances active (D19). *)
+
+val reset_run : run -> agent -> active:int -> unit
+(** The same run made fresh again, for a body of [agent] (the engine runs
+    its bodies in a run of its own, reset each time). *)
+
+val body_frame : agent -> run -> id:int -> beh -> frame
+(** The frame a handler of instance [id] runs in, in that run (its content
+    and locals are the engine's own). *)
+
+val finish_run : agent -> run -> agent
+(** The agent after the run: its events and messages added, its instance
+    numbers advanced; the agent itself when the run recorded none. *)
+
+val finish : agent -> run -> handler:int -> agent * beh Semantics.Machine.effect list
+(** The end of handler [handler] (0: an action block) that ran in the run,
+    on the agent as it was when the body started: its [Ran] event when the
+    config records effects, the agent after it ({!finish_run}), and its
+    effects on the behaviours, in order. *)
+
+val run_effects : run -> beh Semantics.Machine.effect list
+(** The run's effects on the behaviours so far, in order. *)
+
+val record_error : frame -> exn -> bool
+(** Records a run-time error (a trap, an exhaustion or a link error) in the
+    frame's run: [true]; any other exception: [false]. *)
+
+val recover : frame -> exn -> unit
+(** What ends a body: [return], [break] and [continue] nothing, a run-time
+    error recorded, any other exception raised again. *)
 
 val err : Syntax.Source.region -> ('a, unit, string, 'b) format4 -> 'a
 (** Raises a {!Trap} with the formatted message. *)
@@ -227,6 +230,9 @@ val lookup : frame -> Syntax.Source.region -> string -> Value.t
     behaviour's, then the agent's), else a schema without slots, else the
     trap ["unknown name"]. *)
 
+val prop_cell : frame -> string -> cell option
+(** The property a name denotes: the running behaviour's, else the agent's. *)
+
 val set_cell : cell -> Value.t -> unit
 (** Assigns a property, converted to its declared type. *)
 
@@ -234,12 +240,11 @@ val coerce : Typing.Types.t -> Value.t -> Value.t
 
 val coerce_param : Typing.Types.t -> Value.t -> Value.t option
 (** The value as a slot or parameter of that type takes it (R1c: an
-    integer widens to float or double), or [None] when it does not fit:
-    what {!construct} checks of each slot. *)
+    integer widens to float or double), or [None] when it does not fit. *)
 
 val literal : Syntax.Ast.literal -> Value.t
 
-val pattern : frame -> (string * Value.t) list ref -> Syntax.Ast.pattern -> Value.t -> bool
+val pattern : Typing.Tenv.t -> (string * Value.t) list ref -> Syntax.Ast.pattern -> Value.t -> bool
 (** Does the value match the pattern? Its variables' bindings are added to
     the list, newest first. *)
 
@@ -270,30 +275,27 @@ val bounded_text : quote:bool -> Syntax.Source.region -> Value.t -> Value.t
 (** The value, when its text (or literal) is at most {!max_text} bytes long;
     an exhaustion error otherwise. *)
 
-val check_memory : Syntax.Source.region -> unit
-(** D22's comparison of the heap with [--max-memory]. *)
+val check_memory : agent -> Syntax.Source.region -> unit
+(** D22's comparison of the heap with the agent's [max_memory]. *)
 
 val tick : frame -> Syntax.Source.region -> unit
-(** One statement or loop iteration of the frame's step budget. *)
-
-val reset_fuel : frame -> unit
-(** A fresh step budget for the frame, as a handler body gets. *)
+(** One statement or loop iteration of the run's step budget. *)
 
 val agent_frame : frame -> frame
 (** The frame an agent's own function or procedure runs in when called
     from this frame's code: no behaviour, no content, fresh locals, the
-    same step budget (shared, as a call's). *)
+    same run (a call shares its caller's step budget). *)
 
 val receivers_of : Syntax.Source.region -> Value.t -> string list
 (** The receivers a value of a [send] names: an aid, or a list of aids;
     the error otherwise, at the region given. *)
 
-val post_send : agent -> string -> Value.t -> string list -> unit
-(** [post_send a perf content receivers]: the message in each receiver's
-    outbox entry of [a], and the [Sent] event, as a [send] does once its
-    content and receivers are evaluated. *)
+val post_send : frame -> string -> Value.t -> string list -> unit
+(** [post_send f perf content receivers]: the message for each receiver,
+    and the [Sent] event, as a [send] does once its content and receivers
+    are evaluated. *)
 
-val invoke_values : agent -> Syntax.Source.region -> Syntax.Ast.invoke -> Value.t -> Value.t list -> Value.t
+val invoke_values : frame -> Syntax.Source.region -> Syntax.Ast.invoke -> Value.t -> Value.t list -> Value.t
 (** [invoke] at a region (the statement's or the expression's), once its
     target and its arguments are evaluated, in that order: each
     argument's literal within {!max_text}, then the host's method, its
@@ -302,22 +304,10 @@ val invoke_values : agent -> Syntax.Source.region -> Syntax.Ast.invoke -> Value.
 val activate_at : frame -> depth:int -> Syntax.Source.region -> string -> (string * Value.t) list -> unit
 (** [activate behaviour B with x = v, ...] at a region, its arguments
     evaluated, from code [depth] calls deep (what bounds the calls of the
-    behaviour's [on create], {!max_call_depth}): the frame gives the agent
-    and the step budget. *)
+    behaviour's [on create], D18). *)
 
-val recover : agent -> exn -> unit
-(** What ends a body: [return], [break] and [continue] nothing, a run-time
-    error recorded, any other exception raised again. *)
+val deactivate_at : frame -> Syntax.Source.region -> unit
+(** [deactivate this] (R5h, D16). *)
 
-val take_ran : agent -> int -> beh Semantics.Machine.effect list
-(** The effects of the body that just ran ([handler], 0 for an action
-    block), recorded in a [Ran] event when the agent records them. *)
-
-(** {1 The bodies}
-
-    The reference: every percept guard is evaluated by the general rules,
-    with no memo and no pre-test. *)
-
-module Bodies : Semantics.Machine.BODIES
-  with type percept = Value.t and type message = message and type obj = Value.t
-   and type beh = beh and type world = agent
+val log_value : frame -> Syntax.Source.region -> Value.t -> unit
+(** [log e], once [e] is evaluated (at its own region). *)

@@ -1,42 +1,57 @@
 module P = Semantics.Platform.Make (Eval.Bodies)
 module M = P.M
-module E = Engine.Fast.Make (Engine.Compiled_bodies)   (* issue 17: percept handlers compiled *)
 module Mc = Semantics.Machine
 module T = Typing.Tenv
 
+type engine = Reference | Fast
+
 type options = {
   params : Mc.params;
+  engine : engine;
   seed : int option;
   fuel : int;
   max_steps : int;
+  max_memory : int option;
   trace : out_channel option;
   on_log : string -> string -> unit;
   on_error : Eval.error_kind -> Syntax.Source.region -> string -> unit;
 }
 
-(* The platform operations a run takes: the reference's, or a defective
-   implementation's (lib/defects) wrapped around them from the outside. *)
-type hooks = {
+type rules = {
   step : Mc.params -> M.t -> (M.lbl * M.t) list;
+  dispatch : (?observe:(M.lbl -> Eval.agent -> Eval.agent) -> Mc.params -> M.t -> M.t option) option;
+}
+
+type hooks = {
+  rules : string -> rules;
   notify_event : Mc.params -> P.t -> int -> M.t -> Value.t -> default:int -> priority:int option ->
     (M.t, Mc.refusal) result;
   put : Mc.params -> P.t -> int -> M.t -> Value.t -> (M.t, Mc.refusal) result;
   round : Random.State.t option -> P.t -> int list;
 }
 
-let reference_hooks = {
-  step = E.step;
+let reference_rules = { step = M.step; dispatch = None }
+
+let engine_rules () =
+  let module E = (val Engine.for_agent () : Engine.INTERP) in
+  { step = E.step; dispatch = Some E.dispatch }
+
+let hooks_of engine = {
+  rules = (match engine with Reference -> (fun _ -> reference_rules) | Fast -> (fun _ -> engine_rules ()));
   notify_event = (fun p _ _ c v ~default ~priority -> M.notify_event p c v ~default ~priority);
   (* R2d: a put into a full O2A queue is refused and changes nothing *)
   put = (fun p _ _ c v -> if M.o2a_has_room p c then Ok (M.put p c v) else Error Mc.O2a_full);
   round = P.round;
 }
 
+let reference_hooks = hooks_of Reference
+
 type t = {
   env : T.t;
   opts : options;
   hooks : hooks;
   mutable platform : P.t;
+  rules : rules array;           (* each agent's, in creation order *)
   mutable steps : int;           (* agent steps so far *)
   rand : Random.State.t option;
   tr : Tracer.t;
@@ -62,59 +77,61 @@ let program_sends env =
       || Option.fold ~none:false ~some:block b.b_action
       || List.exists (fun (h : T.handler) -> block h.h_body) b.b_handlers) (T.behaviours env)
 
-(* ------------------------------------------------------------- trace *)
-
 let find t name = P.find t.platform name
 
-let index t name = match find t name with
-  | Some i -> i
-  | None -> Semantics.Fault.crash "Runtime: no agent %s on the platform" name
+let set_config t i c =
+  let agents = Array.copy t.platform.agents in
+  agents.(i) <- { (agents.(i)) with config = c };
+  t.platform <- { P.agents }
 
-(* An event of the platform, with the platform right after it. [t.platform]
-   is still the one before it: the configuration a rule started from. *)
-let on_event t (pl : P.t) (e : P.event) =
-  let before = t.platform in
-  t.platform <- pl;
-  match e with
-  | P.Step (name, l) ->
-    let i = index t name in
-    (* D19: the active instances, for the next activate *)
-    let after = pl.agents.(i).config in
-    if after.active != before.agents.(i).config.active then
-      Eval.set_live after.world (List.length after.active);
-    Tracer.step t.tr ~agent:name ~before:before.agents.(i).config ~after:pl.agents.(i).config l
-  | P.Delivered { receiver; _ } ->
-    Tracer.host t.tr ~agent:receiver pl.agents.(index t receiver).config
-  | P.Undeliverable { sender; receiver; message } ->
-    Tracer.undeliverable t.tr ~sender ~receiver message
+(* The configuration with the bodies' events taken out of its agent. *)
+let take_events (c : M.t) =
+  match Eval.take_events c.world with
+  | (_, []) -> (c, [])
+  | (world, evs) -> ({ c with world }, evs)
+
+(* Deliver what agent [i]'s bodies sent (R5e), in order, each with its
+   trace line. *)
+let deliver_outbox t i =
+  let ag = t.platform.agents.(i) in
+  match Eval.Bodies.take_outbox ag.config.world with
+  | (_, []) -> ()
+  | (world, out) ->
+    set_config t i { ag.config with world };
+    List.iter (fun (receiver, m) ->
+        let (pl, ev) = P.deliver t.opts.params t.platform ~sender:ag.name ~receiver m in
+        t.platform <- pl;
+        match ev with
+        | P.Delivered _ -> Tracer.host t.tr ~agent:receiver pl.agents.(Option.get (find t receiver)).config
+        | P.Undeliverable { sender; receiver; message } -> Tracer.undeliverable t.tr ~sender ~receiver message
+        | P.Step _ -> ()) out
 
 (* ---------------------------------------------------------- create *)
 
-let create ?(hooks = reference_hooks) env opts specs =
+let create ?hooks env opts specs =
+  let hooks = match hooks with Some h -> h | None -> hooks_of opts.engine in
   let w = match opts.trace with Some oc -> Trace.to_channel oc | None -> Trace.nowhere () in
   let on_body agent = function
     | Eval.Log s -> opts.on_log agent s
     | Eval.Error (kind, at, msg) -> opts.on_error kind at msg
     | _ -> () in
-  let t = { env; opts; hooks; platform = P.create []; steps = 0;
-            rand = Option.map (fun s -> Random.State.make [| s |]) opts.seed;
-            tr = Tracer.create w ~on_body; sends = program_sends env } in
-  Tracer.header t.tr env opts.params ~seed:opts.seed (List.map (fun (n, ty, _) -> (n, ty)) specs);
+  let tr = Tracer.create w ~on_body in
+  Tracer.header tr env opts.params ~seed:opts.seed (List.map (fun (n, ty, _) -> (n, ty)) specs);
+  (* the bodies' Ran records (the effects of each handler) are for the
+     trace's lines only *)
+  let config = { Eval.default_config with fuel = opts.fuel; max_memory = opts.max_memory;
+                                          record_effects = Trace.writes w } in
   let created = List.map (fun (name, ty, args) ->
-      let (a, behs) = Eval.create_agent env ~name ~atype:ty ~args ~fuel:opts.fuel in
-      Tracer.created t.tr ~agent:name ~agent_type:ty args behs a;
-      Eval.set_live a (List.length behs);   (* D19 *)
-      (* the bodies' Ran records (the effects of each handler) are for the
-         trace's lines only *)
-      if not (Trace.writes w) then a.record_ran <- false;
+      let (a, behs) = Eval.create_agent ~config env ~name ~atype:ty ~args in
+      let (a, evs) = Eval.take_events a in
+      Tracer.created tr ~agent:name ~agent_type:ty args behs evs;
       (name, M.init opts.params ~world:a behs)) specs in
-  t.platform <- P.create created;
-  (* Messages sent by on create, once every agent exists. *)
-  Array.iter (fun (ag : P.agent) ->
-      let (_, out) = Eval.Bodies.take_outbox ag.config.world in
-      List.iter (fun (receiver, m) ->
-          let (pl, ev) = P.deliver opts.params t.platform ~sender:ag.name ~receiver m in
-          on_event t pl ev) out) t.platform.agents;
+  let t = { env; opts; hooks; platform = P.create created;
+            rules = Array.of_list (List.map (fun (name, _, _) -> hooks.rules name) specs); steps = 0;
+            rand = Option.map (fun s -> Random.State.make [| s |]) opts.seed;
+            tr; sends = program_sends env } in
+  (* Messages sent by on create, once every agent exists (D13). *)
+  Array.iteri (fun i _ -> deliver_outbox t i) t.platform.agents;
   t
 
 (* ------------------------------------------------------------ host *)
@@ -123,11 +140,6 @@ let with_agent t agent k =
   match find t agent with
   | None -> Error (Printf.sprintf "there is no agent %s" agent)
   | Some i -> k i t.platform.agents.(i).config
-
-let set_config t i c =
-  let agents = Array.copy t.platform.agents in
-  agents.(i) <- { (agents.(i)) with config = c };
-  t.platform <- { P.agents }
 
 let notify t ~agent v ~default ~priority =
   with_agent t agent (fun i c ->
@@ -145,19 +157,33 @@ let put t ~agent v =
         (* R2d, D24: refused, and recorded as [refused] with the object *)
         Tracer.refused_put t.tr ~agent v;
         Error (Printf.sprintf "agent %s refused the object %s: the O2A queue is full (R2d)" agent (Value.to_literal v))
-      | Ok c ->
-        set_config t i c;
-        Tracer.host t.tr ~agent c;
-        Ok ())
+      | Ok c -> set_config t i c; Tracer.host t.tr ~agent c; Ok ())
 
 let message t ~agent ~perf content =
   with_agent t agent (fun _ _ ->
       let (pl, ev) = P.deliver t.opts.params t.platform ~sender:"host" ~receiver:agent
           { Eval.perf; content; sender = "host" } in
-      on_event t pl ev;
+      t.platform <- pl;
+      (match ev with
+       | P.Delivered _ -> Tracer.host t.tr ~agent pl.agents.(Option.get (find t agent)).config
+       | _ -> ());
       Ok ())
 
 (* ------------------------------------------------------------- run *)
+
+(* One rule of agent [i], its line and its bodies' events in the trace,
+   then the messages it sent delivered; [false] when no rule is enabled. *)
+let rule t i =
+  let ag = t.platform.agents.(i) in
+  match t.rules.(i).step t.opts.params ag.config with
+  | [] -> None
+  | (l, c) :: _ ->
+    let (c, evs) = take_events c in
+    set_config t i c;
+    Tracer.step t.tr ~agent:ag.name ~before:ag.config ~after:c l evs;
+    deliver_outbox t i;
+    t.steps <- t.steps + 1;
+    Some l
 
 (* The most rules the derived rule Dispatch can take from [c]: Dequeue, a
    Handle or Skip for each percept handler of each active instance, and
@@ -168,59 +194,68 @@ let dispatch_bound (c : M.t) =
   | Mc.Handle_phase, Some d -> List.length d.todo + 1
   | _ -> List.fold_left (fun n (a : Eval.beh Mc.instance) -> n + Eval.Bodies.percept_handlers a.beh) 2 c.active
 
-(* Without a trace, nothing sees the configurations inside a percept's
-   dispatch: the derived rule Dispatch of the fast engine takes it in one
-   call, its rules counted as steps, and the platform sees one step (its
-   bodies' logs and errors in order, their messages delivered after it,
-   before any other agent runs). It is taken only when the steps left
-   cover every rule it may take, so --max-steps stops at the same rule.
-   With a trace, the same when no body of the program sends a message
-   (D33): each rule's line is written as the engine reports the rule's
-   label; otherwise every rule is a step of its own (its messages are
-   delivered, with their lines, right after it). Either way the steps are
-   counted here, and the platform keeps no list of them (issue 17; tests
-   "run: the same without a trace", "run: a traced dispatch = rule by
-   rule (D33)"). *)
-let iterate t i =
-  let left = t.opts.max_steps - t.steps in
-  if left > 0 then begin
-    (* D29: without a trace, a percept's dispatch is the engine's one-call
-       Dispatch; a defective implementation (hooks) takes its own rules.
-       D33: with a trace too, when no body of the program sends a message:
-       each rule's line is written as the engine reports its label. *)
+(* A percept's whole dispatch in one call of the engine's derived rule,
+   where it may be taken (D29, D33): the engine has one; the steps left
+   cover every rule it may take, so --max-steps stops at the same rule;
+   and, with a trace, no body of the program sends (each rule's line is
+   written as the engine reports it; with sends, each rule is a step of
+   its own, its messages delivered right after it). [None] where it is not
+   taken. *)
+let derived_dispatch t i =
+  match t.rules.(i).dispatch with
+  | None -> None
+  | Some dispatch ->
+    let ag = t.platform.agents.(i) in
+    let c = ag.config in
     let writes = Trace.writes (Tracer.writer t.tr) in
-    let derived = (not writes || not t.sends) && t.hooks == reference_hooks in
-    let taken = ref 0 in
-    let agent = t.platform.agents.(i).name in
-    let step p c =
-      let room = left - !taken in
-      if room <= 0 then []
-      else match
-          if not (derived && room >= dispatch_bound c) then None
-          else if writes then
-            E.dispatch p c ~observe:(fun l ->
-                incr taken;
-                (* D33 holds only while nothing is sent: a body that sent
-                   would be a broken invariant, not a reordered trace *)
-                if c.Mc.world.Eval.outbox <> [] then
-                  Semantics.Fault.crash "Runtime: a message sent in a dispatch traced in one call (D33)";
-                match l with
-                | Mc.End_dispatch _ -> ()   (* the platform's step: written by on_event *)
-                | _ -> Tracer.inside t.tr ~agent ~start:c l)
-          else
-            (* unobserved (the engine's plans by kind of percept): a
-               dispatch takes exactly [dispatch_bound c] rules, one
-               Handle or Skip per handler of its snapshot between
-               Dequeue and EndDispatch *)
-            match E.dispatch p c with
-            | Some _ as r -> taken := !taken + dispatch_bound c; r
-            | None -> None with
-        | Some c' -> [ (c'.Mc.last, c') ]
-        | None -> (match t.hooks.step p c with [] -> [] | r -> incr taken; r) in
-    let (pl, _) = P.iteration ~max_steps:left ~on_event:(on_event t) ~step ~keep:false t.opts.params t.platform i in
-    t.platform <- pl;
-    t.steps <- t.steps + !taken
-  end
+    let room = t.opts.max_steps - t.steps in
+    if (writes && t.sends) || room < dispatch_bound c then None
+    else begin
+      (* with a trace, each rule's line as the engine reports it; without,
+         nothing sees the rules inside: the engine's plans by kind of
+         percept, and exactly [dispatch_bound c] rules taken *)
+      let taken = ref 0 in
+      let observe l world =
+        incr taken;
+        match l with
+        | Mc.End_dispatch _ -> world   (* written as the step below *)
+        | _ ->
+          let (world, evs) = Eval.take_events world in
+          Tracer.inside t.tr ~agent:ag.name ~start:c l evs;
+          world in
+      match (if writes then dispatch ~observe t.opts.params c else dispatch t.opts.params c) with
+      | None -> None
+      | Some c' ->
+        if not writes then taken := dispatch_bound c;
+        let (c', evs) = take_events c' in
+        set_config t i c';
+        (* the last rule, EndDispatch, is the platform's step *)
+        Tracer.step t.tr ~agent:ag.name ~before:c ~after:c' c'.last evs;
+        if writes && c'.world.outbox <> [] then
+          (* D33 holds only while nothing is sent: a body that sent would be
+             a broken invariant, not a reordered trace *)
+          Semantics.Fault.crash "Runtime: a message sent in a dispatch taken in one call (D33)";
+        (* without a trace, what the dispatch sent is delivered after it: no
+           other agent runs inside an iteration (R6) *)
+        deliver_outbox t i;
+        t.steps <- t.steps + !taken;
+        Some c'.last
+    end
+
+let ends_iteration (l : M.lbl) = match l with
+  | Mc.Behaviour_step _ | Mc.Next_iteration | Mc.Idle -> true
+  | _ -> false
+
+(* One loop iteration of agent [i] (R6: atomic with respect to the other
+   agents): its rules from where it stands up to the end of the iteration
+   (its behaviour step, NextIteration or Idle), or until the step limit. *)
+let iterate t i =
+  let rec go () =
+    if t.steps < t.opts.max_steps then
+      match (match derived_dispatch t i with Some l -> Some l | None -> rule t i) with
+      | None -> ()
+      | Some l -> if not (ends_iteration l) then go () in
+  go ()
 
 (* D20: rounds end as soon as every agent is idle (nothing can change until
    the host acts again: an idle round would only draw a seeded order) or the
@@ -248,21 +283,15 @@ let run_rules t n =
         else if M.is_idle t.platform.agents.(i).config then first (i + 1) else Some i in
       match first 0 with
       | None -> ()
-      | Some i ->
-        let (pl, evs) = P.iteration ~max_steps:1 ~on_event:(on_event t) ~step:t.hooks.step t.opts.params t.platform i in
-        t.platform <- pl;
-        let n = List.length (List.filter (function P.Step _ -> true | _ -> false) evs) in
-        t.steps <- t.steps + n;
-        if n > 0 then go (k - 1) in
+      | Some i -> (match rule t i with Some _ -> go (k - 1) | None -> ()) in
   go n
 
 let run_until_idle t = run_rounds t max_int
 
 let finish t =
   Array.iter (fun (ag : P.agent) ->
-      let a = ag.config.world in
-      Eval.destroy_agent a;
-      Tracer.destroyed t.tr ~agent:ag.name a) t.platform.agents;
+      let (_, evs) = Eval.take_events (Eval.destroy_agent ag.config.world) in
+      Tracer.destroyed t.tr ~agent:ag.name evs) t.platform.agents;
   (* the lines the writer holds, then the channel *)
   Trace.flush (Tracer.writer t.tr)
 

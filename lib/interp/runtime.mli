@@ -6,16 +6,20 @@
 module P : module type of Semantics.Platform.Make (Eval.Bodies)
 (** The platform of the reference machine and bodies. *)
 
-module E : module type of Engine.Fast.Make (Engine.Compiled_bodies)
-(** The fast engine the runs take their rules from (lib/engine). *)
-
 type t
+
+(** What takes the agents' rules. *)
+type engine =
+  | Reference   (** the reference alone: [Machine.step] on {!Eval.Bodies}, one rule at a time *)
+  | Fast        (** the fast engine ({!Engine.for_agent}), held equal to the reference *)
 
 type options = {
   params : Semantics.Machine.params;
+  engine : engine;
   seed : int option;          (** [None]: round-robin (R6); [Some s]: seeded *)
   fuel : int;                 (** statements per handler or step (R7) *)
   max_steps : int;            (** agent steps in the whole run *)
+  max_memory : int option;    (** D22: megabytes of heap the run may take *)
   trace : out_channel option;
   on_log : string -> string -> unit;   (** agent name, text: [log e] *)
   on_error : Eval.error_kind -> Syntax.Source.region -> string -> unit;
@@ -23,12 +27,20 @@ type options = {
           the message; the run carries on *)
 }
 
-(** The platform operations a run takes. {!reference_hooks} are the
-    rulings'; a deliberately defective implementation (lib/defects, the
-    conformance vectors' kill count) wraps them from the outside. *)
-type hooks = {
+(** The rules one agent takes: a step (the rules enabled in a
+    configuration; the first is taken) and, for the fast engine, the
+    derived rule Dispatch (D29, D33). *)
+type rules = {
   step : Semantics.Machine.params -> P.M.t -> (P.M.lbl * P.M.t) list;
-      (** the agent rules enabled in a configuration (the first is taken) *)
+  dispatch : (?observe:(P.M.lbl -> Eval.agent -> Eval.agent) -> Semantics.Machine.params -> P.M.t -> P.M.t option) option;
+}
+
+(** The platform operations a run takes. {!hooks_of} gives the rulings';
+    a deliberately defective implementation (lib/defects, the conformance
+    vectors' kill count) wraps them from the outside. *)
+type hooks = {
+  rules : string -> rules;
+      (** the rules of the agent of that name, made once, when it is created *)
   notify_event : Semantics.Machine.params -> P.t -> int -> P.M.t -> Value.t -> default:int ->
     priority:int option -> (P.M.t, Semantics.Machine.refusal) result;
       (** notifyEvent into agent [i] (R2a, R2d) *)
@@ -38,15 +50,23 @@ type hooks = {
   round : Random.State.t option -> P.t -> int list;   (** the order of one round (R6) *)
 }
 
+val reference_rules : rules
+(** [Machine.step], and no derived rule. *)
+
+val hooks_of : engine -> hooks
+(** The rulings' operations, the agents' rules taken by that engine:
+    [Machine.notify_event], [Machine.put] refused when the O2A queue is
+    full, [P.round]. *)
+
 val reference_hooks : hooks
-(** The fast engine's rules ({!E.step}), [Machine.notify_event], [Machine.put]
-    refused when the O2A queue is full, [P.round]. *)
+(** [hooks_of Reference]. *)
 
 val create :
   ?hooks:hooks ->
   Typing.Tenv.t -> options -> (string * string * Value.t list) list -> t
 (** Boots the agents (name, type, creation arguments) in order (R5g);
-    messages sent by their [on create] are delivered once all exist.
+    messages sent by their [on create] are delivered once all exist (D13).
+    [hooks] defaults to [hooks_of options.engine].
     @raise Eval.Link when the host's request is wrong (an unknown agent
     type, arguments that do not fit). *)
 

@@ -146,10 +146,10 @@ let ran which evs =
       | Eval.Ran { handler; effects } when which handler -> Some (handler, List.map effect effects)
       | _ -> None) evs
 
-let created t ~agent ~agent_type args behs a =
+let created t ~agent ~agent_type args behs evs =
   Trace.write t.w ~agent (Trace.Create { agent_type; args = List.map V.to_literal args;
                                           behaviours = List.map Eval.beh_type behs });
-  bodies t agent "Init" (Eval.take_events a)
+  bodies t agent "Init" evs
 
 let label_event t agent (c : config) (l : label) evs : Trace.event =
   match l with
@@ -196,32 +196,28 @@ let undeliverable t ~sender ~receiver (m : Eval.message) =
 
 (* Without a trace (a writer from [Trace.nowhere]) nothing but the bodies'
    logs and errors is wanted, and the lines are only counted: no event is
-   built and no behaviour name kept (issue 17). *)
-let step t ~agent ~before ~after l =
+   built and no behaviour name kept. *)
+let step t ~agent ~before ~after l evs =
   let writes = Trace.writes t.w in
   if writes then note_active t agent before;
-  let evs = Eval.take_events after.Mc.world in
   Trace.write_with t.w ~agent (fun () -> label_event t agent after l evs);
   if writes then note_active t agent after;
   match evs with
   | [] -> ()
   | _ -> bodies t agent (Mc.action_name l) evs
 
-(* D33: the rules of a derived Dispatch but its last, from the labels
-   [Engine.Fast.dispatch ~observe] reports, each as it is taken: [start] is
-   the configuration the dispatch started from (its instances name the
-   handlers' behaviours), and the bodies' events are the agent's own (its
-   state is shared by the configurations: what the rule's body recorded is
-   there when the label is reported). The last rule, EndDispatch, is the
-   platform's step, written by [step]. *)
-let inside t ~agent ~(start : config) l =
+(* D33: the rules of a derived Dispatch but its last, from the labels the
+   engine's dispatch reports, each as it is taken, with the events its
+   body recorded: [start] is the configuration the dispatch started from
+   (its instances name the handlers' behaviours). The last rule,
+   EndDispatch, is the platform's step, written by [step]. *)
+let inside t ~agent ~(start : config) l evs =
   note_active t agent start;
-  let evs = Eval.take_events start.Mc.world in
   Trace.write_with t.w ~agent (fun () -> label_event t agent start l evs);
   match evs with
   | [] -> ()
   | _ -> bodies t agent (Mc.action_name l) evs
 
-let destroyed t ~agent a =
+let destroyed t ~agent evs =
   Trace.write t.w ~agent Trace.Destroy;
-  bodies t agent "destroy" (Eval.take_events a)
+  bodies t agent "destroy" evs

@@ -1,8 +1,7 @@
 (** Turning a run into trace events ({!Trace}): what the runtime and the
     playground write, from the machine's labels, the configurations before
-    and after each rule, and the events of the bodies. Nothing passes from
-    the bodies to the trace but the events they record in the agent's state
-    ({!Eval.take_events}). *)
+    and after each rule, and the events of the bodies, which the caller
+    takes from the agent ({!Eval.take_events}) and hands over. *)
 
 type t
 
@@ -20,7 +19,7 @@ val header :
 type config = (Value.t, Eval.message, Value.t, Eval.beh, Eval.agent) Semantics.Machine.config
 type label = (Value.t, Eval.message, Value.t) Semantics.Machine.label
 
-val created : t -> agent:string -> agent_type:string -> Value.t list -> Eval.beh list -> Eval.agent -> unit
+val created : t -> agent:string -> agent_type:string -> Value.t list -> Eval.beh list -> Eval.event list -> unit
 (** The [create] line of an agent, then the events of its [on create]. *)
 
 val host : t -> agent:string -> config -> unit
@@ -35,16 +34,16 @@ val refused_put : t -> agent:string -> Value.t -> unit
 
 val undeliverable : t -> sender:string -> receiver:string -> Eval.message -> unit
 
-val step : t -> agent:string -> before:config -> after:config -> label -> unit
+val step : t -> agent:string -> before:config -> after:config -> label -> Eval.event list -> unit
 (** The line of an agent rule, then the events of the bodies it ran. *)
 
-val inside : t -> agent:string -> start:config -> label -> unit
+val inside : t -> agent:string -> start:config -> label -> Eval.event list -> unit
 (** D33: the line of a rule taken inside the derived rule Dispatch
-    ([Engine.Fast.dispatch ~observe]: Dequeue, Handle, Skip; not its last,
+    ([Engine.S.dispatch ~observe]: Dequeue, Handle, Skip; not its last,
     EndDispatch, which the platform sees as the step), then the events of
     the body it ran; [start] is the configuration the dispatch started
     from. The lines are those {!step} writes for the same rules taken one
     at a time. *)
 
-val destroyed : t -> agent:string -> Eval.agent -> unit
+val destroyed : t -> agent:string -> Eval.event list -> unit
 (** The [destroy] line, then the events of [on destroy]. *)

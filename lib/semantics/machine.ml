@@ -129,15 +129,18 @@ module type BODIES = sig
   type obj
   type beh
   type world
+  type bindings
   val cyclic : beh -> bool
   val has_action : beh -> bool
   val percept_handlers : beh -> int
   val message_handlers : beh -> int
-  val percept_applicable : world -> id:int -> beh -> int -> percept -> world * bool
-  val run_percept_handler : world -> id:int -> beh -> int -> percept -> world * beh effect list
-  val run_action : world -> id:int -> beh -> world * beh effect list
-  val message_accepted : world -> id:int -> beh -> int -> message -> bool
-  val run_message_handler : world -> id:int -> beh -> int -> message -> world * beh effect list
+  val percept_applicable : world -> id:int -> beh -> int -> percept -> world * bindings option
+  val run_percept_handler :
+    world -> id:int -> active:int -> beh -> int -> percept -> bindings -> world * beh effect list
+  val run_action : world -> id:int -> active:int -> beh -> world * beh effect list
+  val message_accepted : world -> id:int -> beh -> int -> message -> world * bindings option
+  val run_message_handler :
+    world -> id:int -> active:int -> beh -> int -> message -> bindings -> world * beh effect list
   val take_outbox : world -> world * (string * message) list
 end
 
@@ -278,8 +281,8 @@ module Make (B : BODIES) = struct
     match find_instance id c.active with
     | None -> (c.world, None)
     | Some b ->
-      let (world, ok) = B.percept_applicable c.world ~id b h d.e.p in
-      (world, if ok then Some b else None)
+      let (world, bound) = B.percept_applicable c.world ~id b h d.e.p in
+      (world, Option.map (fun bindings -> (b, bindings)) bound)
 
   (* ================================================================ *)
   (* Init                                                              *)
@@ -395,21 +398,21 @@ module Make (B : BODIES) = struct
   let dequeue p (c : t) : (lbl * t) list =
     if not (p.variant <> Native && c.phase = Dispatch_phase
             && not (Pqueue.is_empty c.pq) && not (budget_spent p c)) then [] else
-    let take e = match Pqueue.pop c.pq with
-      | Some (top, rest) when top == e -> rest          (* DequeueMax of the top *)
-      | _ -> Pqueue.remove e c.pq in
     List.map (fun e ->
         let l = Dequeue e in
-        (l, { c with pq = take e; cur = Some { e; todo = handlers_of c; applied = false };
+        (l, { c with pq = Pqueue.remove e c.pq; cur = Some { e; todo = handlers_of c; applied = false };
                      waits = bump_waits p c e; phase = Handle_phase;
                      dispatched = c.dispatched + 1; last = l }))
       (Pqueue.candidates ~stable:(p.tie = Stable) c.pq)
 
+  (* The number of active instances, which the bodies see (D19). *)
+  let active_count (c : t) = List.length c.active
+
   (* Handle, once Applicable(t) held for the head [t] of the snapshot, in
-     [world]: its body runs, then its effects apply; the ids still in the
-     snapshot are reserved (D2). *)
-  let handle p (c : t) d (id, h) b world : lbl * t =
-    let (world, effs) = B.run_percept_handler world ~id b h d.e.p in
+     [world], with what its guard bound: its body runs, then its effects
+     apply; the ids still in the snapshot are reserved (D2). *)
+  let handle p (c : t) d (id, h) (b, bindings) world : lbl * t =
+    let (world, effs) = B.run_percept_handler world ~id ~active:(active_count c) b h d.e.p bindings in
     let l = Handle { id; h; p = d.e.p; seq = d.e.seq } in
     let c' = { c with world; cur = Some { d with todo = List.tl d.todo; applied = true }; last = l } in
     (l, with_bs c' (apply_effects p (bs_of c) id effs (todo_ids d.todo)))
@@ -425,7 +428,7 @@ module Make (B : BODIES) = struct
     match c.phase, c.cur with
     | Handle_phase, Some ({ todo = t :: _; _ } as d) ->
       (match applicable c d t with
-       | (world, Some b) -> [ handle p c d t b world ]
+       | (world, Some found) -> [ handle p c d t found world ]
        | (world, None) -> [ skip c d t world ])
     | Handle_phase, None -> Fault.crash "Machine: phase handle without a dispatch in progress"
     | _ -> []
@@ -438,40 +441,57 @@ module Make (B : BODIES) = struct
       [ (l, { c with done_ = add_done p c d.e.seq; cur = None; phase = Dispatch_phase; last = l }) ]
     | _ -> []
 
-  (* StepHandlers(b), FirstHandler, FirstEntry (R5b; native: percept handlers
-     first): the first handler with a matching entry, and the first such
-     entry, with the message queue without it. The bodies evaluate patterns
-     and [when]s, which may record errors in the world. *)
+  (* What a behaviour step took from the message queue: a percept (native)
+     or a message, with the handler that accepts it and its guard's
+     bindings. *)
   type taken =
-    | Took_percept of int * B.percept entry
-    | Took_message of int * B.message * int
+    | Took_percept of int * B.percept entry * B.bindings
+    | Took_message of int * B.message * int * B.bindings
 
+  (* FirstEntry(h): the first of the entries that handler h accepts
+     ([accepts] answers what it took, with its guard's bindings), and its
+     position; the world goes through every question, in order (a guard may
+     record an error). *)
+  let first_entry world accepts entries =
+    let rec go world i = function
+      | [] -> (world, None)
+      | x :: rest ->
+        match accepts world x with
+        | (world, Some taken) -> (world, Some (i, taken))
+        | (world, None) -> go world (i + 1) rest in
+    go world 0 entries
+
+  (* StepHandlers(b), FirstHandler (R5b; native: percept handlers first):
+     the first handler with an entry it accepts takes the first such entry;
+     the message queue without it. *)
   let first_match p (c : t) id b : B.world * (taken * (B.percept, B.message) msg_item Fqueue.t) option =
-    let percept_handler world h =
-      let world = ref world in
-      let ok = function
-        | M_percept e -> let (w, ok) = B.percept_applicable !world ~id b h e.p in world := w; ok
-        | M_message _ -> false in
-      let r = Fqueue.remove_first ok c.msgq in
-      (!world, match r with
-        | Some (M_percept e, msgq) -> Some (Took_percept (h, e), msgq)
-        | _ -> None) in
-    let message_handler world h =
-      let ok = function
-        | M_message { m; _ } -> B.message_accepted world ~id b h m
-        | M_percept _ -> false in
-      (world, match Fqueue.remove_first ok c.msgq with
-        | Some (M_message { m; mseq }, msgq) -> Some (Took_message (h, m, mseq), msgq)
-        | _ -> None) in
+    let percept_handler h world = function
+      | M_percept e ->
+        (match B.percept_applicable world ~id b h e.p with
+         | (w, Some bd) -> (w, Some (Took_percept (h, e, bd)))
+         | (w, None) -> (w, None))
+      | M_message _ -> (world, None) in
+    let message_handler h world = function
+      | M_message { m; mseq } ->
+        (match B.message_accepted world ~id b h m with
+         | (w, Some bd) -> (w, Some (Took_message (h, m, mseq, bd)))
+         | (w, None) -> (w, None))
+      | M_percept _ -> (world, None) in
     let handlers =
-      (if p.variant = Native then List.init (B.percept_handlers b) (fun j -> percept_handler, j + 1) else [])
-      @ List.init (B.message_handlers b) (fun j -> message_handler, j + 1) in
+      (if p.variant = Native then List.init (B.percept_handlers b) (fun j -> percept_handler (j + 1)) else [])
+      @ List.init (B.message_handlers b) (fun j -> message_handler (j + 1)) in
+    match handlers with
+    | [] -> (c.world, None)
+    | _ when Fqueue.is_empty c.msgq -> (c.world, None)
+    | _ ->
+    let entries = Fqueue.to_list c.msgq in
     let rec go world = function
       | [] -> (world, None)
-      | (try_handler, h) :: rest ->
-        (match try_handler world h with
-         | (world, (Some _ as r)) -> (world, r)
-         | (world, None) -> go world rest) in
+      | accepts :: rest ->
+        match first_entry world accepts entries with
+        | (world, Some (i, taken)) ->
+          (world, Some (taken, Fqueue.of_list (List.filteri (fun j _ -> j <> i) entries)))
+        | (world, None) -> go world rest in
     go c.world handlers
 
   (* BehaviourStep (R5a-R5d, R5f): one step of ready[pos]. S0..S3 as in the
@@ -483,17 +503,18 @@ module Make (B : BODIES) = struct
     let s0 = { (bs_of c) with pos = (c.pos mod List.length c.ready) + 1 } in
     let (world, s1) =
       if B.has_action b then
-        let (w, effs) = B.run_action c.world ~id b in
+        let (w, effs) = B.run_action c.world ~id ~active:(List.length s0.active) b in
         (w, apply_effects p s0 id effs [id])
       else (c.world, s0) in
     let (world, found) = first_match p { c with world } id b in
+    let active = List.length s1.active in
     let (world, s2, msgq, taken) = match found with
       | None -> (world, s1, c.msgq, None)
-      | Some (Took_percept (h, e), msgq) ->
-        let (w, effs) = B.run_percept_handler world ~id b h e.p in
+      | Some (Took_percept (h, e, bd), msgq) ->
+        let (w, effs) = B.run_percept_handler world ~id ~active b h e.p bd in
         (w, apply_effects p s1 id effs [id], msgq, Some (M_percept e))
-      | Some (Took_message (h, m, mseq), msgq) ->
-        let (w, effs) = B.run_message_handler world ~id b h m in
+      | Some (Took_message (h, m, mseq, bd), msgq) ->
+        let (w, effs) = B.run_message_handler world ~id ~active b h m bd in
         (w, apply_effects p s1 id effs [id], msgq, Some (M_message { m; mseq })) in
     let s3 =
       if not (B.cyclic b) then deactivate s2 id

@@ -13,7 +13,9 @@
     The machine is parameterised by what handlers and behaviour steps do
     ({!BODIES}): the explorer plugs in the abstract bodies of a TLA+ model
     (acceptance tables and activate/deactivate effects), the interpreter plugs
-    in real Jadescript code.
+    in real Jadescript code. A rule that runs a body takes the world from
+    the configuration and puts back the world the body answers: nothing
+    passes between rules or bodies but these values.
 
     This is the reference: plain rules, no caches, no derived rules. The fast
     path that runs programs ([lib/engine/]) is tested equal to it, rule for
@@ -138,6 +140,10 @@ module type BODIES = sig
   type beh
   type world
 
+  type bindings
+  (** What a handler's guard bound when it held (its pattern variables),
+      which its body then sees (R3b). *)
+
   val cyclic : beh -> bool
   val has_action : beh -> bool
   val percept_handlers : beh -> int
@@ -145,21 +151,27 @@ module type BODIES = sig
 
   val message_handlers : beh -> int
 
-  val percept_applicable : world -> id:int -> beh -> int -> percept -> world * bool
-  (** Is handler [h] (from 1) of the instance applicable to the percept now
-      (pattern and [when], R3b)? An error makes it not applicable; the world
-      may record it. *)
+  val percept_applicable : world -> id:int -> beh -> int -> percept -> world * bindings option
+  (** Is handler [h] (from 1) of instance [id] applicable to the percept now
+      (pattern and [when], R3b)? [Some] with the guard's bindings when it
+      is. An error makes it not applicable; the world it answers may record
+      the error. *)
 
-  val run_percept_handler : world -> id:int -> beh -> int -> percept -> world * beh effect list
+  val run_percept_handler :
+    world -> id:int -> active:int -> beh -> int -> percept -> bindings -> world * beh effect list
+  (** The body of handler [h] of instance [id], in its guard's bindings;
+      [active] instances are active as it starts (D19). The world after it,
+      and its effects on the behaviours (R5g, R5h), in order. *)
 
-  val run_action : world -> id:int -> beh -> world * beh effect list
+  val run_action : world -> id:int -> active:int -> beh -> world * beh effect list
   (** The action block ([do]) of a behaviour that has one. *)
 
-  val message_accepted : world -> id:int -> beh -> int -> message -> bool
+  val message_accepted : world -> id:int -> beh -> int -> message -> world * bindings option
   (** Does message handler [h] accept this message (performative, pattern,
-      [when])? *)
+      [when])? As {!percept_applicable}. *)
 
-  val run_message_handler : world -> id:int -> beh -> int -> message -> world * beh effect list
+  val run_message_handler :
+    world -> id:int -> active:int -> beh -> int -> message -> bindings -> world * beh effect list
 
   val take_outbox : world -> world * (string * message) list
   (** The messages the bodies sent since the last call, with their receivers'

@@ -1,76 +1,55 @@
-(** The priority queue of percepts: a persistent bucket queue of entries
-    ([percept], effective priority, seq), as [PerceptPriority.tla] specifies.
+(** The priority queue of percepts, as [spec/PerceptPriority.tla] states it:
+    a set of entries (percept, effective priority, seq).
 
-    Entries leave by priority, highest first, then by seq, smallest first
-    (R3b: among equal priorities the first notified is the first handled).
-    There is one first-in first-out bucket per priority present. With [k]
-    distinct priorities in the queue, [insert] is O(log k) when the entry's seq
-    is the largest of its priority (always so in the agent loop, whose seqs
-    grow with every notify), O(bucket) otherwise; [pop] is O(log k)
-    amortised. The cost per entry does not depend on how many entries wait.
-    The state of the queue is the set of its entries: {!to_sorted_list} gives
-    that set in one canonical order, so two queues with the same entries built
-    in different orders project onto the same TLA+ value. *)
+    The entries are kept in the order R3b takes them: the highest priority
+    first and, among equal priorities, the smallest seq (the first notified
+    is the first handled). They are the bindings of a map whose keys are
+    [(priority, seq)] in that order, so that the entry Dequeue takes under
+    the stable policy is the map's first binding; every operation is
+    O(log n). Two queues holding the same entries are the same value
+    ({!to_sorted_list}), as two equal sets are for TLC.
+
+    This is the reference's queue, plain on purpose; the fast engine
+    (lib/engine) reads and builds it through these operations only. *)
 
 type 'p entry = { p : 'p; prio : int; seq : int }
 
 type 'p t
 
 val empty : 'p t
+(** [EmptyQueue]. *)
+
 val is_empty : 'p t -> bool
 val size : 'p t -> int
 
 val insert : 'p entry -> 'p t -> 'p t
-
-val insert_newest_first : (('p entry -> unit) -> unit) -> 'p t -> 'p t
-(** [insert_newest_first feed q] inserts every entry that [feed] passes to its
-    argument, which must come in decreasing seq order (the transfer walks O2A
-    from its newest percept). Equal to inserting them one by one in
-    increasing seq order; when each priority's entries come after those
-    already in [q] (always so in the agent loop) each priority's entries go into
-    its bucket in one piece, O(n + r log k) for [n] entries that change
-    priority [r] times, without building a queue per entry. *)
+(** [Enqueue(Q, e)]. An entry equal to one already there (only the flood
+    abstraction of the spec makes such entries: every seq is 0) is added
+    again; the machine merges them as the spec does before inserting. *)
 
 val top : 'p t -> 'p entry option
-(** The entry DequeueMax takes under the Stable policy: highest priority, then
-    smallest seq. *)
+(** The first entry in R3b's order: what Dequeue takes under the stable
+    policy. *)
 
 val pop : 'p t -> ('p entry * 'p t) option
-
-val first : 'p t -> 'p entry
-(** The entry {!top} gives, without an option.
-    @raise Invalid_argument on an empty queue. *)
-
-val drop_first : 'p t -> 'p t
-(** The queue {!pop} gives, without the pair: the engine's dequeue (one
-    record per pop). The empty queue stays empty. *)
+(** {!top} and the queue without it. *)
 
 val candidates : stable:bool -> 'p t -> 'p entry list
-(** The entries a dequeue may take ([Candidates] of PerceptPriority.tla): with
-    [stable], those with the highest priority and, among them, the smallest seq
-    (one entry unless seqs repeat, as in the flood abstraction); otherwise every
-    entry with the highest priority (java.util.PriorityQueue's freedom). *)
+(** [Candidates(Q, TiePolicy)], the entries a Dequeue may take: [stable]
+    (R3b), the entries of highest priority and, among them, smallest seq
+    (one entry unless seqs repeat, as in the flood abstraction); otherwise
+    every entry of the highest priority (java.util.PriorityQueue's
+    freedom). *)
 
 val remove : 'p entry -> 'p t -> 'p t
-(** The queue without one occurrence of that entry (structurally equal). *)
+(** [DequeueMax(Q, e)]: the queue without one occurrence of the entry
+    (structurally equal); the queue itself when it has none. *)
 
 val mem : 'p entry -> 'p t -> bool
-(** O(size of the entry's bucket). *)
-
-val of_runs : (int * 'p entry list * int * int) list -> 'p t
-(** [of_runs [(prio, entries, n, last); ...]]: the queue of those entries,
-    each [entries] of priority [prio], [n] of them, in seq order, the last
-    of seq [last], the priorities distinct: the same queue as inserting
-    them one by one. *)
-
-val runs : 'p t -> 'p entry list list
-(** The entries, one list per priority, highest priority first, each in
-    seq order: the order in which popping them all under stable ties
-    (R3b) gives them. *)
 
 val to_sorted_list : 'p t -> 'p entry list
-(** Every entry, in dequeue order (priority descending, seq ascending, then by
-    [compare] on the percept). O(n log n). *)
+(** Every entry in dequeue order (priority descending, seq ascending, then
+    by [compare] on the percept). *)
 
-val iter : ('p entry -> unit) -> 'p t -> unit
-(** In no particular order. *)
+val fold : ('a -> 'p entry -> 'a) -> 'a -> 'p t -> 'a
+(** Over the entries in dequeue order. *)
