@@ -22,7 +22,8 @@ module Names = Syntax.Strtbl
    for the rules that take one (the step budget, [of], names not
    resolved, what the body did). *)
 type ctx = {
-  mutable ag : Eval.agent;      (* the agent as the running body started *)
+  ag : Eval.agent;              (* the agent as the context was made: its
+                                   config and names, which never change *)
   aname : string;
   props : Eval.cell Names.t;    (* the agent's properties *)
   beh : Eval.beh;
@@ -39,6 +40,11 @@ type ctx = {
          for the rules that read one there; the same run *)
   mutable depth : int;          (* nested calls, as Eval's frame's [depth] *)
   mutable ret : V.t;            (* the value of the last [return] *)
+  mutable skipped : (Eval.agent, Eval.beh) Fast.handled;
+  mutable handled : (Eval.agent, Eval.beh) Fast.handled;
+      (* the answers of a guard that did not hold and of a body with no
+         effect, in the agent they were last made for: made again only
+         when the agent is another *)
 }
 
 (* A local that has no value yet (compared by address, never shown). *)
@@ -700,14 +706,24 @@ let make_ctx (a : Eval.agent) (b : Eval.beh) ~id (code : code) =
     let sf = Eval.body_frame a run ~id b in
     Some { ag = a; aname = a.name; props = a.props; beh = b; slots = Array.make code.nslots unset;
            cells = Array.map Option.get cells; content = V.Unit; brun = run; id; sf; rsf = Eval.agent_frame sf;
-           depth = 0; ret = V.Unit }
+           depth = 0; ret = V.Unit; skipped = Fast.Not_applicable a; handled = Fast.Handled (a, []) }
+
+(* Eval.quiet, inline: the run recorded nothing. *)
+let[@inline] quiet (r : Eval.run) (a : Eval.agent) =
+  r.events == [] && r.outbox == [] && r.effects == [] && r.next_uid = a.next_uid
 
 (* The context of a body of instance [id], in agent [a] as it starts:
    its frames name the instance's id (made again in the rare case the
    context was made before the id was known). *)
 let[@inline] enter c (a : Eval.agent) ~id ~active =
-  Eval.reset_run c.brun a ~active;
-  c.ag <- a;
+  (* Eval.reset_run, the lists cleared only when a body left something *)
+  let r = c.brun in
+  r.fuel <- a.config.fuel;
+  if not (r.events == [] && r.outbox == [] && r.effects == []) then begin
+    r.events <- []; r.outbox <- []; r.effects <- []
+  end;
+  r.next_uid <- a.next_uid;
+  r.live <- active;
   if c.id <> id then begin
     c.id <- id;
     c.sf <- Eval.body_frame a c.brun ~id c.beh;
@@ -818,16 +834,17 @@ module Make () = struct
     Hashtbl.replace table b.uid k;
     k
 
-  let inst a ~id (b : Eval.beh) =
-    let i = b.uid land 15 in
-    match Array.unsafe_get recent i with
+  let inst_slow a ~id (b : Eval.beh) =
+    let k = match Hashtbl.find_opt table b.uid with
+      | Some k when k.ibeh == b -> k
+      | _ -> install a ~id b in
+    Array.unsafe_set recent (b.uid land 15) (Some k);
+    k
+
+  let[@inline] inst a ~id (b : Eval.beh) =
+    match Array.unsafe_get recent (b.uid land 15) with
     | Some k when k.ibeh == b -> k
-    | _ ->
-      let k = match Hashtbl.find_opt table b.uid with
-        | Some k when k.ibeh == b -> k
-        | _ -> install a ~id b in
-      Array.unsafe_set recent i (Some k);
-      k
+    | _ -> inst_slow a ~id b
 
   (* The pre-test: [false] only where the guard's leftmost
      [content matches S...] is surely false (the percept's type is neither
@@ -912,12 +929,20 @@ module Make () = struct
     | Fallback -> Fast.handle_in_two percept_applicable run_percept_handler a ~id ~active b h p
     | Compiled (code, c) ->
       enter c a ~id ~active;
-      if not (guard_holds code c p) then Not_applicable (Eval.finish_run a c.brun)
-      else begin
-        Eval.reset_run c.brun a ~active;
+      if not (guard_holds code c p) then begin
+        if not (quiet c.brun a) then Not_applicable (Eval.finish_run a c.brun)
+        else match c.skipped with
+          | Not_applicable a0 as r when a0 == a -> r
+          | _ -> let r = Fast.Not_applicable a in c.skipped <- r; r
+      end else begin
+        c.brun.fuel <- a.config.fuel;
         run_body code c;
-        let (a', effs) = Eval.finish a c.brun ~handler:h in
-        Handled (a', effs)
+        if a.config.record_effects || not (quiet c.brun a) then begin
+          let (a', effs) = Eval.finish a c.brun ~handler:h in
+          Handled (a', effs)
+        end else match c.handled with
+          | Handled (a0, []) as r when a0 == a -> r
+          | _ -> let r = Fast.Handled (a, []) in c.handled <- r; r
       end
 
   let compiled_handlers a ~id b =

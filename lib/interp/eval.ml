@@ -804,8 +804,15 @@ let percept_value env ~agent_type (e : Ast.expr) =
 (* ------------------------------------------- for the fast engine *)
 
 let reset_run (r : run) (a : agent) ~active =
-  r.fuel <- a.config.fuel; r.events <- []; r.outbox <- []; r.effects <- [];
-  r.next_uid <- a.next_uid; r.live <- active
+  r.fuel <- a.config.fuel;
+  (match r.events with [] -> () | _ -> r.events <- []);
+  (match r.outbox with [] -> () | _ -> r.outbox <- []);
+  (match r.effects with [] -> () | _ -> r.effects <- []);
+  r.next_uid <- a.next_uid;
+  r.live <- active
+let refuel (r : run) (a : agent) = r.fuel <- a.config.fuel
+let quiet (r : run) (a : agent) =
+  (match r.events, r.outbox, r.effects with [], [], [] -> true | _ -> false) && r.next_uid = a.next_uid
 let body_frame (a : agent) run ~id b = frame a run ~beh:b ~id ()
 let agent_frame (f : frame) =
   { f with beh = None; id = 0; locals = { vars = [] }; content = None; message = None }

@@ -182,8 +182,20 @@ module Bodies : Semantics.Machine.BODIES
     [lib/engine/compiled_bodies.ml] compiles percept handlers to closures;
     every rule it needs is one of these, exactly as the evaluator uses it. *)
 
-type run
-(** A body's run: its step budget left and what it did so far. *)
+type run = {
+  mutable fuel : int;                                   (** statements left (R7) *)
+  mutable events : event list;                          (** newest first *)
+  mutable outbox : (string * message) list;             (** newest first *)
+  mutable effects : beh Semantics.Machine.effect list;  (** newest first *)
+  mutable next_uid : int;                               (** the next instance number (D40) *)
+  mutable live : int;
+      (** D19: active instances as the body started, plus its activations,
+          minus its [deactivate this] *)
+}
+(** A body's run: its step budget left and what it did so far, which the
+    agent gets when the body ends ({!finish_run}). Made afresh for each
+    body, and shared by the calls it makes and the behaviours it
+    activates. *)
 
 type frame
 (** What a running body sees: its agent, its run, its behaviour, locals,
@@ -196,6 +208,14 @@ val new_run : agent -> active:int -> run
 val reset_run : run -> agent -> active:int -> unit
 (** The same run made fresh again, for a body of [agent] (the engine runs
     its bodies in a run of its own, reset each time). *)
+
+val refuel : run -> agent -> unit
+(** A fresh step budget for the run (a body after its guard). *)
+
+val quiet : run -> agent -> bool
+(** The run recorded nothing: no event, no message, no effect on the
+    behaviours, no new instance: the agent after it is the agent
+    itself. *)
 
 val body_frame : agent -> run -> id:int -> beh -> frame
 (** The frame a handler of instance [id] runs in, in that run (its content

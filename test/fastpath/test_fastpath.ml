@@ -407,7 +407,7 @@ let percept_text_follows_its_slots () =
   let env, _ = Typing.check [ Parse.string ~file:"m.jade" text ] in
   let file = Filename.temp_file "jsref_text" ".jsonl" in
   let oc = open_out_bin file in
-  let opts = { Interp.Runtime.params = Mc.default_params; seed = None; fuel = 500; max_steps = 1000;
+  let opts = { Interp.Runtime.params = Mc.default_params; engine = Interp.Runtime.Fast; max_memory = None; seed = None; fuel = 500; max_steps = 1000;
                trace = Some oc; on_log = (fun _ _ -> ()); on_error = (fun _ _ _ -> ()) } in
   let rt = Interp.Runtime.create env opts [ ("a", "A", []) ] in
   List.iter (fun p ->
@@ -485,14 +485,17 @@ and same_runs mode (prog, seed) =
   let max_steps = if seed mod 3 = 0 then 3_000 else 1 + Random.State.int rand 150 in
   let variant = List.nth [ Mc.Reference; Mc.Budgeted; Mc.Reference ] (seed mod 3) in
   let run traced =
-    (* `Quiet: traced, then not; `Traced: the reference's hooks, then a copy *)
-    let hooks = if traced || mode = `Quiet then Interp.Runtime.reference_hooks
-      else { Interp.Runtime.reference_hooks with step = Interp.Runtime.reference_hooks.step } in
+    (* `Quiet: traced, then not (the engine either way); `Traced: the
+       engine (its dispatches in one call), then the reference alone (one
+       rule at a time) *)
+    let hooks = Interp.Runtime.hooks_of
+        (if traced || mode = `Quiet then Interp.Runtime.Fast else Interp.Runtime.Reference) in
     let traced = traced || mode <> `Quiet in
     let out = ref [] in
     let file = Filename.temp_file "jsref_fast" ".jsonl" in
     let oc = if traced then Some (open_out_bin file) else None in
-    let opts = { Interp.Runtime.params = { Mc.default_params with variant; budget = 2 }; seed = None;
+    let opts = { Interp.Runtime.params = { Mc.default_params with variant; budget = 2 };
+                 engine = Interp.Runtime.Fast; max_memory = None; seed = None;
                  fuel = 500; max_steps; trace = oc;
                  on_log = (fun a s -> out := Printf.sprintf "log %s: %s" a s :: !out);
                  on_error = (fun _ at m -> out := Printf.sprintf "error %s %s" (Source.string_of_region at) m :: !out) } in

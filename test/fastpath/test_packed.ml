@@ -8,9 +8,12 @@ open Test_support
 open Support
 module V = Interp.Value
 module Mc = Semantics.Machine
-module Ring = Engine.Packed.Ring
-module Codec = Engine.Percept_codec
-module Pk = Engine.Packed.Make (Engine.Interp_bodies) (Engine.Percept_codec)
+module Ring = Engine.Private.Packed.Ring
+module Codec = Engine.Private.Percept_codec
+(* one application of the compiled bodies serves the tests' agents: what
+   it keeps of an instance is checked to be that very instance's *)
+module CBm = Engine.Private.Compiled_bodies.Make ()
+module Pk = Engine.Private.Packed.Make (CBm) (Engine.Private.Percept_codec)
 module RM = Pk.M
 
 (* ------------------------------------------------------------ rings *)
@@ -147,9 +150,9 @@ let codec_round_trip () =
       Ring.push r 0;
       let tag = Codec.encode c v r in
       Ring.set r at tag;
-      Alcotest.(check bool) (V.to_literal v ^ " packed") packed (Engine.Packed.tag_kind tag > 0);
-      Alcotest.(check int) (V.to_literal v ^ " width") (at + 1 + Engine.Packed.tag_width tag) (Ring.length r);
-      Alcotest.(check int) (V.to_literal v ^ " boxes") (boxes + Engine.Packed.tag_boxes tag) (Ring.boxes r);
+      Alcotest.(check bool) (V.to_literal v ^ " packed") packed (Engine.Private.Packed.tag_kind tag > 0);
+      Alcotest.(check int) (V.to_literal v ^ " width") (at + 1 + Engine.Private.Packed.tag_width tag) (Ring.length r);
+      Alcotest.(check int) (V.to_literal v ^ " boxes") (boxes + Engine.Private.Packed.tag_boxes tag) (Ring.boxes r);
       tag) all in
   (* position, flag, three kinds of probe, falling, three kinds of at,
      seen, msg *)
@@ -160,8 +163,8 @@ let codec_round_trip () =
       let v' = Codec.read c tag r ~pos:(!pos + 1) ~box:!box in
       if not (same_value v v') then Alcotest.failf "%s read back as %s" (V.to_literal v) (V.to_literal v');
       if packed && v == v' then Alcotest.failf "%s: not a fresh value" (V.to_literal v);
-      pos := !pos + 1 + Engine.Packed.tag_width tag;
-      box := !box + Engine.Packed.tag_boxes tag)
+      pos := !pos + 1 + Engine.Private.Packed.tag_width tag;
+      box := !box + Engine.Private.Packed.tag_boxes tag)
     all tags;
   Alcotest.(check int) "every int read" (Ring.length r) !pos;
   (* D39: encode_one answers the tag and int of exactly the percepts of
@@ -179,12 +182,12 @@ let codec_round_trip () =
       Alcotest.(check bool) (V.to_literal v ^ " a word") expected (one <> 0);
       if one <> 0 then begin
         Alcotest.(check int) (V.to_literal v ^ " its tag") tag (one land (1 lsl 20 - 1));
-        Alcotest.(check bool) (V.to_literal v ^ " a word's tag") true (Engine.Packed.word_tag tag);
+        Alcotest.(check bool) (V.to_literal v ^ " a word's tag") true (Engine.Private.Packed.word_tag tag);
         let v' = Codec.read_int c tag (one asr 20) in
         if not (same_value v v') then Alcotest.failf "%s read back as %s" (V.to_literal v) (V.to_literal v')
       end)
     all tags;
-  let word_tag kind width boxes = Engine.Packed.word_tag (Engine.Packed.make_tag ~kind ~width ~boxes) in
+  let word_tag kind width boxes = Engine.Private.Packed.word_tag (Engine.Private.Packed.make_tag ~kind ~width ~boxes) in
   Alcotest.(check bool) "kind 1: a word" true (word_tag 1 1 0);
   Alcotest.(check bool) "kind 15: a word" true (word_tag 15 1 0);
   Alcotest.(check bool) "kind 16: not a word" false (word_tag 16 1 0);
@@ -250,9 +253,10 @@ let packed_equals_reference_exn (prog, seed) =
     let rand = Random.State.make [| seed; 1 |] in
     let params = match Typing.Tenv.agent_create env "Ag" with Some r -> r.r_params | None -> [] in
     List.map (fun (_, ty) -> Interp.Eval.literal_value env (Parse.expr ~file:"a" (Event_gen.small_literal rand ty))) params in
-  let (ar, behs_r) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:(args_for ()) ~fuel:500 in
-  let (ap, behs_p) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:(args_for ()) ~fuel:500 in
-  let events a = List.map Show.event (Interp.Eval.take_events a) in
+  let (ar, behs_r) = Interp.Eval.create_agent ~config:{ Interp.Eval.default_config with fuel = 500 } env ~name:"g" ~atype:"Ag" ~args:(args_for ()) in
+  let (ap, behs_p) = Interp.Eval.create_agent ~config:{ Interp.Eval.default_config with fuel = 500 } env ~name:"g" ~atype:"Ag" ~args:(args_for ()) in
+  (* the events the bodies recorded so far, oldest first *)
+  let events (a : Interp.Eval.agent) = List.rev_map Show.event a.events in
   if events ar <> events ap then QCheck.Test.fail_reportf "on create differs";
   let c = ref (RM.init p ~world:ar behs_r) in
   (* every percept packed; a mix (packed once two wait); the default
@@ -273,7 +277,7 @@ let packed_equals_reference_exn (prog, seed) =
     Buffer.add_string history (what ^ " | ");
     let r = Show.config !c and k = Show.config (Pk.to_config t) in
     if r <> k then fail "configurations differ after %s:\nreference: %s\npacked:    %s" what r k;
-    let er = events ar and ep = events ap in
+    let er = events !c.world and ep = events (Pk.world t) in
     if er <> ep then fail "events differ after %s:\n%s\n%s" what (String.concat "|" er) (String.concat "|" ep) in
   let ref_step () = match RM.step p !c with
     | [] -> None
@@ -341,7 +345,7 @@ let packed_equals_reference_exn (prog, seed) =
               end in
             attempt 0
           end else
-          if Pk.dispatch ~observe:(fun l -> labels := Show.label l :: !labels) t then begin
+          if Pk.dispatch ~observe:(fun l w -> labels := Show.label l :: !labels; w) t then begin
             let taken = List.rev !labels in
             let followed = List.map (fun _ -> match ref_step () with
                 | Some l -> Show.label l | None -> "none") taken in
@@ -381,7 +385,7 @@ let packed_agent_unit () =
   let env, _ = Typing.check [ Parse.string ~file:"bench.jade" bench_program ] in
   let pv text = fst (Interp.Eval.percept_value env ~agent_type:"Ag" (Parse.expr ~file:"e" text)) in
   let agent p =
-    let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
+    let (a, behs) = Interp.Eval.create_agent ~config:{ Interp.Eval.default_config with fuel = 500 } env ~name:"g" ~atype:"Ag" ~args:[] in
     Pk.of_config ~pack_above:0 p (RM.init p ~world:a behs) in
   let o2a_of t = List.map (function Mc.O_percept e -> Show.entry e | Mc.O_object o -> V.to_literal o)
       (Semantics.Fqueue.to_list (Pk.to_config t).o2a) in
@@ -407,7 +411,7 @@ let packed_agent_unit () =
   Alcotest.(check int) "waiting" 5000 (Pk.waiting t);
   ignore (Pk.step t);
   let seqs = ref [] in
-  while Pk.dispatch ~observe:(function Mc.Dequeue e -> seqs := (e.prio, e.seq) :: !seqs | _ -> ()) t do () done;
+  while Pk.dispatch ~observe:(fun l w -> (match l with Mc.Dequeue e -> seqs := (e.prio, e.seq) :: !seqs | _ -> ()); w) t do () done;
   let expected = List.concat_map (fun prio ->
       List.filter_map (fun k -> if k mod 3 = prio then Some (prio, k) else None) (List.init 5000 (fun i -> i + 1)))
       [ 2; 1; 0 ] in
@@ -427,7 +431,7 @@ let packed_agent_unit () =
      see that the priority queue is not empty *)
   let p = { Mc.default_params with variant = Mc.Budgeted; budget = 1 } in
   let t = agent p in
-  let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
+  let (a, behs) = Interp.Eval.create_agent ~config:{ Interp.Eval.default_config with fuel = 500 } env ~name:"g" ~atype:"Ag" ~args:[] in
   let c = ref (RM.init p ~world:a behs) in
   for k = 1 to 6 do
     let v = pv (Printf.sprintf "position(%d)" k) in
@@ -448,7 +452,7 @@ let packed_agent_unit () =
   Alcotest.(check bool) "unstable ties: not packed" false (Pk.packed t);
   (* the default: plain while fewer than 4,096 wait, packed from the notify
      that makes 4,096 until none wait, then plain again *)
-  let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
+  let (a, behs) = Interp.Eval.create_agent ~config:{ Interp.Eval.default_config with fuel = 500 } env ~name:"g" ~atype:"Ag" ~args:[] in
   let t = Pk.of_config Mc.default_params (RM.init Mc.default_params ~world:a behs) in
   Alcotest.(check int) "the threshold" 4096 Pk.default_pack_above;
   Pk.put t (V.Int 0);
@@ -474,14 +478,14 @@ let packed_agent_unit () =
 let packed_again_finds_top () =
   let env, _ = Typing.check [ Parse.string ~file:"bench.jade" bench_program ] in
   let pv text = fst (Interp.Eval.percept_value env ~agent_type:"Ag" (Parse.expr ~file:"e" text)) in
-  let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
+  let (a, behs) = Interp.Eval.create_agent ~config:{ Interp.Eval.default_config with fuel = 500 } env ~name:"g" ~atype:"Ag" ~args:[] in
   let p = Mc.default_params in
   let t = Pk.of_config ~pack_above:2 p (RM.init p ~world:a behs) in
   let notify text prio = ignore (Pk.notify_event t (pv text) ~default:prio ~priority:None) in
   let dispatched = ref [] in
   let drain () =
     let rec go () =
-      if Pk.dispatch ~observe:(function Mc.Dequeue e -> dispatched := Show.entry e :: !dispatched | _ -> ()) t
+      if Pk.dispatch ~observe:(fun l w -> (match l with Mc.Dequeue e -> dispatched := Show.entry e :: !dispatched | _ -> ()); w) t
       then go () else match Pk.step t with Some _ -> go () | None -> () in
     go () in
   (* packed: falling and position; both dispatched, falling's bucket first *)
@@ -509,7 +513,7 @@ let plain_run_transferred () =
   let rand = Random.State.make [| seed |] in
   List.iter (fun n ->
       let p = Mc.default_params in
-      let agent () = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
+      let agent () = Interp.Eval.create_agent ~config:{ Interp.Eval.default_config with fuel = 500 } env ~name:"g" ~atype:"Ag" ~args:[] in
       let (ar, br) = agent () and (ak, bk) = agent () in
       let c = ref (RM.init p ~world:ar br) in
       let t = Pk.of_config p (RM.init p ~world:ak bk) in
@@ -570,7 +574,7 @@ let reserves_ids ~b_takes ~by_run () =
   if Typing.has_errors diags then Alcotest.fail "the program does not check";
   let pv = fst (Interp.Eval.percept_value env ~agent_type:"Ag" (Parse.expr ~file:"e" "ping")) in
   let p = Mc.default_params in
-  let agent () = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
+  let agent () = Interp.Eval.create_agent ~config:{ Interp.Eval.default_config with fuel = 500 } env ~name:"g" ~atype:"Ag" ~args:[] in
   let (ar, br) = agent () and (ak, bk) = agent () in
   let c = ref (RM.init p ~world:ar br) in
   let t = Pk.of_config p (RM.init p ~world:ak bk) in
@@ -592,7 +596,7 @@ let reserves_ids ~b_takes ~by_run () =
    one-int percept, beyond 32 bits too. The packed agent must not trust it
    (a word has 32 bits for the int). *)
 module Loose_codec = struct
-  include Engine.Percept_codec
+  include Engine.Private.Percept_codec
   let encode_one c (p : V.t) = match p with
     | V.Schema { slots = [| (_, v) |]; _ } ->
       (match !v with
@@ -600,7 +604,7 @@ module Loose_codec = struct
        | _ -> encode_one c p)
     | _ -> encode_one c p
 end
-module Pk_loose = Engine.Packed.Make (Engine.Interp_bodies) (Loose_codec)
+module Pk_loose = Engine.Private.Packed.Make (CBm) (Loose_codec)
 
 (* D39 on the bench program: words for a 32-bit int slot at both ends of
    its range, the long form for a slot beyond it and for a seq too far
@@ -615,14 +619,14 @@ let packed_words () =
     | _ -> Alcotest.fail "not a schema" in
   let agent ?word_x_limit ~chunk () =
     let p = Mc.default_params in
-    let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
+    let (a, behs) = Interp.Eval.create_agent ~config:{ Interp.Eval.default_config with fuel = 500 } env ~name:"g" ~atype:"Ag" ~args:[] in
     Pk.of_config ~pack_above:0 ~chunk ?word_x_limit p (RM.init p ~world:a behs) in
   let o2a_of t = List.map (function Mc.O_percept e -> Show.entry e | Mc.O_object o -> V.to_literal o)
       (Semantics.Fqueue.to_list (Pk.to_config t).o2a) in
   let notify t ?prio v = ignore (Pk.notify_event t v ~default:2 ~priority:prio) in
   let dequeued t =
     let es = ref [] in
-    while Pk.dispatch ~observe:(function Mc.Dequeue e -> es := Show.entry e :: !es | _ -> ()) t do () done;
+    while Pk.dispatch ~observe:(fun l w -> (match l with Mc.Dequeue e -> es := Show.entry e :: !es | _ -> ()); w) t do () done;
     List.rev !es in
   (* the agent's rules up to its Transfer *)
   let transfer t =
@@ -672,7 +676,7 @@ let packed_words () =
   (* drained: the rings hold no chunk, the pool at most 8 *)
   if Pk.offheap_words t > 8 * 8 then Alcotest.failf "drained: %d words kept" (Pk.offheap_words t);
   (* the agent, not only the codec, keeps a word's int to 32 bits *)
-  let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args:[] ~fuel:500 in
+  let (a, behs) = Interp.Eval.create_agent ~config:{ Interp.Eval.default_config with fuel = 500 } env ~name:"g" ~atype:"Ag" ~args:[] in
   let t = Pk_loose.of_config ~pack_above:0 ~chunk:4 Mc.default_params (RM.init Mc.default_params ~world:a behs) in
   List.iter (fun k -> ignore (Pk_loose.notify_event t (position k) ~default:2 ~priority:None))
     [ 2147483648; -2147483649; 5 ];

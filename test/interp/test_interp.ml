@@ -20,7 +20,7 @@ let run_program ?(variant = Mc.Reference) ?(fuel = 10_000) ?(events = fun _ -> (
   let trace = Filename.temp_file "jsref" ".jsonl" in
   let oc = open_out_bin trace in
   let params = { Mc.default_params with variant } in
-  let opts = { Interp.Runtime.params; seed = None; fuel; max_steps = 100_000; trace = Some oc;
+  let opts = { Interp.Runtime.params; engine = Interp.Runtime.Fast; max_memory = None; seed = None; fuel; max_steps = 100_000; trace = Some oc;
                on_log = (fun a s -> logs := (a ^ ": " ^ s) :: !logs); on_error = (fun _ _ _ -> ()) } in
   let rt = Interp.Runtime.create env opts agents in
   events rt;
@@ -247,11 +247,11 @@ let error_kinds () =
       Alcotest.(check int) "exit 1 (D15)" 1 status;
       Alcotest.(check string) "an exhaustion error, located at the call"
         (Printf.sprintf "%s:3:10: error: exhaustion: recursion too deep: more than %d nested calls of functions and procedures\n"
-           p Interp.Eval.max_call_depth) err);
+           p Interp.Eval.default_config.max_call_depth) err);
   let (_, evs) = run_program deep [ ("a", "A", []) ] in
   let msg e = match e with `Assoc f -> (match List.assoc_opt "message" f with Some (`String m) -> m | _ -> "") | _ -> "" in
   Alcotest.(check (list string)) "the trace's error line: the message alone"
-    [ Printf.sprintf "recursion too deep: more than %d nested calls of functions and procedures" Interp.Eval.max_call_depth ]
+    [ Printf.sprintf "recursion too deep: more than %d nested calls of functions and procedures" Interp.Eval.default_config.max_call_depth ]
     (List.map msg (error_events evs));
   let link = "agent A\n\tproperty r as any\n\ton create with r as any do\n\t\tinvoke \"fly\" on r\n" in
   with_file "jsref_link.jade" link (fun p ->
@@ -266,7 +266,7 @@ let error_kinds () =
   Alcotest.(check bool) "a trap is worded as its message" true
     (Interp.Eval.wording Interp.Eval.Trap_error "division by zero" = "division by zero");
   let p = Mc.default_params in
-  let (a, behs) = Interp.Eval.create_agent (fst (Typing.check [ Parse.string ~file:"c.jade" "agent A\n" ])) ~name:"a" ~atype:"A" ~args:[] ~fuel:10 in
+  let (a, behs) = Interp.Eval.create_agent ~config:{ Interp.Eval.default_config with fuel = 10 } (fst (Typing.check [ Parse.string ~file:"c.jade" "agent A\n" ])) ~name:"a" ~atype:"A" ~args:[] in
   let module RM = Interp.Runtime.P.M in
   let c = { (RM.init p ~world:a behs) with phase = Mc.Handle_phase; cur = None } in
   Alcotest.check_raises "a broken invariant is a crash"
@@ -505,122 +505,6 @@ let random_run_validates =
     ignore arb;
     true
 
-(* The fast engine on the interpreter's bodies against the reference: two
-   copies of the same agent get the same notifies; one runs the reference
-   machine's [step] on the reference bodies (Eval.Bodies: every guard by the
-   general rules, no memo, no pre-test), the other the engine (lib/engine:
-   its [step], and every dispatch it can as the derived rule [dispatch], on
-   Engine.Interp_bodies with resolved guards, the memo and the pre-test).
-   They must report the same labels, the same body events (logs, errors,
-   sends, activations: those of a dispatch after its EndDispatch, where the
-   derived rule has them), the same messages to send, and reach the same
-   configuration and properties. *)
-module RM = Interp.Runtime.P.M
-module FE = Interp.Runtime.E
-
-(* The engine's Dispatch, or that of an engine given other bodies. *)
-type dispatch = { dispatch : ?observe:(RM.lbl -> unit) -> Mc.params -> RM.t -> RM.t option }
-
-let derived_dispatch_on_programs_exn ?(engine = { dispatch = FE.dispatch }) =
-  fun (prog, seed) ->
-    let text = Print.program prog in
-    let env, diags = Typing.check [ Parse.string ~file:"gen.jade" text ] in
-    if List.exists (fun d -> d.Diag.severity = Diag.Error) diags then
-      QCheck.Test.fail_reportf "the generated program does not check";
-    let rand = Random.State.make [| seed |] in
-    let percepts = List.init (1 + Random.State.int rand 12) (fun _ ->
-        let text = random_percept_text rand env in
-        let (v, prio) = Interp.Eval.percept_value env ~agent_type:"Ag" (Parse.expr ~file:"e" text) in
-        (v, if Random.State.int rand 3 = 0 then Random.State.int rand 9 else prio)) in
-    let batches = 1 + Random.State.int rand 3 in
-    let params = match Typing.Tenv.agent_create env "Ag" with Some r -> r.r_params | None -> [] in
-    let args = List.map (fun (_, ty) -> Interp.Eval.literal_value env (Parse.expr ~file:"a" (literal_of rand ty))) params in
-    let variant = List.nth [ Mc.Reference; Mc.Budgeted; Mc.Printed; Mc.Reference ] (seed mod 4) in
-    let p = { Mc.default_params with variant; budget = 2; ghosts = seed mod 2 = 0 } in
-    let run derived =
-      let (a, behs) = Interp.Eval.create_agent env ~name:"g" ~atype:"Ag" ~args ~fuel:500 in
-      let out = ref [] in
-      let note s = out := s :: !out in
-      let body () = List.iter (fun e -> note (Show.event e)) (Interp.Eval.take_events a) in
-      body ();
-      (* [n] rules at most, counted the same way in both runs: a run stops
-         only between dispatches (the derived rule takes a whole one) *)
-      let rec go (c : RM.t) n =
-        if n <= 0 && c.phase <> Mc.Handle_phase then c else
-        let k = ref 0 in
-        match (if derived then engine.dispatch ~observe:(fun l -> incr k; note (Show.label l)) p c else None) with
-        | Some c -> body (); go c (n - !k)
-        | None ->
-          match (if derived then FE.step p c else RM.step p c) with
-          | [] -> c
-          | (l, c) :: _ ->
-            note (Show.label l);
-            (* the derived rule hands the bodies' events over at the end of
-               the dispatch, in order; the steps are compared the same way *)
-            if c.phase <> Mc.Handle_phase then body ();
-            go c (n - 1) in
-      let c = ref (RM.init p ~world:a behs) in
-      List.iteri (fun i (v, prio) ->
-          c := RM.notify_with p !c v prio;
-          if i mod batches = 0 then c := go !c 300) percepts;
-      let c = go !c 1000 in
-      let (_, outbox) = Interp.Eval.Bodies.take_outbox c.world in
-      let props = List.map (fun (pr : Typing.Tenv.property) ->
-          pr.p_name ^ "=" ^ (match Interp.Eval.property a pr.p_name with Some v -> V.to_literal v | None -> "?"))
-          (Typing.Tenv.agent_properties env "Ag") in
-      (List.rev !out, Show.config c, List.map (fun (r, (m : Interp.Eval.message)) -> r ^ ":" ^ m.perf) outbox, props) in
-    let (o1, c1, m1, p1) = run false and (o2, c2, m2, p2) = run true in
-    if o1 <> o2 then
-      QCheck.Test.fail_reportf "labels and events differ:\nsteps:   %s\nderived: %s\n%s"
-        (String.concat " | " o1) (String.concat " | " o2) text;
-    if c1 <> c2 then QCheck.Test.fail_reportf "configurations differ:\n%s\n%s\n%s" c1 c2 text;
-    if m1 <> m2 || p1 <> p2 then QCheck.Test.fail_reportf "messages or properties differ\n%s" text;
-    true
-
-let derived_dispatch_on_programs ?engine (prog, seed) =
-  try derived_dispatch_on_programs_exn ?engine (prog, seed) with
-  | QCheck.Test.Test_fail _ as x -> raise x
-  | x -> QCheck.Test.fail_reportf "exception %s" (Printexc.to_string x)
-
-(* The comparison above has teeth: an engine whose bodies have a wrong
-   pre-test (it says no to the first handler of every behaviour, whether or
-   not it applies) fails it on some of the same random programs. *)
-module Wrong_pretest = struct
-  include Engine.Interp_bodies
-  let percept_may_apply a b h p = h <> 1 && Engine.Interp_bodies.percept_may_apply a b h p
-end
-
-module Wrong_engine = Engine.Fast.Make (Wrong_pretest)
-
-let wrong_pretest_caught () =
-  let gen = QCheck.pair Typed_gen.arb_program QCheck.small_nat in
-  let rand = Random.State.make [| seed |] in
-  let caught = ref 0 and tried = ref 0 in
-  let engine = { dispatch = Wrong_engine.dispatch } in
-  while !caught = 0 && !tried < 200 do
-    incr tried;
-    let x = QCheck.Gen.generate1 ~rand (QCheck.get_gen gen) in
-    match derived_dispatch_on_programs ~engine x with
-    | _ -> ()
-    | exception _ -> incr caught
-  done;
-  Alcotest.(check bool) (Printf.sprintf "a wrong pre-test is caught (%d programs tried)" !tried) true (!caught > 0)
-
-(* The random programs above seldom have several behaviours with percept
-   handlers active at once, where Dispatch walks the snapshot's instances
-   beside its handlers (lib/engine/fast.ml). A fixed program that does: 3
-   behaviours, 4 handlers, the bench's workload (bench/programs/percepts.jade)
-   with logs, compared over 20 seeds of random percepts. *)
-let several_behaviours_program = Support.bench_workload ()
-
-let derived_dispatch_several_behaviours () =
-  let prog = (Parse.string ~file:"several.jade" several_behaviours_program).program in
-  for seed = 0 to 19 do
-    match derived_dispatch_on_programs (prog, seed) with
-    | _ -> ()
-    | exception QCheck.Test.Test_fail (_, msgs) -> Alcotest.failf "seed %d: %s" seed (String.concat "\n" msgs)
-  done
-
 let () =
   Alcotest.run "interp" [
     ("values", [
@@ -632,12 +516,6 @@ let () =
         Alcotest.test_case "loops and control" `Quick control;
         Alcotest.test_case "D11 priority of, D12 for over a map" `Quick decisions_of_and_for;
         Alcotest.test_case "performative and sender of message" `Quick message_fields ]);
-    ("derived", [
-        qcheck ~count:60 ~long_factor:10 "engine (step, Dispatch) = reference steps, random programs"
-          (QCheck.pair Typed_gen.arb_program QCheck.small_nat) derived_dispatch_on_programs;
-        Alcotest.test_case "a wrong pre-test is caught" `Quick wrong_pretest_caught;
-        Alcotest.test_case "Dispatch = steps, several behaviours with handlers" `Quick
-          derived_dispatch_several_behaviours ]);
     ("errors", [
         Alcotest.test_case "R7 errors located, agent carries on" `Quick runtime_errors_located;
         Alcotest.test_case "R7 step budget" `Quick fuel_exhausted;

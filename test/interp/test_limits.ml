@@ -57,7 +57,7 @@ let d19_bound () =
           let (_, out, _) = r in
           one_error_line "10000" r
             (Printf.sprintf "%s:12:4: error: exhaustion: too many behaviours: an agent has at most %d active behaviour instances"
-               p Interp.Eval.max_behaviours);
+               p Interp.Eval.default_config.max_behaviours);
           Alcotest.(check string) "the handler stopped" "" out))
 
 (* The bound counts what is active, not every activation ever made: 10,005
