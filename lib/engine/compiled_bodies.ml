@@ -42,6 +42,7 @@ type ctx = {
   mutable ret : V.t;            (* the value of the last [return] *)
   mutable skipped : (Eval.agent, Eval.beh) Fast.handled;
   mutable handled : (Eval.agent, Eval.beh) Fast.handled;
+  mutable answered_for : Eval.agent;   (* the agent of [skipped] and [handled] *)
       (* the answers of a guard that did not hold and of a body with no
          effect, in the agent they were last made for: made again only
          when the agent is another *)
@@ -624,6 +625,10 @@ type code = {
          routine names it (the agent's property, not the behaviour's) *)
   guard : (ctx -> bool) option;
   body : ctx -> unit;
+  plain : bool;
+      (* the body (with what it calls) has no activate, deactivate, send,
+         invoke or log: nothing but its errors is recorded, and it makes
+         no instance *)
 }
 
 (* The schema a guard requires of content, when its leftmost conjunct is
@@ -674,7 +679,23 @@ let compile env (bt : T.behaviour) (at : T.agent) (h : T.handler) : code option 
     let n = Hashtbl.length ce.locals in
     let reset = if List.mem (-1) bound then Array.init n Fun.id
       else Array.of_list (List.filter (fun i -> not (List.mem i bound)) (List.init n Fun.id)) in
-    Some { nslots = n; reset; prop_names = Array.of_list (List.rev !(ce.prop_names)); guard; body }
+    let rec plain_block b = List.for_all plain_stmt b
+    and plain_stmt (s : Ast.stmt) = match s.it with
+      | Activate _ | Deactivate | Send _ | InvokeS _ | Log _ | Do _ -> false
+      | If (bs, els) -> List.for_all (fun (c, b) -> plain_expr c && plain_block b) bs
+                        && (match els with Some b -> plain_block b | None -> true)
+      | While (c, b) | For (_, c, b) -> plain_expr c && plain_block b
+      | Assign (_, e) | Local (_, _, e) | Return (Some e) -> plain_expr e
+      | _ -> true
+    and plain_expr (e : Ast.expr) = match e.it with
+      | Invoke _ | Call _ -> false
+      | List es -> List.for_all plain_expr es
+      | Map kvs -> List.for_all (fun (k, v) -> plain_expr k && plain_expr v) kvs
+      | Index (a, b) | Binop (_, a, b) -> plain_expr a && plain_expr b
+      | Of (_, x) | Unop (_, x) | Matches (x, _) -> plain_expr x
+      | _ -> true in
+    let plain = plain_block h.h_body in
+    Some { nslots = n; reset; prop_names = Array.of_list (List.rev !(ce.prop_names)); guard; body; plain }
 
 (* What one handler of an instance runs: compiled, or the reference's
    ({!Eval.Bodies}). *)
@@ -706,24 +727,32 @@ let make_ctx (a : Eval.agent) (b : Eval.beh) ~id (code : code) =
     let sf = Eval.body_frame a run ~id b in
     Some { ag = a; aname = a.name; props = a.props; beh = b; slots = Array.make code.nslots unset;
            cells = Array.map Option.get cells; content = V.Unit; brun = run; id; sf; rsf = Eval.agent_frame sf;
-           depth = 0; ret = V.Unit; skipped = Fast.Not_applicable a; handled = Fast.Handled (a, []) }
+           depth = 0; ret = V.Unit; skipped = Fast.Not_applicable a; handled = Fast.Handled (a, []);
+           answered_for = a }
 
 (* Eval.quiet, inline: the run recorded nothing. *)
 let[@inline] quiet (r : Eval.run) (a : Eval.agent) =
   r.events == [] && r.outbox == [] && r.effects == [] && r.next_uid = a.next_uid
 
+(* The answers for agent [a], made when it is another than last time. *)
+let[@inline] answer c (a : Eval.agent) =
+  if c.answered_for != a then begin
+    c.skipped <- Fast.Not_applicable a; c.handled <- Fast.Handled (a, []); c.answered_for <- a
+  end
+
 (* The context of a body of instance [id], in agent [a] as it starts:
    its frames name the instance's id (made again in the rare case the
    context was made before the id was known). *)
-let[@inline] enter c (a : Eval.agent) ~id ~active =
-  (* Eval.reset_run, the lists cleared only when a body left something *)
+let[@inline] enter c (a : Eval.agent) ~id ~active ~plain =
+  (* Eval.reset_run, the lists cleared only when a body left something;
+     a plain body makes no instance (nothing reads [next_uid], [live]).
+     The step budget is the body's to set: a compiled guard makes no call
+     and never ticks. *)
   let r = c.brun in
-  r.fuel <- a.config.fuel;
   if not (r.events == [] && r.outbox == [] && r.effects == []) then begin
     r.events <- []; r.outbox <- []; r.effects <- []
   end;
-  r.next_uid <- a.next_uid;
-  r.live <- active;
+  if not plain then begin r.next_uid <- a.next_uid; r.live <- active end;
   if c.id <> id then begin
     c.id <- id;
     c.sf <- Eval.body_frame a c.brun ~id c.beh;
@@ -903,7 +932,7 @@ module Make () = struct
        | (a, Some bd) -> (a, Some (Plain bd))
        | (a, None) -> (a, None))
     | Compiled (code, c) ->
-      enter c a ~id ~active:0;
+      enter c a ~id ~active:0 ~plain:false;
       let ok = guard_holds code c p in
       (Eval.finish_run a c.brun, if ok then Some (Slots (Array.copy c.slots)) else None)
 
@@ -913,7 +942,8 @@ module Make () = struct
     match k.handlers.(h - 1), bindings with
     | Fallback, Plain bd -> Eval.Bodies.run_percept_handler a ~id ~active b h p bd
     | Compiled (code, c), Slots s ->
-      enter c a ~id ~active;
+      enter c a ~id ~active ~plain:false;
+      c.brun.fuel <- a.config.fuel;
       Array.blit s 0 c.slots 0 (Array.length s);
       c.content <- p;
       run_body code c;
@@ -928,21 +958,19 @@ module Make () = struct
     match k.handlers.(h - 1) with
     | Fallback -> Fast.handle_in_two percept_applicable run_percept_handler a ~id ~active b h p
     | Compiled (code, c) ->
-      enter c a ~id ~active;
+      enter c a ~id ~active ~plain:code.plain;
       if not (guard_holds code c p) then begin
-        if not (quiet c.brun a) then Not_applicable (Eval.finish_run a c.brun)
-        else match c.skipped with
-          | Not_applicable a0 as r when a0 == a -> r
-          | _ -> let r = Fast.Not_applicable a in c.skipped <- r; r
+        (* a compiled guard records nothing but its error *)
+        if c.brun.events != [] then Fast.Not_applicable (Eval.finish_run a c.brun)
+        else begin answer c a; c.skipped end
       end else begin
         c.brun.fuel <- a.config.fuel;
         run_body code c;
-        if a.config.record_effects || not (quiet c.brun a) then begin
+        if a.config.record_effects || not (if code.plain then c.brun.events == [] else quiet c.brun a)
+        then begin
           let (a', effs) = Eval.finish a c.brun ~handler:h in
-          Handled (a', effs)
-        end else match c.handled with
-          | Handled (a0, []) as r when a0 == a -> r
-          | _ -> let r = Fast.Handled (a, []) in c.handled <- r; r
+          Fast.Handled (a', effs)
+        end else begin answer c a; c.handled end
       end
 
   let compiled_handlers a ~id b =
