@@ -302,7 +302,7 @@ let cli_no_backtrace () =
           Alcotest.(check bool) ("a diagnostic line: " ^ l) true
             (List.exists (fun p -> is_diag_line p l) paths)) (lines err))
 
-(* ------------------------------------------------ edges (issue 15, D27, D28) *)
+(* ---------------------------------------------------------- edges (D27, D28) *)
 
 module Str_has = struct
   let has s sub =

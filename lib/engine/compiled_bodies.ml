@@ -1,4 +1,4 @@
-(* Percept handlers compiled to OCaml closures (issue 17): the same rules as
+(* Percept handlers compiled to OCaml closures (D38): the same rules as
    Eval's, with the names resolved and the dispatch on the syntax done once.
    Every rule that computes something is Eval's own (arith, compare_values,
    equal_values, pattern, map_set_bounded, tick, set_cell...); what is here

@@ -1,4 +1,4 @@
-(** The interpreter's bodies with percept handlers compiled (issue 17, D38).
+(** The interpreter's bodies with percept handlers compiled (D38).
 
     Each percept handler (its [when] guard and its body) is compiled once,
     per behaviour type and agent type, to OCaml closures, and those run

@@ -1,6 +1,6 @@
 module P = Semantics.Platform.Make (Eval.Bodies)
 module M = P.M
-module E = Engine.Fast.Make (Engine.Compiled_bodies)   (* issue 17: percept handlers compiled *)
+module E = Engine.Fast.Make (Engine.Compiled_bodies)   (* percept handlers compiled: D38 *)
 module Mc = Semantics.Machine
 module T = Typing.Tenv
 
@@ -178,7 +178,7 @@ let dispatch_bound (c : M.t) =
    (D33): each rule's line is written as the engine reports the rule's
    label; otherwise every rule is a step of its own (its messages are
    delivered, with their lines, right after it). Either way the steps are
-   counted here, and the platform keeps no list of them (issue 17; tests
+   counted here, and the platform keeps no list of them (D29; tests
    "run: the same without a trace", "run: a traced dispatch = rule by
    rule (D33)"). *)
 let iterate t i =

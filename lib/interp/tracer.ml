@@ -196,7 +196,7 @@ let undeliverable t ~sender ~receiver (m : Eval.message) =
 
 (* Without a trace (a writer from [Trace.nowhere]) nothing but the bodies'
    logs and errors is wanted, and the lines are only counted: no event is
-   built and no behaviour name kept (issue 17). *)
+   built and no behaviour name kept (D29). *)
 let step t ~agent ~before ~after l =
   let writes = Trace.writes t.w in
   if writes then note_active t agent before;

@@ -1,4 +1,4 @@
-(* The compiled percept handlers (lib/engine/compiled_bodies.ml, issue 17,
+(* The compiled percept handlers (lib/engine/compiled_bodies.ml,
    D38) held equal to the reference: the reference machine's steps on the
    reference bodies (Eval.Bodies) against the fast engine on
    Compiled_bodies, rule by rule and dispatch by dispatch, on random
@@ -335,7 +335,7 @@ let unit_tests =
     unit_cases
 
 (* Calls of the agent's and the behaviour's own functions and procedures,
-   compiled (issue 17): each against Eval.Bodies, the reference's answer
+   compiled (D38): each against Eval.Bodies, the reference's answer
    checked by hand. [routines] are the agent's, [beh] B's. *)
 let call_cases = [
   ("a procedure's locals are its own", [ "procedure p with total as integer do"; "\tx = total + 1"; "\tlog x" ], [],

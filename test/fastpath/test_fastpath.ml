@@ -1,5 +1,5 @@
-(* Tests of the fast paths of issue 17, each held equal to the path it
-   stands beside: the events file's quick reader (Interp.Events.quick_notify)
+(* Tests of the engine's fast paths (D29, D30, D33, D34), each held equal
+   to the path it stands beside: the events file's quick reader (Interp.Events.quick_notify)
    to the full one, the trace's direct encoder (Trace.line_to_buffer) to the
    JSON tree, and a run without a trace (the derived rule Dispatch) to a run
    with one (every rule a step). *)

@@ -539,7 +539,7 @@ let wrong_run_rejected () =
      | Ok _ -> ()
      | Error e -> Alcotest.failf "TLC rejected the common prefix: %s" e)
 
-(* ------------------------------------------ explore's limits (issue 15) *)
+(* ----------------------------------------------------- explore's limits *)
 
 (* A command that must fail with one line on stderr and exit status 1. *)
 let one_line what cmd =
