@@ -1,5 +1,6 @@
 # jadescript-ref. The two commands a new user needs:
-#   make demo    the main job (for now: the paper's programs parsed and formatted)
+#   make demo    the main job: the paper's RoboMe agent, type-checked and run on the
+#                simulated robot in the paper's corridor (scripts/demo)
 #   make test    every test suite; last line "N passed, M failed"
 # Both run scripts/setup first, which installs what is missing (idempotent).
 

@@ -71,7 +71,7 @@ let parser_bench () =
   Printf.printf "  where the parse time goes: lexing and layout %.0f%%, LR automaton and tree %.0f%%\n"
     (100. *. t_lex /. t_parse) (100. *. (t_parse -. t_lex) /. t_parse);
   Printf.printf "  ratio parse/print time: %.2f; output %d bytes\n" (t_parse /. t_print) (String.length out);
-  (* printing stays linear in the depth of expressions (issue 15): the same
+  (* printing stays linear in the depth of expressions: the same
      amount of text as 100 statements of the deepest expressions D27 allows
      (1,000 '+', 1,000 'not'), and as 1,000 statements 100 deep; linear
      printing takes about the same time for both, a printer that copies the
@@ -106,7 +106,7 @@ let peak_rss_kb () =
     | exception End_of_file -> 0 in
   Fun.protect ~finally:(fun () -> close_in ic) go
 
-(* Issue 17, goal 4: a model of more than 1,000,000 states (bench/models,
+(* Goal 4 (bench/README.md): a model of more than 1,000,000 states (bench/models,
    not spec/models: no test explores it), counted by the fingerprint path
    (D31) in a child process, so that its peak RSS is its own; against TLC with
    one worker, in the same run. *)
@@ -136,7 +136,7 @@ let explorer_large () =
      | (n, gen, _final, table, secs, rss_kb, cpu) ->
        let ours = float_of_int n /. secs in
        let bytes = float_of_int (rss_kb * 1024) /. float_of_int n in
-       Printf.printf "explorer vs TLC on %s (bench/models, issue 17 goal 4), safety only, counting:\n" m.name;
+       Printf.printf "explorer vs TLC on %s (bench/models, goal 4), safety only, counting:\n" m.name;
        Printf.printf "  %-34s %9d states %9d generated %8.3f s %12.0f states/s  %7.0f bytes/state (peak RSS of the process; fingerprint table %d MB)\n"
          "OCaml explorer, --fingerprints" n gen secs ours bytes (table / 1048576);
        Printf.printf "  %-34s probability that a fingerprint collision hid a state: at most %.1e\n" ""
@@ -474,7 +474,7 @@ let jade_results ?(steady_only = false) ?(env = "") quick =
           Some (kind, kv)
         | _ -> None) (List.rev !lines)
 
-(* End to end (issue 17): jadescript-ref run on an events file of [n]
+(* End to end (goal 3): jadescript-ref run on an events file of [n]
    notifies of the same percepts as the steady run, 1,024 at a time, each
    batch followed by {"run":"idle"}; once without a trace, once with one
    (written to a temporary file). The rate is percepts per second of wall
@@ -677,7 +677,7 @@ let interp_bench () =
       Printf.printf "  target: at least 3,000,000 percepts/s and 3x JADE, flat under the flood\n"
   end
 
-(* For instruction counts (issue 17: decide by what does not drift): the
+(* For instruction counts (decide by what does not drift): the
    steady loop or a flood of [n] percepts, untimed, to run under
    [valgrind --tool=callgrind]; a run with [n] = 0 gives the start-up to
    take off. Prints the words allocated per percept. *)
@@ -728,7 +728,7 @@ let count_bench () =
      | Some (k, w) -> Printf.sprintf "; %.1f words (%.0f bytes) live per waiting percept with %d waiting" w (w *. 8.) k
      | None -> "")
 
-(* Only the floods, for developing the packed agent (issue 17, goal 2):
+(* Only the floods, for developing the packed agent (goal 2, the floods):
    after a first flood of 1M not counted, [rounds] rounds of a flood of 1M
    and of 10M, alternating, then the median whole cost per percept of each
    and their ratio. *)
@@ -783,7 +783,8 @@ let field res kind key = match List.assoc_opt kind res with
 (* The compiled percepts.jade on JADE (bench/compiled/), beside JADE's own
    direct O2A path (Agent.putO2AObject, bench/jade/) and Jadescript 1.0's path
    (each percept an INFORM message to the agent's own mailbox, put=native10),
-   in alternating rounds of the same run; then a flood. Goal (issue 13):
+   in alternating rounds of the same run; then a flood. Goal (docs/jade.md,
+   "Speed"):
    the compiled agent within 1.5x of JADE's direct path, and flat under the
    flood. *)
 let jade_backend_bench () =
@@ -838,7 +839,7 @@ let jade_backend_bench () =
 
 let sim_bench () =
   (* Five rounds of each; wall clock and this process's CPU time (the
-     machine is shared: CPU time drifts less). Issue 17 goal 5: 10,000x. *)
+     machine is shared: CPU time drifts less). Goal 5: 10,000x. *)
   let rounds = 5 in
   (* the sim command's GC settings, whatever the parts before set (the
      interpreter's 32 MB minor heap makes the simulation slower) *)

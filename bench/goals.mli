@@ -1,5 +1,5 @@
-(** The bench's goals and the figures one run measured for them
-    (issue 17: "make bench prints every figure with its goal"). *)
+(** The bench's goals and the figures one run measured for them, so that
+    [make bench] prints every figure with its goal (bench/README.md). *)
 
 val record : ?met:bool -> string -> string -> unit
 (** [record ~met goal figure]: the goal as words ("steady: at least 3x

@@ -1,6 +1,6 @@
 (* Writing what a command outputs: every write is checked, so that a full disk
    or a closed pipe is one line "jadescript-ref: error: ..." and exit status 1,
-   never an uncaught exception at exit (issue 15). *)
+   never an uncaught exception at exit. *)
 
 exception Failed of string
 

@@ -13,7 +13,7 @@ let percept_name = function
 let percept_to_string = function
   | Falling -> "falling"
   | Obstacle -> "obstacle"
-  | Qr_code_read s -> Printf.sprintf "qrCodeRead(%S)" s
+  | Qr_code_read s -> "qrCodeRead(" ^ Syntax.Print.text_literal s ^ ")"   (* a Jadescript literal *)
   | Position (x, y) -> Printf.sprintf "position(%.3f, %.3f)" x y
 
 type host = Robome.Host.t

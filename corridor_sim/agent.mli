@@ -123,7 +123,7 @@ val dispatch_work :
   record:(('p, 'm, 'o) Semantics.Machine.label -> unit) -> percept:('p -> percept) -> work option
 (** A whole dispatch as one piece of work, what {!work_of_step} makes of its
     rules taken one at a time (Dequeue, Handle or Skip per handler,
-    EndDispatch), in one call of the engine's derived rule (issue 17):
+    EndDispatch), in one call of the engine's derived rule (D29):
     [dispatch observe] runs [Engine.Fast.dispatch ~observe] and says whether
     it applied; every label is [record]ed in order. [None] when it did not
     apply (the caller then takes one rule). *)

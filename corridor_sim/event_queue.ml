@@ -2,7 +2,7 @@
    arrays of unboxed floats and ints; the events themselves stay in their
    slot of [vals] from [add] to [take] and never move. So sifting moves
    floats and ints only, and nothing is allocated per event once the arrays
-   are large enough (issue 17: a record per event, moved to the major heap
+   are large enough (a record per event, moved to the major heap
    with its array, was a tenth of a simulation's time with the collector). *)
 
 type 'a t = {

@@ -118,7 +118,7 @@ let make_with ?program:(path = program ()) ~record () : (module Agent.AGENT) =
 
     let step t : Agent.work option =
       (* a whole dispatch in one call of the derived rule when it applies (the
-         same rules, labels and work as one at a time); the closures only
+         same rules, labels and work as one at a time, D29); the closures only
          then *)
       if t.c.phase = Mc.Dispatch_phase then begin
         let module E = (val t.rules) in

@@ -41,7 +41,7 @@ let merge (s : float array) lo mid hi (d : float array) =
   done
 
 (* A natural merge sort on a float array: the runs already in order (a
-   run's latencies come in some forty of them, issue 17) are found first,
+   run's latencies come in some forty of them) are found first,
    then merged two by two, from one array into the other, until one is left.
    [bounds.(0 .. runs)] holds where each run starts, and n. *)
 let sort_floats (a : float array) =
@@ -76,7 +76,7 @@ let sort_floats (a : float array) =
     if !src != a then Array.blit !src 0 a 0 n
   end
 
-(* Loops over the dispatched percepts without a closure (issue 17: they
+(* Loops over the dispatched percepts without a closure (they
    are some 15,000 in a run). *)
 let rec mem_int (x : int) = function [] -> false | y :: rest -> x = y || mem_int x rest
 
@@ -129,7 +129,7 @@ let of_result (r : Sim.result) =
       let n = count_prio prio r.dispatches in
       let a = Array.make n 0. in
       fill_prio prio a r.dispatches;
-      (* sorted, for the mean is summed in increasing order (issue 17: the
+      (* sorted, for the mean is summed in increasing order (D35: the
          order of Array.stable_sort Float.compare, without boxing a float
          per comparison) *)
       sort_floats a;

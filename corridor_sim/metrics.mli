@@ -48,5 +48,5 @@ val sort_floats : float array -> unit
     same array, element for element, nan and signed zeros included), by a
     natural merge sort that compares the floats unboxed (it merges the runs
     already in order: a run's latencies come in some forty): the latencies
-    of a run are sorted with it (issue 17; tested against
+    of a run are sorted with it (D35: the same floats; tested against
     [Array.stable_sort]). *)

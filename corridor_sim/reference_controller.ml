@@ -106,7 +106,7 @@ let step_one t : Agent.work option =
 
 let step t : Agent.work option =
   (* a whole dispatch in one call of the derived rule when it applies (the
-     same rules, labels and work as one at a time); the closures only
+     same rules, labels and work as one at a time, D29); the closures only
      then *)
   if t.c.phase = Machine.Dispatch_phase then begin
     let dispatch observe =

@@ -73,7 +73,7 @@ let find_scenario name =
     up (Sys.getcwd ()) 8
   end
 
-(* Issue 17: a run keeps little live (some 3 MB at the end of the paper
+(* A run keeps little live (some 3 MB at the end of the paper
    scenario) and promotes steadily (the record of every dispatched percept),
    so the major collector's default pace marks the same live data again and
    again: a space overhead of 1000 (as Interp.Runtime.tune_gc for run) took

@@ -10,7 +10,7 @@ type handled = {
   handlers : int;
 }
 
-(* The dispatched percepts in columns, recorded as the run goes (issue 17):
+(* The dispatched percepts in columns, recorded as the run goes:
    the ints and floats in arrays of their own, so that a dispatch boxes
    nothing and leaves the collector nothing to move (a record, two boxed
    floats, a percept and a list cell per dispatch were a tenth of a run, all
@@ -121,7 +121,7 @@ type ev =
   | Agent_work
 
 (* The percepts notified and not yet dispatched, by sequence number: a hash
-   table on ints hashed and compared as ints (issue 17: the generic table
+   table on ints hashed and compared as ints (the generic table
    called the polymorphic hash and compare twice a percept). Only [fold]
    sees its order, and the pending percepts are sorted by number after. *)
 module Seq_table = Hashtbl.Make (struct
@@ -154,8 +154,8 @@ let mark g x y r =
   and i1 = imin (g.nx - 1) (int_of_float ((x +. r) /. coverage_cell))
   and j0 = imax 0 (int_of_float ((y -. r) /. coverage_cell))
   and j1 = imin (g.ny - 1) (int_of_float ((y +. r) /. coverage_cell)) in
-  (* a cell already seen stays seen: only the others are measured (issue 17:
-     the robot moves 2 mm a step, so nearly every cell under it is seen);
+  (* a cell already seen stays seen: only the others are measured
+     (the robot moves 2 mm a step, so nearly every cell under it is seen);
      and when the cells are those of the last call, all seen, nothing is *)
   let (a0, a1, b0, b1) = g.box in
   if not (g.box_seen && i0 = a0 && i1 = a1 && j0 = b0 && j1 = b1) then begin
@@ -191,13 +191,13 @@ module Make (A : Agent.AGENT) = struct
     let agenda : ev Event_queue.t = Event_queue.create () in
     let rng_uwb = Random.State.make [| seed; 1 |] and rng_flood = Random.State.make [| seed; 2 |] in
     let buf = Buffer.create (if trace then 65536 else 16) in
-    (* without a trace, nothing is formatted (issue 17: formatting the
+    (* without a trace, nothing is formatted (formatting the
        numbers of every event was a fifth of the run) *)
     let tr fmt =
       if trace then Printf.ksprintf (fun l -> Buffer.add_string buf l; Buffer.add_char buf '\n') fmt
       else Printf.ifprintf () fmt in
     (* the floats that change as the run goes, in one record of floats only:
-       setting them allocates nothing (issue 17; [ref]s of floats box a
+       setting them allocates nothing ([ref]s of floats box a
        float at every assignment) *)
     let clk = { now = 0.; last_traj = 0.; agent_free = 0.; busy_total = 0.; last_alert = neg_infinity;
               last_falling = neg_infinity } in
@@ -361,7 +361,7 @@ module Make (A : Agent.AGENT) = struct
         (* The next unit of work starts at t_end. When the agenda has nothing
            before or at t_end (an event already there at t_end was scheduled
            first, so it would go first), its event would be the next taken:
-           the loop then runs it at once instead (issue 17: two thirds of the
+           the loop then runs it at once instead (two thirds of the
            events are agent work). The same events in the same order; only
            the agenda's numbering of later events is one lower, which keeps
            their order. *)

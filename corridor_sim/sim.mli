@@ -35,7 +35,7 @@ type handled = {
 
 (** The dispatched percepts in dispatch order, in columns: entry [i] of
     each array for [i < d_n] (the arrays are longer). What {!handled}
-    holds, recorded without a record per dispatch (issue 17); read by
+    holds, recorded without a record per dispatch; read by
     {!Metrics}. *)
 type dispatch_log = private {
   mutable d_n : int;

@@ -194,7 +194,7 @@ let keywords = [ "agent"; "behaviour"; "cyclic"; "one"; "shot"; "on"; "percept";
 let splice_at s pos ins = String.sub s 0 pos ^ ins ^ String.sub s pos (String.length s - pos)
 
 let deep rs =
-  (* 100,000 deep is the size of the issue's reports, and costly: rare *)
+  (* 100,000 deep is the size of the first reports, and costly: rare *)
   let d = if int rs 300 = 0 then 100_000 else pick rs [ 50; 50; 190; 190; 500; 500; 2_000; 5_000; 20_000 ] in
   match int rs 6 with
   | 0 -> String.make d '(' ^ "1" ^ String.make d ')'

@@ -25,7 +25,7 @@ val arc_length : v:float -> dt:float -> float
     step (and the leading point of the body) needs them again for the same
     angle. A [trig] remembers the last angle asked for and its sine and
     cosine, so that a straight run computes them once, and a turn once a
-    step instead of three times (issue 17). The results are the same floats,
+    step instead of three times (D35). The results are the same floats,
     bit for bit, as calling [sin] and [cos] (tested on random poses). *)
 
 type trig = private { mutable angle : float; mutable sin_a : float; mutable cos_a : float }

@@ -17,7 +17,7 @@
     chosen to be plausible for a toy of this size (about 20 cm wide and
     33 cm tall, a top speed well under a walking pace); the proximity bands
     (about 20, 50 and 100 cm) and the 100 ms gap between sounds (the Android
-    SDK's default) are those of the simulation's issue. Change them here or
+    SDK's default) are those docs/simulation.md states. Change them here or
     per scenario, never in the code. *)
 
 type t = {

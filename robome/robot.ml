@@ -121,7 +121,7 @@ let apply r (c : Command.t) =
    stays within the room known about the last place where the clearance was
    measured: a disc centred less than [room - rad - margin] from that place
    is more than [rad + margin] from every wall and cube, so the exact test
-   would say no (issue 17: the robot moves 2 mm a step in a corridor 2 m
+   would say no (D35; the robot moves 2 mm a step in a corridor 2 m
    wide, so the clearance is measured about once in a hundred steps). *)
 let collides r x y rad =
   let f = r.free in
@@ -140,7 +140,7 @@ let rec run_hooks r = function [] -> () | f :: rest -> f r; run_hooks r rest
    speeds are those of the motion (a manoeuvre turns on the spot), the pose that of [Kinematics.integrate]
    and the contact test that of [World.disc_collides], each computed without
    allocating a tuple or calling sin and cos again for the same heading
-   (issue 17); the same floats bit for bit. The leading point is the point
+   (D35); the same floats bit for bit. The leading point is the point
    of the body that leads the motion: its front, or its back when the robot
    backs. *)
 let physics_step r dt events =

@@ -37,7 +37,7 @@ let readable r =
     let cam = { World.px = q.x; py = q.y } in
     let out = ref [] in
     (* loops over the indices, the faces' centres and normals and the cubes'
-       sides computed once by World.make (issue 17) *)
+       sides computed once by World.make (D35) *)
     for ci = 0 to Array.length w.cubes - 1 do
       let c = w.cubes.(ci) in
       let dcx = c.cx -. q.x and dcy = c.cy -. q.y in

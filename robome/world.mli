@@ -72,7 +72,7 @@ val disc_collides : t -> float -> float -> float -> bool
     Drop-offs are not obstacles (the robot can drive over them, and fall).
     Only the walls and cubes whose bounding box or circle the disc reaches
     (with a micrometre to spare) are tested exactly: the same answer as
-    testing them all, for a few comparisons each (issue 17). *)
+    testing them all, for a few comparisons each (D35). *)
 
 val clearance : t -> float -> float -> float
 (** [clearance w x y]: a lower bound of the distance from [(x, y)] to every
@@ -80,7 +80,7 @@ val clearance : t -> float -> float -> float
     distance to its centre less half its diagonal); [infinity] in a world
     without either. A disc of radius [r] centred within [clearance w x y -.
     r -. margin] of [(x, y)] collides with nothing: {!Robot} skips
-    {!disc_collides} that way (issue 17). *)
+    {!disc_collides} that way (D35). *)
 
 val margin : float
 (** The micrometre that the broad phase of {!disc_collides} and the use of
@@ -95,7 +95,7 @@ val ray : t -> float -> float -> float -> max:float -> float option
 val ray_distance : t -> float -> float -> float -> max:float -> float
 (** [ray_distance w x y angle ~max]: the distance {!ray} gives, or [infinity]
     where it gives [None]; the same floats, found without allocating an
-    option per side (issue 17: the proximity sensor casts five rays ten
+    option per side (D35; the proximity sensor casts five rays ten
     times a second). Tested against {!ray} on random rays. *)
 
 val segment_hits_cube : segment -> cube -> bool
@@ -111,5 +111,5 @@ val sight_blocked : t -> segment -> except:int -> bool
     ({!segment_hits_cube})? The same answer as [Array.exists (fun o -> o !=
     w.cubes.(j) && segment_hits_cube s o) w.cubes] when the cubes are
     distinct records (as {!make} keeps them), from the sides and the yaws'
-    sines and cosines computed once (issue 17: the camera asks it for every
+    sines and cosines computed once (D35; the camera asks it for every
     face in sight, five times a second). Tested against that formula. *)

@@ -228,6 +228,19 @@ let fuzz () =
 
 (* --------------------------------------------------------- round trips *)
 
+(* Print.text_literal, the one writer of Jadescript text literals (the
+   printer, Value.to_literal, the simulation's percepts), read back by the
+   lexer: one text token holding the same text (docs/syntax.md, "Texts are
+   UTF-8"). *)
+let text_literal_round_trip s =
+  let l = Syntax.Print.text_literal s in
+  let lb = Lexing.from_string l in
+  match Syntax.Lexer.token (Syntax.Lexer.create ()) lb with
+  | Syntax.Lexer.Tok (Syntax.Parser.TEXT t) when t = s && lb.Lexing.lex_curr_pos = String.length l -> true
+  | Syntax.Lexer.Tok (Syntax.Parser.TEXT t) -> QCheck.Test.fail_reportf "%S written %s, read back as %S" s l t
+  | _ -> QCheck.Test.fail_reportf "%S written %s: not one text token" s l
+  | exception e -> QCheck.Test.fail_reportf "%S written %s: %s" s l (Printexc.to_string e)
+
 let roundtrip p =
   let text = Print.program p in
   match Parse.string ~file:"gen.jade" text with
@@ -302,7 +315,7 @@ let cli_no_backtrace () =
           Alcotest.(check bool) ("a diagnostic line: " ^ l) true
             (List.exists (fun p -> is_diag_line p l) paths)) (lines err))
 
-(* ------------------------------------------------ edges (issue 15, D27, D28) *)
+(* ---------------------------------------------------------- edges (D27, D28) *)
 
 module Str_has = struct
   let has s sub =
@@ -483,7 +496,8 @@ let () =
     ("fuzz", [ Alcotest.test_case "byte mutations never raise" `Quick fuzz ]);
     ("roundtrip", [
         qcheck ~count:300 "parse (print ast) = ast" Ast_gen.arb_program roundtrip;
-        qcheck ~count:200 "fmt (print ast) = print ast" Ast_gen.arb_program fmt_idempotent ]);
+        qcheck ~count:200 "fmt (print ast) = print ast" Ast_gen.arb_program fmt_idempotent;
+        qcheck ~count:2000 "the lexer reads Print.text_literal back" Support.tricky_text text_literal_round_trip ]);
     ("cli", [
         Alcotest.test_case "errors: one line each, every file" `Quick cli_errors;
         Alcotest.test_case "fmt, --check, -i" `Quick cli_fmt;

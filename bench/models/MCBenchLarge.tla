@@ -1,6 +1,6 @@
 --------------------------- MODULE MCBenchLarge ----------------------------
 (***************************************************************************)
-(* The explorer's bench model (bench.exe explorer, issue 17), not a test:  *)
+(* The explorer's bench model (bench.exe explorer, goal 4), not a test:   *)
 (* MCReferenceFull with six notifications instead of four and four         *)
 (* messages instead of two: 1,447,659 distinct states, 3,581,800           *)
 (* transitions. It lives in bench/models so that neither make spec nor the *)

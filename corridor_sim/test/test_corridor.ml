@@ -37,8 +37,8 @@ let test_bad_files () =
   rejects "bad loop" ("{" ^ base ^ {|, "agent": {"loop": "fast"}}|});
   rejects "bad percept override" ("{" ^ base ^ {|, "sensors": {"priority_overrides": {"bump": 3}}}|})
 
-(* Every number has a range (docs/simulation.md, "Ranges"): the issue's cases
-   each rejected, naming the field. *)
+(* Every number has a range (docs/simulation.md, "Ranges"): each out-of-range
+   case below rejected, naming the field. *)
 let rejects_field msg field json =
   match Scenario.of_json (Yojson.Safe.from_string json) with
   | _ -> Alcotest.failf "%s: accepted" msg
@@ -205,7 +205,7 @@ let test_priorities () =
   Alcotest.(check (pair (float 0.) (float 0.))) "current position" (3., 4.) (Reference_controller.current_position a);
   Alcotest.(check bool) "idle" true (Reference_controller.step a = None)
 
-(* Issue 17: a dispatch is taken in one call of the engine's derived rule;
+(* A dispatch is taken in one call of the engine's derived rule (D29);
    the work it reports and the labels it logs are those of its rules taken
    one at a time: Dequeue e, one Handle or Skip per handler (4), EndDispatch
    of e; handlers_run counts the Handles. *)
@@ -406,7 +406,7 @@ let test_bench () =
   Alcotest.(check (float 1e-9)) "the paper scenario's 300 s" 300. sim;
   Alcotest.(check bool) "measured" true (wall > 0.)
 
-(* The dispatched percepts kept in columns (Sim.dispatch_log, issue 17)
+(* The dispatched percepts kept in columns (Sim.dispatch_log, docs/simulation.md)
    are the run's dispatches: each record [handled] makes from them prints as
    the trace's dispatch line of the same run (time, seq, percept, priority,
    latency, handlers), in the same order, for both agents; and each one's

@@ -33,23 +33,32 @@ let rec canon = function
 let set l = Set (List.sort_uniq compare l)
 let record fs = Rec (List.sort (fun (f, _) (g, _) -> Stdlib.compare f g) fs)
 
-let escape s =
+(* TLA+ string escapes, as TLC reads and prints them: the only six its
+   lexer knows (a quote, a backslash, line feed, tab, carriage return, form
+   feed), each a backslash and the letter of this table. The writer
+   ([string_literal]) and the reader ([parse]) both use it. *)
+let escapes = [ ('"', '"'); ('\\', '\\'); ('\n', 'n'); ('\t', 't'); ('\r', 'r'); ('\012', 'f') ]
+
+let string_literal s =
   let b = Buffer.create (String.length s + 2) in
   Buffer.add_char b '"';
-  String.iter (function
-      | '"' -> Buffer.add_string b "\\\""
-      | '\\' -> Buffer.add_string b "\\\\"
-      | '\n' -> Buffer.add_string b "\\n"
-      | '\t' -> Buffer.add_string b "\\t"
-      | c -> Buffer.add_char b c) s;
+  String.iter (fun c ->
+      match List.assoc_opt c escapes with
+      | Some letter -> Buffer.add_char b '\\'; Buffer.add_char b letter
+      | None when c = '`' || c >= '\128' ->
+        invalid_arg (Printf.sprintf "Tla.string_literal: TLC cannot read %C in a string" c)
+      | None -> Buffer.add_char b c) s;
   Buffer.add_char b '"';
   Buffer.contents b
+
+let unescape letter =
+  List.find_map (fun (c, l) -> if l = letter then Some c else None) escapes
 
 let to_string v =
   let b = Buffer.create 128 in
   let rec go = function
     | Int i -> Buffer.add_string b (string_of_int i)
-    | Str s -> Buffer.add_string b (escape s)
+    | Str s -> Buffer.add_string b (string_literal s)
     | Bool x -> Buffer.add_string b (if x then "TRUE" else "FALSE")
     | Seq l -> Buffer.add_string b "<<"; list l; Buffer.add_string b ">>"
     | Set l -> Buffer.add_char b '{'; list l; Buffer.add_char b '}'
@@ -101,9 +110,9 @@ let parse_prefix s start =
         else match s.[j] with
           | '"' -> j + 1
           | '\\' when j + 1 < n ->
-            (match s.[j + 1] with
-             | 'n' -> Buffer.add_char b '\n' | 't' -> Buffer.add_char b '\t'
-             | c -> Buffer.add_char b c);
+            (match unescape s.[j + 1] with
+             | Some c -> Buffer.add_char b c
+             | None -> fail j (Printf.sprintf "unknown string escape \\%c" s.[j + 1]));
             str (j + 2)
           | c -> Buffer.add_char b c; str (j + 1) in
       let j = str (i + 1) in

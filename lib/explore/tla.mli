@@ -20,12 +20,31 @@ val record : (string * t) list -> t
 val to_string : t -> string
 (** TLA+ syntax. Canonical when the value is. *)
 
+val string_literal : string -> string
+(** A string as a TLA+ string literal, quoted: the one writer of TLA+
+    strings ({!to_string}, and through it every module and constant the
+    project generates). A quote, a backslash, line feed, tab, carriage
+    return and form feed are written as a backslash followed by the quote,
+    the backslash, n, t, r or f, the escapes TLC reads; TLC's lexer has no
+    other escape. Every other ASCII byte but the backtick is written as it
+    is, and TLC 2.18 reads it as itself (control characters and NUL
+    included). TLC cannot read the rest, and there is no escape for them:
+    a backtick opens a region that runs to the next single quote, even
+    across strings, so that the module means something else; UTF-8 it reads
+    as Unicode but refuses many characters (U+0100, U+4E2D, U+2028, any
+    beyond the BMP); a byte that is not UTF-8 it reads as U+FFFD.
+    @raise Invalid_argument on a backtick or a byte beyond ASCII (the
+    strings the project writes are generated names and Jadescript names,
+    which are ASCII without backticks). Tested against TLC (test/semantics,
+    TLA+ strings: TLC reads them back). *)
+
 val compare : t -> t -> int
 
 exception Parse_error of string
 
 val parse : string -> t
-(** Parses a value: integers, strings (TLA+ escapes), [TRUE], [FALSE],
+(** Parses a value: integers, strings (the escapes of {!string_literal}; another
+    escape is an error), [TRUE], [FALSE],
     [<<...>>], [{...}], [[f |-> v, ...]], [(k :> v @@ ...)]. The result is
     canonical. @raise Parse_error *)
 

@@ -118,6 +118,13 @@ let model_of_trace (header : Trace.header) lines ~agent =
           | [ effs ] -> Tla.record [ "accepts", accepts; "effects", Tla.Seq effs ]
           | _ -> Tla.record [ "accepts", accepts; "effects", Tla.Seq [];
                               "byValue", Tla.record (List.map (fun (n, effs, _) -> (n, Tla.Seq effs)) uses) ])) in
+    (* behaviour names are record fields and strings of the model: a name
+       that is not a Jadescript name (docs/syntax.md) cannot be written *)
+    List.iter (fun (i : Trace.behaviour_info) ->
+        let ok = i.name <> "" && String.for_all (function 'a'..'z' | 'A'..'Z' | '0'..'9' | '_' -> true | _ -> false) i.name
+                 && not (i.name.[0] >= '0' && i.name.[0] <= '9') in
+        if not ok then raise (Cannot_express (1, Printf.sprintf "behaviour %S is not a Jadescript name: a model cannot hold it" i.name)))
+      behaviours;
     let info b = match List.find_opt (fun (i : Trace.behaviour_info) -> i.name = b) behaviours with
       | Some i -> i
       | None -> raise (Cannot_express (1, "behaviour " ^ b ^ " is not in the trace header")) in

@@ -88,7 +88,7 @@ let parse_line env ~agents ~file line : (t option, (int * string) list) result =
   | [] -> Ok r
   | es -> Error (List.rev es)
 
-(* ------------------------------------------------- the quick path (issue 17) *)
+(* ------------------------------------------------------ the quick path (D30) *)
 
 (* Most lines of a long events file are one notify of a percept literal,
    such as {"agent":"a","notify":"position(1, 2)"}. [quick_notify] reads
@@ -478,7 +478,7 @@ let to_line = function
 (* Every line of the file, one at a time, with its number: the lines
    [input_line] reads (split at each newline, the last one with or without
    its own), found in a buffer the file is read into 64 kB at a time
-   (issue 17: [input_line] cost a fifth of the reading). Only the line
+   ([input_line] cost a fifth of the reading). Only the line
    being read is kept: a line longer than the buffer makes it grow. *)
 let fold_lines path f init =
   let ic = open_in_bin path in

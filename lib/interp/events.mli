@@ -41,7 +41,7 @@ val fold_lines :
 
     Most lines of a long events file are a notify of a percept literal
     ([{"agent":"a","notify":"position(1, 2)"}]); they are read by a quick
-    path beside the full one (issue 17). *)
+    path beside the full one (D30). *)
 
 val parse_line :
   Typing.Tenv.t -> agents:(string * string) list -> file:string -> string ->

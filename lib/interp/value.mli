@@ -21,7 +21,7 @@ module Int_table : sig
 end
 (** Hash tables keyed by the structural hash of a value (an int): chained
     buckets in an array of a power of two places, found without a call
-    through a functor (what a map look-up does first, issue 17). *)
+    through a functor (what a map look-up does first). *)
 
 type t =
   | Bool of bool

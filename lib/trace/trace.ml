@@ -369,7 +369,7 @@ let header_of_json j =
      with Bad m -> Error m)
   | _ -> Error "not a jadescript-ref trace (no header line)"
 
-(* ---------------------------------------------- direct encoding (issue 17) *)
+(* --------------------------------------------------- direct encoding (D30) *)
 
 (* A line written straight into bytes, byte for byte what
    [Yojson.Safe.to_string (line_to_json l)] writes: the same fields in the

@@ -146,7 +146,7 @@ val lines_written : writer -> int
 
 val writes : writer -> bool
 (** Does the writer write anywhere? One from {!nowhere} does not: a caller
-    may then skip what only the trace needs (issue 17). *)
+    may then skip what only the trace needs (D29). *)
 
 val write_with : writer -> agent:string -> (unit -> event) -> unit
 (** [write] of the event the function builds, built only when the writer

@@ -234,7 +234,7 @@ let test_host () =
 (* ------------------------------------------------ collision broad phase *)
 
 (* World.disc_collides tests exactly only the walls and cubes whose bounding
-   box or circle the disc reaches (issue 17): it must answer as the test of
+   box or circle the disc reaches (D35): it must answer as the test of
    every wall and cube does (the formula before the broad phase, here), on
    random discs and on discs that touch a wall or a cube's corner within a
    rounding error. *)

@@ -407,7 +407,7 @@ let unit_tests =
     unit_cases
 
 (* Calls of the agent's and the behaviour's own functions and procedures,
-   compiled (issue 17): each against Eval.Bodies, the reference's answer
+   compiled (D38): each against Eval.Bodies, the reference's answer
    checked by hand. [routines] are the agent's, [beh] B's. *)
 let call_cases = [
   ("a procedure's locals are its own", [ "procedure p with total as integer do"; "\tx = total + 1"; "\tlog x" ], [],

@@ -1,5 +1,5 @@
-(* Tests of the fast paths of issue 17, each held equal to the path it
-   stands beside: the events file's quick reader (Interp.Events.quick_notify)
+(* Tests of the engine's fast paths (D29, D30, D33, D34), each held equal
+   to the path it stands beside: the events file's quick reader (Interp.Events.quick_notify)
    to the full one, the trace's direct encoder (Trace.line_to_buffer) to the
    JSON tree, and a run without a trace (the derived rule Dispatch) to a run
    with one (every rule a step). *)
@@ -289,6 +289,29 @@ let direct_equals_tree (l : Trace.line) =
   if direct <> tree then QCheck.Test.fail_reportf "direct: %s\ntree:   %s" direct tree;
   true
 
+(* JSON has one escaping function, Yojson's [write_string]: the trace's
+   direct writer copies a text that needs no escape and hands every other to
+   it. A text of any bytes (valid UTF-8) written in a trace line is strict
+   JSON (no raw control character) and Trace's reader reads the same text
+   back, in a log (the direct writer) and in a refused put (the tree). *)
+let json_header =
+  lazy (List.hd (String.split_on_char '\n'
+                   (Support.read_file (Filename.concat Support.root "conformance/001-r3b-priority-order/expected.jsonl"))))
+
+let json_text_round_trip s =
+  let lines = [ { Trace.step = 1; agent = "r"; event = Trace.Body { action = "Init"; body = Trace.Log s } };
+                { Trace.step = 2; agent = "r"; event = Trace.Refused_put { obj = s; reason = "full" } } ] in
+  let text = String.concat "" (List.map (fun l ->
+      let b = Buffer.create 64 in Trace.line_to_buffer b l; Buffer.add_char b '\n'; Buffer.contents b) lines) in
+  if String.exists (fun c -> c < ' ' && c <> '\n') text then
+    QCheck.Test.fail_reportf "%S written with a raw control character: %S" s text;
+  Support.with_file "t.jsonl" (Lazy.force json_header ^ "\n" ^ text) (fun path ->
+      match Trace.read_located path with
+      | Ok (_, [ (_, { event = Trace.Body { body = Trace.Log a; _ }; _ });
+                 (_, { event = Trace.Refused_put { obj = b; _ }; _ }) ]) when a = s && b = s -> true
+      | Ok _ -> QCheck.Test.fail_reportf "%S written %S, read back otherwise" s text
+      | Error (n, m) -> QCheck.Test.fail_reportf "%S written %S: line %d: %s" s text n m)
+
 (* A writer numbers its lines itself (their step, in decimal, counted
    without a division): each line it hands over is the direct encoding of
    the line of that number, across 9, 99, 999 and 9999. *)
@@ -553,7 +576,8 @@ let () =
         Alcotest.test_case "direct encoding = JSON tree, every event" `Quick every_event;
         Alcotest.test_case "a writer numbers its lines" `Quick writer_numbers;
         Alcotest.test_case "a percept's text follows its slots" `Quick percept_text_follows_its_slots;
-        qcheck ~count:3000 "trace: direct encoding = JSON tree" (QCheck.make gen_trace_line) direct_equals_tree ]);
+        qcheck ~count:3000 "trace: direct encoding = JSON tree" (QCheck.make gen_trace_line) direct_equals_tree;
+        qcheck ~count:1000 "trace: Trace reads every text back" Support.tricky_text json_text_round_trip ]);
     ("value", [
         qcheck ~count:3000 "value: the literal and the text = the plain printer" (QCheck.make gen_value) quick_literal_equal ]);
     ("run", [

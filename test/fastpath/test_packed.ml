@@ -1,4 +1,4 @@
-(* The packed agent (lib/engine/packed.ml, issue 17 goal 2) held equal to
+(* The packed agent (lib/engine/packed.ml, D32, D39) held equal to
    the reference machine: its rings (Ring), its percept codec
    (Percept_codec), and the agent itself, rule by rule, on random programs
    and random host operations. *)

@@ -391,7 +391,7 @@ let conform_judges () =
   Alcotest.(check bool) ("a hang is stopped by --timeout:\n" ^ out) true
     (Unix.gettimeofday () -. t0 < 20. && (try ignore (Explore.Str_find.find out "timed out"); true with Not_found -> false))
 
-(* conform's resources (issue 15): a huge trace is read with bounded memory
+(* conform's resources: a huge trace is read with bounded memory
    (a 2M-line trace and a 100 MB line: conform's peak RSS stays small); its
    temporary files are removed after a pass, a failure, a timeout and a
    SIGINT of conform itself, which also stops the implementation. *)

@@ -1,4 +1,4 @@
-(* Limits that hold and bad values at the edge of run (issue 15): D19
+(* Limits that hold and bad values at the edge of run: D19
    (active behaviours per agent, activation without cubic cost), D20 (rounds
    end when nothing can change), D21 (the size of texts and maps), and the
    one-line errors of bad command-line values, events and bytes. Each case

@@ -425,7 +425,7 @@ let wrong_run_rejected () =
      | Ok _ -> ()
      | Error e -> Alcotest.failf "TLC rejected the common prefix: %s" e)
 
-(* ------------------------------------------ explore's limits (issue 15) *)
+(* ----------------------------------------------------- explore's limits *)
 
 (* A command that must fail with one line on stderr and exit status 1. *)
 let one_line what cmd =
@@ -565,6 +565,53 @@ let d36_random_models cs =
       g.states;
     true
 
+(* ---------------------------------------------------------- TLA+ strings *)
+
+(* Tla.string_literal read back by the project's reader of TLA+ values
+   (Tla.parse, which reads TLC's output): the same string; a string TLC
+   cannot read (a backtick, a byte beyond ASCII) is refused. *)
+let tla_string_round_trip s =
+  if String.exists (fun c -> c = '`' || c >= '\128') s then
+    match Tla.string_literal s with
+    | exception Invalid_argument _ -> true
+    | l -> QCheck.Test.fail_reportf "%S written %s, which TLC cannot read" s l
+  else
+  match Tla.parse (Tla.string_literal s) with
+  | Tla.Str t when t = s -> true
+  | v -> QCheck.Test.fail_reportf "%S written %s, read back as %s" s (Tla.string_literal s) (Tla.to_string v)
+  | exception Tla.Parse_error m -> QCheck.Test.fail_reportf "%S written %s: %s" s (Tla.string_literal s) m
+
+(* Tla.string_literal read by TLC: a module holding each string as a
+   literal makes TLC check its length in characters and print it
+   (PrintT), and what TLC prints, read back, is the string. The strings:
+   every ASCII byte but the backtick between two letters (control
+   characters, NUL, DEL, a quote and a backslash among them), every escape
+   at once, text that looks like an escape or a comment. *)
+let tla_strings_read_by_tlc () =
+  let strings =
+    List.filter_map (fun c -> if c = Char.code '`' then None else Some ("a" ^ String.make 1 (Char.chr c) ^ "b"))
+      (List.init 128 Fun.id)
+    @ [ "\"\\\n\t\r\012"; "\\n\\\"\\"; ""; "\"\""; "'(* *)\\* '"; "\000\001\127\031" ] in
+  let text = Buffer.create 4096 in
+  Buffer.add_string text "---- MODULE EscapeCheck ----\nEXTENDS TLC, Sequences\nVARIABLE x\n";
+  List.iteri (fun i s ->
+      Printf.bprintf text "ASSUME Len(%s) = %d\nASSUME PrintT(<<%d, %s>>)\n"
+        (Tla.string_literal s) (String.length s) i (Tla.string_literal s)) strings;
+  Buffer.add_string text "Init == x = 0\nNext == UNCHANGED x\n====\n";
+  let r = Tlc.run_text ~module_name:"EscapeCheck" ~text:(Buffer.contents text)
+      ~cfg_lines:[ "INIT Init"; "NEXT Next" ] ~options:[ "-workers"; "1" ] in
+  if r.exit_code <> 0 then Alcotest.failf "TLC exit %d:\n%s" r.exit_code r.output;
+  let printed = List.filter_map (fun l ->
+      if String.length l > 2 && String.sub l 0 2 = "<<" then
+        match Tla.parse l with
+        | Tla.Seq [ Tla.Int i; Tla.Str s ] -> Some (i, s)
+        | _ -> Alcotest.failf "TLC printed %S" l
+      else None) (String.split_on_char '\n' r.output) in
+  Alcotest.(check int) "every string printed" (List.length strings) (List.length printed);
+  List.iteri (fun i s ->
+      Alcotest.(check string) (Printf.sprintf "string %d read back" i) s
+        (try List.assoc i printed with Not_found -> Alcotest.failf "string %d not printed" i)) strings
+
 let () =
   Alcotest.run "semantics" [
     ("queues", [
@@ -598,5 +645,7 @@ let () =
         qcheck ~count:4 ~long_factor:10 "random models agree with TLC" arb_random_model random_model_agrees;
         Alcotest.test_case "TLC behaviours replayed" `Slow simulation_replayed;
         Alcotest.test_case "OCaml runs validated by TLC" `Slow runs_validated;
-        Alcotest.test_case "a mutant's run is rejected" `Slow wrong_run_rejected ]);
+        Alcotest.test_case "a mutant's run is rejected" `Slow wrong_run_rejected;
+        Alcotest.test_case "TLA+ strings: TLC reads them back" `Quick tla_strings_read_by_tlc;
+        qcheck ~count:2000 "TLA+ strings: Tla.parse reads them back" tricky_text tla_string_round_trip ]);
   ]

@@ -100,3 +100,21 @@ let with_file name text f =
   let oc = open_out_bin p in output_string oc text; close_out oc;
   Fun.protect ~finally:(fun () -> (try Sys.remove p with Sys_error _ -> ()); (try Unix.rmdir dir with Unix.Unix_error _ -> ()))
     (fun () -> f p)
+
+(* Texts for the escaping functions' round trips: each piece an ASCII byte
+   (any, control characters, NUL and DEL included), one of the bytes every
+   escaper treats apart, or a UTF-8 character of 2, 3 or 4 bytes. *)
+let tricky_text =
+  let open QCheck.Gen in
+  let utf8 cp =
+    let b = Buffer.create 4 in
+    Buffer.add_utf_8_uchar b (Uchar.of_int cp);
+    Buffer.contents b in
+  let piece = frequency [
+      (3, map (fun c -> String.make 1 (Char.chr c)) (int_bound 127));
+      (3, oneofl [ "\""; "\\"; "\n"; "\r"; "\t"; "\012"; "\b"; "\000"; "\127"; "'"; "\\u0041"; "*/"; "&"; "<" ]);
+      (1, map utf8 (int_range 0x80 0x7FF));
+      (1, map utf8 (oneof [ int_range 0x800 0xD7FF; int_range 0xE000 0xFFFF ]));
+      (1, map utf8 (int_range 0x10000 0x10FFFF));
+      (1, oneofl [ utf8 0xE9; utf8 0x2028; utf8 0xFEFF; utf8 0xFFFD; utf8 0x1F600 ]) ] in
+  QCheck.make ~print:(Printf.sprintf "%S") (map (String.concat "") (list_size (int_bound 12) piece))

@@ -32,3 +32,8 @@ val with_file : string -> string -> (string -> 'a) -> 'a
 (** [with_file name text f]: [f] of the path of a file [name] holding
     [text], in a fresh temporary directory of its own (two test processes
     at once never share it), removed afterwards. *)
+
+val tricky_text : string QCheck.arbitrary
+(** Valid UTF-8 texts for the escaping functions' round trips: any ASCII
+    byte (control characters, NUL and DEL included), quotes, backslashes,
+    and characters of 2, 3 and 4 bytes (U+2028, U+FEFF, U+FFFD among them). *)

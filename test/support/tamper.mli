@@ -1,5 +1,5 @@
 (** Tampered traces: ways to spoil a valid trace so that
-    [jadescript-ref validate] must reject it (issue 15; docs/trace-format.md,
+    [jadescript-ref validate] must reject it (D25; docs/trace-format.md,
     "What validate checks"). Used by test/validate and by the fuzz campaign.
 
     Each kind of tampering makes the trace truly invalid, or does not apply:

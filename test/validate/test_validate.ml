@@ -1,4 +1,4 @@
-(* validate checks everything it is given (issue 15, docs/trace-format.md
+(* validate checks everything it is given (docs/trace-format.md
    "What validate checks"): the traces of every conformance vector and of a
    few runs are accepted; every kind of tampering of test/support/tamper.ml,
    with several seeds, is rejected, as one located line. *)
