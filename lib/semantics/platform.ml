@@ -34,7 +34,7 @@ module Make (B : Machine.BODIES) = struct
     let c = t.agents.(i).config in
     let (world, out) = B.take_outbox c.world in
     match out with
-    | [] when world == c.world -> (t, [])    (* nothing sent: the platform as it is *)
+    | [] -> (t, [])    (* nothing sent: the platform as it is *)
     | _ ->
     let t = set t i { c with world } in
     List.fold_left (fun (t, evs) (receiver, m) ->

@@ -115,6 +115,41 @@ let decisions_of_and_for () =
     [ "a: 5"; "a: b"; "a: a" ] (logs_of text)
 
 (* A message handler reads its message's performative and sender. *)
+(* D40: an instance's number comes from its agent's own supply: two agents
+   created one after the other both number their first instance 1, and a
+   second activation in an agent is 2, whatever ran between. *)
+let d40_numbers_per_agent () =
+  let text = "agent A\n\ton create do\n\t\tactivate behaviour B\n\t\tactivate behaviour B\n\n\
+              one shot behaviour B for agent A\n\tdo\n\t\tlog this\n" in
+  let (logs, _) = run_program text [ ("a", "A", []); ("b", "A", []) ] in
+  Alcotest.(check (list string)) "each agent's instances numbered from 1"
+    [ "a: behaviour #1"; "b: behaviour #1"; "a: behaviour #2"; "b: behaviour #2" ] logs
+
+(* D41: a when condition changes no behaviour. A guard that calls a function
+   that activates fails there with an error (the handler is not applicable);
+   the activation is not made, now or later; the log the function made
+   before it stays. *)
+let d41_guard_cannot_activate () =
+  let text = "ontology O\n\tproposition ping extends percept\n\n\
+              agent A uses ontology O\n\ton create do\n\t\tactivate behaviour W\n\n\
+              \tfunction sneaky() as boolean do\n\t\tlog \"sneaky\"\n\t\tactivate behaviour X\n\t\treturn true\n\n\
+              cyclic behaviour W for agent A\n\ton percept when content matches ping and sneaky() do\n\t\tlog \"ran\"\n\n\
+              one shot behaviour X for agent A\n\tdo\n\t\tlog \"X stepped\"\n" in
+  let (logs, evs) = run_program text [ ("a", "A", []) ] ~events:(fun rt ->
+      let env = Interp.Runtime.env rt in
+      let (v, d) = Interp.Eval.percept_value env ~agent_type:"A" (Parse.expr ~file:"e" "ping") in
+      ignore (Interp.Runtime.notify rt ~agent:"a" v ~default:d ~priority:None)) in
+  Alcotest.(check (list string)) "the function's log, no handler, no X" [ "a: sneaky" ] logs;
+  let msgs = List.filter_map (function
+      | `Assoc f -> (match List.assoc_opt "event" f, List.assoc_opt "message" f with
+          | Some (`String "error"), Some (`String m) -> Some m | _ -> None)
+      | _ -> None) evs in
+  Alcotest.(check (list string)) "the error at the activate"
+    [ "a when condition cannot activate or deactivate a behaviour" ] msgs;
+  Alcotest.(check bool) "no activate line" false
+    (List.exists (function `Assoc f -> List.assoc_opt "event" f = Some (`String "activate")
+                                        && List.assoc_opt "behaviour" f = Some (`String "X") | _ -> false) evs)
+
 let message_fields () =
   let text = "ontology O\n\tpredicate hello(who as text)\n\nagent A uses ontology O\n\ton create do\n\t\tactivate behaviour B\n\n\
               cyclic behaviour B for agent A\n\ton message when content matches hello(w) do\n\
@@ -515,7 +550,9 @@ let () =
         Alcotest.test_case "a map = an association list, through its growth" `Quick map_model;
         Alcotest.test_case "loops and control" `Quick control;
         Alcotest.test_case "D11 priority of, D12 for over a map" `Quick decisions_of_and_for;
-        Alcotest.test_case "performative and sender of message" `Quick message_fields ]);
+        Alcotest.test_case "performative and sender of message" `Quick message_fields;
+        Alcotest.test_case "D40 instance numbers per agent" `Quick d40_numbers_per_agent;
+        Alcotest.test_case "D41 a guard cannot activate" `Quick d41_guard_cannot_activate ]);
     ("errors", [
         Alcotest.test_case "R7 errors located, agent carries on" `Quick runtime_errors_located;
         Alcotest.test_case "R7 step budget" `Quick fuel_exhausted;
