@@ -707,19 +707,20 @@ let conform_target ~keep ~seed index =
 
 (* ------------------------------------------------------------ engine *)
 
-(* The fast engine (lib/engine) against the reference machine on generated
-   programs: the property "engine (step, Dispatch) = reference steps" of
-   test/interp (60 programs of Typed_gen, each with random notifies, run
-   both ways; labels, body events, configurations and properties must be
-   equal), run with a seed of this input's own. *)
+(* The fast engine (lib/engine) against the reference on generated
+   programs: the engine's property test "engine = reference: steps,
+   dispatches observed and not, random programs" (test/fastpath/
+   test_engine.ml: 300 programs of Typed_gen, each with random host
+   operations, run both ways; labels, body events, configurations and
+   properties must be equal), run with a seed of this input's own. *)
 let engine_target ~keep ~seed index =
-  let exe = Filename.concat (Filename.dirname (Filename.dirname (jsref ()))) "test/interp/test_interp.exe" in
+  let exe = Filename.concat (Filename.dirname (Filename.dirname (jsref ()))) "test/fastpath/test_engine.exe" in
   if not (Sys.file_exists exe) then fail "setup" "%s is not built" exe;
   let qseed = (seed * 1_000_003 + index) land 0x3FFFFFFF in
-  if keep <> None then Printf.printf "QCHECK_SEED=%d %s test derived 0\n" qseed exe;
+  if keep <> None then Printf.printf "QCHECK_SEED=%d %s test runs 0\n" qseed exe;
   let (status, out, err) = in_dir None (fun d ->
       run_command ~timeout:120.0
-        [| "/usr/bin/env"; Printf.sprintf "QCHECK_SEED=%d" qseed; exe; "test"; "derived"; "0"; "--color=never";
+        [| "/usr/bin/env"; Printf.sprintf "QCHECK_SEED=%d" qseed; exe; "test"; "runs"; "0"; "--color=never";
            "-o"; d |]) in
   (match status with
    | Unix.WEXITED 0 -> ()
