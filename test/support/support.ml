@@ -5,8 +5,13 @@ let seed =
 
 let long = Sys.getenv_opt "JSREF_LONG" = Some "1"
 
+(* JSREF_QCHECK_COUNT=N: every property N times (the fuzz campaign's
+   engine target runs one property with a seed and a count of its own). *)
 let qcheck ?(count = 200) ?(long_factor = 10) name arb prop =
   let count = if long then count * long_factor else count in
+  let count = match Option.bind (Sys.getenv_opt "JSREF_QCHECK_COUNT") int_of_string_opt with
+    | Some n when n > 0 -> n
+    | _ -> count in
   let test = QCheck.Test.make ~count ~name arb prop in
   Alcotest.test_case name `Quick (fun () ->
       try QCheck.Test.check_exn ~rand:(Random.State.make [| seed |]) test

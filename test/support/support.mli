@@ -5,7 +5,8 @@ val qcheck : ?count:int -> ?long_factor:int -> string -> 'a QCheck.arbitrary ->
 (** [qcheck name arb prop]: a QCheck property as an alcotest case (there is no
     qcheck-alcotest package here). The seed is [QCHECK_SEED] when set, else 42,
     and is printed on failure; [JSREF_LONG=1] multiplies the count by
-    [long_factor] (default 10), as [make conformance] does. *)
+    [long_factor] (default 10), as [make conformance] does;
+    [JSREF_QCHECK_COUNT=N] makes it N (the fuzz campaign's engine target). *)
 
 val seed : int
 
