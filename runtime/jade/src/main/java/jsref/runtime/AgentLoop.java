@@ -215,8 +215,7 @@ final class AgentLoop {
         JadescriptBehaviour b = insts[k];
         int h = hs[k];
         if (!b.jsActive) {   // R4b: deactivated since the snapshot
-          trace.skip(name, b.id(), known.getOrDefault(b.id(), "?"), h);
-          ruleWritten(Action.SKIP);
+          skip(b, h);
           continue;
         }
         body.reserved = new SnapshotIds(insts, k, n);   // the snapshot's ids from here on (D2)
@@ -236,8 +235,7 @@ final class AgentLoop {
             trace.handle(name, b.id(), b.typeName(), h, e.percept(), e.seq(), body.describeEffects());
           ruleWritten(Action.HANDLE);
         } else {
-          trace.skip(name, b.id(), known.getOrDefault(b.id(), "?"), h);
-          ruleWritten(Action.SKIP);
+          skip(b, h);
         }
         body.clearEffects();
         agent.messaging.deliverSent();
@@ -246,6 +244,14 @@ final class AgentLoop {
       trace.endDispatch(name, e.seq(), !applied);
       ruleWritten(Action.END_DISPATCH);
     }
+  }
+
+  /** Skip (R4b): the line names the instance's type even when it was
+      deactivated since. */
+  private void skip(JadescriptBehaviour b, int h) {
+    Trace trace = agent.cfg.trace;
+    if (trace.writes()) trace.skip(agent.getLocalName(), b.id(), known.getOrDefault(b.id(), "?"), h);
+    ruleWritten(Action.SKIP);
   }
 
   /** The ids of a dispatch snapshot's instances from position {@code from}
