@@ -13,9 +13,12 @@
     and handlers, which percepts and messages each handler took, and the
     activate/deactivate effects each body had); and the sequence of steps becomes
     a sequence of values of the spec's variable [last] (the action and its
-    parameters). A generated module asks TLC for a behaviour of the spec whose
-    [last] takes exactly those values in order ([TraceInit], [TraceNext]): TLC
-    accepts the trace, or deadlocks at the first step the spec cannot take.
+    parameters). Only these data are generated: a module holding them as
+    constants ([TraceLog]) extends the checked-in trace spec
+    [spec/AgentLoopTrace.tla], whose predicates (one per kind of trace line)
+    ask TLC for a behaviour of the spec whose [last] takes exactly those values
+    in order ([TraceInit], [TraceNext]): TLC accepts the trace, or deadlocks at
+    the first step the spec cannot take.
 
     Limits, checked and reported rather than guessed: an action block must have
     the same effects in every step of its behaviour type; a percept handler's
@@ -43,12 +46,12 @@ val trace : ?keep:string -> string -> verdict list
 
 val traces : ?keep:string -> string list -> (string * verdict list) list
 (** {!trace} of several files, with one TLC run for every agent of every
-    trace that passes the OCaml checks: each agent an instance of the spec
-    (its own constants and variables) in one generated module
+    trace that passes the OCaml checks: each agent an instance of the trace
+    spec (its own constants, steps and variables) in one generated module
     [TraceCheckAll], checked one after another, so that one JVM start serves
     them all; after a rejection, one more run for the agents after it. [keep]
-    gets [TraceCheckAll.tla] (or, for a single agent, its [MCTrace] and
-    [TraceCheck] modules). *)
+    gets [TraceCheckAll.tla] (or, for a single agent, its [TraceCheck] module
+    and cfg, named after the agent). *)
 
 val check : string -> (unit, int * string) result
 (** Only the OCaml part of {!trace}: the strict reading and {!Trace_check};

@@ -6,7 +6,7 @@ import jade.lang.acl.ACLMessage;
 
 /** What the runtime's classes inside package {@code jade.core} call back:
     the agent loop and the arrival of messages. Implemented by
-    {@link JadescriptAgent}; not for generated code. */
+    {@link SchedulerHooks}; not for generated code. */
 public interface JadeHooks {
   /** The loop, run by JADE's agent thread where JADE's scheduler picks the
       next behaviour. @param s the scheduler @return the behaviour to step

@@ -3,7 +3,7 @@ package jsref.runtime;
 /** The base class of every generated behaviour class: a JADE behaviour.
     Activated, it is added to its agent with JADE's {@code addBehaviour};
     JADE's scheduler picks it in round robin; each {@code action()} is one
-    behaviour step of the rulings (R5a-R5d), run by {@link JadescriptAgent}:
+    behaviour step of the rulings (R5a-R5d), run by {@link AgentLoop#step}:
     the {@code do} block, then at most one message taken from JADE's queue by
     the first message handler that has a matching one. A cyclic behaviour is
     never {@code done()}; a one-shot one is done after its step, and JADE
@@ -91,7 +91,7 @@ public abstract class JadescriptBehaviour extends jade.core.behaviours.Behaviour
   @Override
   public final void action() {
     try {
-      owner.step(this);
+      owner.loop.step(this);
     } catch (RuntimeException | Error e) {
       owner.internalError(e);
     }

@@ -22,6 +22,53 @@ import java.util.function.Consumer;
     connection keeps everything in order: the trace lines an iteration wrote
     reach the harness before the reply that ends it. */
 final class Link {
+  /** The requests of the harness ({@link Main}, {@link RemoteAgent}) and the
+      notices between the two JVMs: the values of {@link Key#OP}. */
+  static final class Op {
+    private Op() {}
+    static final String CREATE = "create";            // an agent here: NAME, TYPE, ARGS
+    static final String IDLE = "idle";                // is it idle?
+    static final String ITERATE = "iterate";          // one iteration, at most MAX rules
+    static final String NOTIFY = "notify";            // PERCEPT [PRIORITY]
+    static final String PUT = "put";                  // OBJECT
+    static final String MESSAGE = "message";          // PERFORMATIVE, CONTENT
+    static final String CREATE_MESSAGES = "create_messages";
+    static final String FINISH = "finish";
+    static final String QUIT = "quit";
+    static final String DELIVERED = "delivered";      // a send of the other JVM arrived: ID
+    static final String SYNCED = "synced";            // the answer to SYNC: N
+  }
+
+  /** The fields of the link's lines. */
+  static final class Key {
+    private Key() {}
+    static final String OP = "op";
+    /** A reply: the request it answers. */
+    static final String REPLY = "r";
+    static final String NAME = "name";
+    static final String TYPE = "type";
+    static final String ARGS = "args";
+    static final String ERROR = "error";
+    static final String ERRORS = "errors";
+    static final String MAX = "max";
+    static final String USED = "used";
+    static final String OK = "ok";
+    static final String IDLE = "idle";
+    static final String PERCEPT = "percept";
+    static final String PRIORITY = "priority";
+    static final String OBJECT = "object";
+    static final String PERFORMATIVE = "performative";
+    static final String CONTENT = "content";
+    /** A notice of the peripheral JVM: a trace event, for the harness to number and write. */
+    static final String EVENT = "t";
+    /** A notice of the peripheral JVM: a send of the harness's JVM arrived (its id). */
+    static final String DELIVERED = "delivered";
+    static final String ID = "id";
+    /** A notice of the peripheral JVM: write every event so far, and answer SYNCED. */
+    static final String SYNC = "sync";
+    static final String N = "n";
+  }
+
   private final Socket socket;
   private final OutputStream out;
   private final BufferedReader in;
@@ -45,7 +92,7 @@ final class Link {
           Object j;
           try { j = Json.parse(line); } catch (Json.Error e) { continue; }
           if (!(j instanceof Map<?, ?> m)) continue;
-          if (m.containsKey("r")) synchronized (replies) { replies.add(m); replies.notifyAll(); }
+          if (m.containsKey(Key.REPLY)) synchronized (replies) { replies.add(m); replies.notifyAll(); }
           else notices.accept(m);
         }
       } catch (IOException e) {

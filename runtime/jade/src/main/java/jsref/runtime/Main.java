@@ -19,7 +19,6 @@ import java.util.logging.Level;
 import java.util.logging.Logger;
 import jsref.values.LiteralError;
 import jsref.values.Literals;
-import jsref.values.Schema;
 
 /** The host harness: {@code jadescript-ref run} on JADE. It starts a JADE
     main container in this JVM (no GUI, no MTP, a free port on 127.0.0.1),
@@ -50,15 +49,6 @@ public final class Main {
     private static final long serialVersionUID = 1L;
     Stop(String line) { super(line, null, false, false); }
   }
-
-  private sealed interface HostEvent permits Notify, Put, Msg, Run, RunRules, RunIdle {}
-  private record Notify(String agent, Schema percept, Integer priority) implements HostEvent {}
-  private record Put(String agent, Object value) implements HostEvent {}
-  private record Msg(String agent, String performative, Object content) implements HostEvent {}
-  private record Run(long rounds) implements HostEvent {}
-  private record RunIdle() implements HostEvent {}
-  /** {@code {"run": {"rules": n}}} (D23): n single rules of the first agent not idle. */
-  private record RunRules(long rules) implements HostEvent {}
 
   private record Spec(String name, String type, List<Object> args) {}
 
@@ -146,7 +136,9 @@ public final class Main {
         throw new Stop("--agent " + s.name() + ":" + s.type() + ": error: there is already an agent "
             + s.name() + " (JADE's agent names are unique)");
     }
-    List<HostEvent> evs = events == null ? List.of() : readEvents(program, specs, events);
+    java.util.LinkedHashMap<String, String> agentTypes = new java.util.LinkedHashMap<>();
+    for (Spec s : specs) agentTypes.put(s.name(), s.type());
+    List<EventsFile.HostEvent> evs = events == null ? List.of() : EventsFile.read(program, agentTypes, events);
     Variant variant = Variant.of(variantName);
     if (variant == null)
       throw new Stop("error: unknown variant " + variantName + " (printed, reference, budgeted, native)");
@@ -157,7 +149,7 @@ public final class Main {
       catch (IOException e) { throw new Stop(tracePath + ":1:1: error: cannot write the trace: " + e.getMessage()); }
     }
     Trace trace = new Trace(traceOut);
-    trace.header(header(program, variant, budget, capacity, seed, specs));
+    trace.header(variant.traceName(), budget, capacity, seed, agentTypes, program.behaviours(), program.percepts());
     RunConfig cfg = new RunConfig(program, variant, budget, capacity, fuel, trace, !free, out, System.err);
 
     if (free) { cfg.holdCreateMessages(); cfg.limitFreeSteps(maxSteps); }
@@ -177,9 +169,9 @@ public final class Main {
       if (link != null && peripheral.contains(s.name())) {
         List<Object> lits = new ArrayList<>();
         for (Object v : s.args()) lits.add(v instanceof RoboMe ? "@robome" : jsref.values.Text.literal(v));
-        Map<?, ?> r = link.call(new Json.Obj().put("op", "create").put("name", s.name()).put("type", s.type())
-            .put("args", lits));
-        if (r.get("error") instanceof String err) { trace.flush(); throw new Stop("error: " + err); }
+        Map<?, ?> r = link.call(new Json.Obj().put(Link.Key.OP, Link.Op.CREATE).put(Link.Key.NAME, s.name())
+            .put(Link.Key.TYPE, s.type()).put(Link.Key.ARGS, lits));
+        if (r.get(Link.Key.ERROR) instanceof String err) { trace.flush(); throw new Stop("error: " + err); }
         agents.add(new RemoteAgent(link, s.name()));
         continue;
       }
@@ -205,8 +197,8 @@ public final class Main {
     Host h = new Host(agents, seed, maxSteps, !free);
     if (!free) for (HostedAgent ag : agents) ag.deliverCreateMessages();   // D13
     else cfg.allCreated();
-    for (HostEvent e : evs) {
-      if (e instanceof Notify n) {
+    for (EventsFile.HostEvent e : evs) {
+      if (e instanceof EventsFile.Notify n) {
         HostedAgent ag = h.agent(n.agent());
         boolean ok = n.priority() == null ? ag.notifyEvent(n.percept()) : ag.notifyEvent(n.percept(), n.priority());
         if (!ok) {
@@ -214,18 +206,18 @@ public final class Main {
           System.err.println("host: agent " + n.agent() + " refused the percept " + jsref.values.Text.literal(n.percept())
               + ": the O2A queue is full (R2d)");
         }
-      } else if (e instanceof Put p) {
+      } else if (e instanceof EventsFile.Put p) {
         if (!h.agent(p.agent()).put(p.value())) {
           // D24: the agent records it as refused, with the object
           out.flush();
           System.err.println("host: agent " + p.agent() + " refused the object " + jsref.values.Text.literal(p.value())
               + ": the O2A queue is full (R2d)");
         }
-      } else if (e instanceof Msg m) {
+      } else if (e instanceof EventsFile.Msg m) {
         h.agent(m.agent()).hostMessage(m.performative(), m.content());
-      } else if (e instanceof Run r) {
+      } else if (e instanceof EventsFile.Run r) {
         h.runRounds(r.rounds());
-      } else if (e instanceof RunRules r) {
+      } else if (e instanceof EventsFile.RunRules r) {
         h.runRules(r.rules());
       } else {
         h.runUntilIdle();
@@ -235,8 +227,8 @@ public final class Main {
     for (HostedAgent ag : agents) ag.finishRun();   // D14
     int remoteErrors = 0;
     if (link != null) {
-      Map<?, ?> r = link.call(new Json.Obj().put("op", "quit"));
-      remoteErrors = r.get("errors") instanceof Long k ? (int) (long) k : 0;
+      Map<?, ?> r = link.call(new Json.Obj().put(Link.Key.OP, Link.Op.QUIT));
+      remoteErrors = r.get(Link.Key.ERRORS) instanceof Long k ? (int) (long) k : 0;
       link.close();
     }
     trace.close();
@@ -274,17 +266,17 @@ public final class Main {
       server.close();
     }
     Link link = new Link(s);
-    JadescriptAgent.onRemoteArrival(id -> link.send(new Json.Obj().put("op", "delivered").put("id", id)));
+    Messaging.onRemoteArrival(id -> link.send(new Json.Obj().put(Link.Key.OP, Link.Op.DELIVERED).put(Link.Key.ID, id)));
     link.start("jsref-main-link", m -> {
-      if (m.get("t") instanceof Map<?, ?> ev) {
+      if (m.get(Link.Key.EVENT) instanceof Map<?, ?> ev) {
         Json.Obj o = new Json.Obj();
         for (Map.Entry<?, ?> e : ev.entrySet()) o.put((String) e.getKey(), e.getValue());
         trace.event(o);
-      } else if (m.get("delivered") instanceof Long id) {
-        JadescriptAgent.remoteDelivered(id);
-      } else if (m.get("sync") instanceof Long n) {
+      } else if (m.get(Link.Key.DELIVERED) instanceof Long id) {
+        Messaging.remoteDelivered(id);
+      } else if (m.get(Link.Key.SYNC) instanceof Long n) {
         trace.flush();
-        link.send(new Json.Obj().put("op", "synced").put("n", n));
+        link.send(new Json.Obj().put(Link.Key.OP, Link.Op.SYNCED).put(Link.Key.N, n));
       }
     });
     return link;
@@ -422,24 +414,6 @@ public final class Main {
     return cc;
   }
 
-  // ---------------------------------------------------------------- header
-
-  static Json.Obj header(ProgramInfo program, Variant variant, int budget, Integer capacity, Integer seed,
-                         List<Spec> specs) {
-    List<Object> agents = new ArrayList<>();
-    for (Spec s : specs) agents.add(new Json.Obj().put("name", s.name()).put("type", s.type()));
-    List<Object> behs = new ArrayList<>();
-    for (BehaviourInfo b : program.behaviours())
-      behs.add(new Json.Obj().put("name", b.name()).put("kind", b.kind()).put("action", b.action())
-          .put("percept_handlers", b.perceptHandlers()).put("message_handlers", b.messageHandlers()));
-    Json.Obj percepts = new Json.Obj();
-    for (Map.Entry<String, Integer> e : program.percepts().entrySet()) percepts.put(e.getKey(), e.getValue());
-    return new Json.Obj().put("trace", "jadescript-ref").put("version", 1).put("variant", variant.traceName())
-        .put("tie_policy", "stable").put("budget", budget).put("o2a_capacity", capacity).put("seed", seed)
-        .put("agents", agents)
-        .put("program", new Json.Obj().put("behaviours", behs).put("percepts", percepts));
-  }
-
   // ---------------------------------------------------------------- input
 
   private static Spec agentSpec(ProgramInfo program, String spec) throws Stop {
@@ -464,107 +438,5 @@ public final class Main {
     return new Spec(name, ty, values);
   }
 
-  private static List<HostEvent> readEvents(ProgramInfo program, List<Spec> specs, String file) throws Stop {
-    String text;
-    try {
-      text = Files.readString(Path.of(file), StandardCharsets.UTF_8);
-    } catch (java.nio.file.NoSuchFileException e) {
-      throw new Stop(file + ":1:1: error: cannot read the events file: " + file + ": No such file or directory");
-    } catch (IOException | java.io.UncheckedIOException e) {
-      throw new Stop(file + ":1:1: error: cannot read the events file: " + e.getMessage());
-    }
-    String[] lines = text.split("\n", -1);
-    List<HostEvent> evs = new ArrayList<>();
-    List<String> errors = new ArrayList<>();
-    for (int k = 0; k < lines.length; k++) {
-      int n = k + 1;
-      String line = lines[k].strip();
-      if (line.isEmpty() || line.charAt(0) == '#') continue;
-      Object j;
-      try {
-        j = Json.parse(line);
-      } catch (Json.Error e) {
-        errors.add(file + ":" + n + ":1: error: not a JSON object: " + e.getMessage() + " at column " + e.column);
-        continue;
-      }
-      if (!(j instanceof Map<?, ?> m)) { errors.add(file + ":" + n + ":1: error: each line is a JSON object"); continue; }
-      Object notify = m.get("notify"), put = m.get("put"), msg = m.get("message"), run = m.get("run");
-      final int line_ = n;
-      java.util.function.BiConsumer<Integer, String> bad =
-          (col, s) -> errors.add(file + ":" + line_ + ":" + col + ": error: " + s);
-      if (notify instanceof String p && put == null && msg == null && run == null) {
-        Spec ag = eventAgent(m, specs, bad);
-        if (ag == null) continue;
-        Schema v;
-        try {
-          v = Literals.percept(p, program, ag.type(), file);
-        } catch (LiteralError e) { bad.accept(e.column(), e.message()); continue; }
-        Object pr = m.get("priority");
-        if (pr == null) evs.add(new Notify(ag.name(), v, null));
-        else if (pr instanceof Long k2 && k2 >= 0 && k2 <= Integer.MAX_VALUE) evs.add(new Notify(ag.name(), v, (int) (long) k2));
-        // integers are Java's int (D8); the same lines as the reference's reader
-        else if (pr instanceof Long)
-          bad.accept(columnOf(line, "priority"), "\"priority\" is a natural number of 32 bits (R2a, D8): 0 to 2147483647");
-        else bad.accept(columnOf(line, "priority"), "\"priority\" is a natural number (R2a)");
-      } else if (notify == null && put instanceof String o && msg == null && run == null) {
-        // as the reference: the object is read before the agent is looked up
-        Object v = null;
-        boolean ok = true;
-        try { v = Literals.parse(o, program, file); }
-        catch (LiteralError e) { bad.accept(e.column(), e.message()); ok = false; }
-        Spec ag = eventAgent(m, specs, bad);
-        if (ag != null && ok) evs.add(new Put(ag.name(), v));
-      } else if (notify == null && put == null && msg instanceof String c && run == null) {
-        Object pf = m.get("performative");
-        String perf = pf == null ? "inform" : pf instanceof String s && PERFORMATIVES.contains(s) ? s : null;
-        boolean ok = true;
-        if (perf == null) {
-          // as the reference (Interp.Events): only the performatives the language knows
-          bad.accept(columnOf(line, "performative"),
-              "\"performative\" is one of the FIPA performatives the language knows: "
-              + String.join(", ", PERFORMATIVES));
-          ok = false;
-        }
-        Object v = null;
-        try { v = Literals.parse(c, program, file); }
-        catch (LiteralError e) { bad.accept(e.column(), e.message()); ok = false; }
-        Spec ag = eventAgent(m, specs, bad);
-        if (ag != null && ok) evs.add(new Msg(ag.name(), perf, v));
-      } else if (notify == null && put == null && msg == null && run instanceof Long k2 && k2 >= 0) {
-        evs.add(new Run(k2));
-      } else if (notify == null && put == null && msg == null && "idle".equals(run)) {
-        evs.add(new RunIdle());
-      } else if (notify == null && put == null && msg == null && run instanceof Map<?, ?> rm) {
-        if (rm.size() == 1 && rm.get("rules") instanceof Long k2 && k2 >= 0) evs.add(new RunRules(k2));
-        else bad.accept(1, "\"run\": {\"rules\": N} takes one field, a natural number");
-      } else {
-        bad.accept(1, "expected one of \"notify\", \"put\", \"message\" (with \"agent\") or \"run\" (a number, \"idle\" or {\"rules\": N})");
-      }
-    }
-    if (!errors.isEmpty()) throw new Stop(String.join("\n", errors));
-    return evs;
-  }
 
-  /** The FIPA performatives the language knows, in the order of the
-      reference's list (Typing.performatives, lib/typing/check.ml). */
-  static final List<String> PERFORMATIVES = List.of(
-      "accept_proposal", "agree", "cancel", "cfp", "confirm", "disconfirm", "failure",
-      "inform", "inform_if", "inform_ref", "not_understood", "propagate", "propose",
-      "proxy", "query_if", "query_ref", "refuse", "reject_proposal", "request",
-      "request_when", "request_whenever", "subscribe");
-
-  /** The 1-based column of a field's name in a line, as the reference's
-      events reader finds it; 1 when it is not there. */
-  private static int columnOf(String line, String field) {
-    int i = line.indexOf("\"" + field + "\"");
-    return i < 0 ? 1 : i + 1;
-  }
-
-  private static Spec eventAgent(Map<?, ?> m, List<Spec> specs, java.util.function.BiConsumer<Integer, String> bad) {
-    Object a = m.get("agent");
-    if (!(a instanceof String name)) { bad.accept(1, "this line needs an \"agent\""); return null; }
-    for (Spec s : specs) if (s.name().equals(name)) return s;
-    bad.accept(1, "there is no agent " + name);
-    return null;
-  }
 }

@@ -64,28 +64,28 @@ public final class Peripheral {
     long[] asked = { 0 };
     LinkedBlockingQueue<Map<?, ?>> requests = new LinkedBlockingQueue<>();
     link.start("jsref-peripheral-link", m -> {
-      Object op = m.get("op");
-      if ("synced".equals(op)) {
-        synchronized (syncLock) { synced[0] = (Long) m.get("n"); syncLock.notifyAll(); }
-      } else if ("delivered".equals(op)) {
-        JadescriptAgent.remoteDelivered((Long) m.get("id"));
+      Object op = m.get(Link.Key.OP);
+      if (Link.Op.SYNCED.equals(op)) {
+        synchronized (syncLock) { synced[0] = (Long) m.get(Link.Key.N); syncLock.notifyAll(); }
+      } else if (Link.Op.DELIVERED.equals(op)) {
+        Messaging.remoteDelivered((Long) m.get(Link.Key.ID));
       } else requests.add(m);
     });
 
     // The trace goes to the harness; before a message leaves this JVM, the
     // harness has written every event before it (R8: the trace's order).
-    Trace trace = Trace.forwardingTo(ev -> link.send(new Json.Obj().put("t", ev)));
+    Trace trace = Trace.forwardingTo(ev -> link.send(new Json.Obj().put(Link.Key.EVENT, ev)));
     trace.onSync(() -> {
       synchronized (syncLock) {
         long n = ++asked[0];
-        link.send(new Json.Obj().put("sync", n));
+        link.send(new Json.Obj().put(Link.Key.SYNC, n));
         while (synced[0] < n) {
           try { syncLock.wait(); } catch (InterruptedException e) { Thread.currentThread().interrupt(); return; }
         }
       }
     });
-    JadescriptAgent.messageIdBase(MESSAGE_ID_BASE);
-    JadescriptAgent.onRemoteArrival(id -> link.send(new Json.Obj().put("delivered", id)));
+    Messaging.messageIdBase(MESSAGE_ID_BASE);
+    Messaging.onRemoteArrival(id -> link.send(new Json.Obj().put(Link.Key.DELIVERED, id)));
     RunConfig cfg = new RunConfig(program, variant, Integer.parseInt(o.get("--budget")), capacity,
         Integer.parseInt(o.get("--fuel")), trace, true, out, System.err);
 
@@ -93,49 +93,49 @@ public final class Peripheral {
     Map<String, JadescriptAgent> agents = new HashMap<>();
     for (;;) {
       Map<?, ?> r = requests.take();
-      String op = (String) r.get("op");
-      String name = (String) r.get("name");
+      String op = (String) r.get(Link.Key.OP);
+      String name = (String) r.get(Link.Key.NAME);
       JadescriptAgent a = name == null ? null : agents.get(name);
-      Json.Obj reply = new Json.Obj().put("r", op);
+      Json.Obj reply = new Json.Obj().put(Link.Key.REPLY, op);
       switch (op) {
-        case "create" -> {
+        case Link.Op.CREATE -> {
           List<Object> args = new ArrayList<>();
           args.add(cfg);
           String error = null;
-          for (Object lit : (List<?>) r.get("args")) {
+          for (Object lit : (List<?>) r.get(Link.Key.ARGS)) {
             if ("@robome".equals(lit)) { args.add(new RoboMe()); continue; }
             try { args.add(Literals.parse((String) lit, program, "--agent")); }
             catch (LiteralError e) { error = e.message(); }
           }
           if (error == null) {
-            cc.createNewAgent(name, program.agentClass((String) r.get("type")).getName(), args.toArray()).start();
+            cc.createNewAgent(name, program.agentClass((String) r.get(Link.Key.TYPE)).getName(), args.toArray()).start();
             JadescriptAgent ag = cfg.awaitAgent(name, 60_000);
             if (ag == null) error = "JADE did not start agent " + name;
             else if (ag.setupError() != null) error = ag.setupError();
             else agents.put(name, ag);
           }
           trace.flush();
-          reply.put("error", error);
+          reply.put(Link.Key.ERROR, error);
         }
-        case "idle" -> reply.put("idle", a.isIdle());
-        case "iterate" -> reply.put("used", a.runIteration(((Long) r.get("max")).intValue()));
-        case "notify" -> {
-          Object p = literal(r.get("percept"), program);
-          Object k = r.get("priority");
-          reply.put("ok", k == null ? a.notifyEvent(p) : a.notifyEvent(p, ((Long) k).intValue()));
+        case Link.Op.IDLE -> reply.put(Link.Key.IDLE, a.isIdle());
+        case Link.Op.ITERATE -> reply.put(Link.Key.USED, a.runIteration(((Long) r.get(Link.Key.MAX)).intValue()));
+        case Link.Op.NOTIFY -> {
+          Object p = literal(r.get(Link.Key.PERCEPT), program);
+          Object k = r.get(Link.Key.PRIORITY);
+          reply.put(Link.Key.OK, k == null ? a.notifyEvent(p) : a.notifyEvent(p, ((Long) k).intValue()));
         }
-        case "put" -> reply.put("ok", a.put(literal(r.get("object"), program)));
-        case "message" -> a.hostMessage((String) r.get("performative"), literal(r.get("content"), program));
-        case "create_messages" -> a.deliverCreateMessages();
-        case "finish" -> a.finishRun();
-        case "quit" -> {
+        case Link.Op.PUT -> reply.put(Link.Key.OK, a.put(literal(r.get(Link.Key.OBJECT), program)));
+        case Link.Op.MESSAGE -> a.hostMessage((String) r.get(Link.Key.PERFORMATIVE), literal(r.get(Link.Key.CONTENT), program));
+        case Link.Op.CREATE_MESSAGES -> a.deliverCreateMessages();
+        case Link.Op.FINISH -> a.finishRun();
+        case Link.Op.QUIT -> {
           trace.flush();
           out.flush();
-          link.send(reply.put("errors", cfg.errors()));
+          link.send(reply.put(Link.Key.ERRORS, cfg.errors()));
           link.close();
           return;
         }
-        default -> reply.put("error", "unknown request " + op);
+        default -> reply.put(Link.Key.ERROR, "unknown request " + op);
       }
       trace.flush();
       link.send(reply);

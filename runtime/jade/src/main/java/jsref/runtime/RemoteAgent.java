@@ -16,7 +16,7 @@ final class RemoteAgent implements HostedAgent {
 
   private Map<?, ?> call(Json.Obj o) {
     try {
-      return link.call(o.put("name", name));
+      return link.call(o.put(Link.Key.NAME, name));
     } catch (InterruptedException e) {
       Thread.currentThread().interrupt();
       throw new IllegalStateException("interrupted while waiting for the peripheral container");
@@ -25,33 +25,37 @@ final class RemoteAgent implements HostedAgent {
 
   @Override public String getLocalName() { return name; }
 
-  @Override public boolean isIdle() { return Boolean.TRUE.equals(call(new Json.Obj().put("op", "idle")).get("idle")); }
+  @Override public boolean isIdle() { return Boolean.TRUE.equals(call(new Json.Obj().put(Link.Key.OP, Link.Op.IDLE)).get(Link.Key.IDLE)); }
 
   @Override public boolean isQuiet() { return isIdle(); }
 
   @Override public int runIteration(int maxRules) throws InterruptedException {
-    Map<?, ?> r = link.call(new Json.Obj().put("op", "iterate").put("max", maxRules).put("name", name));
-    return ((Long) r.get("used")).intValue();
+    Map<?, ?> r = link.call(new Json.Obj().put(Link.Key.OP, Link.Op.ITERATE).put(Link.Key.MAX, maxRules)
+        .put(Link.Key.NAME, name));
+    return ((Long) r.get(Link.Key.USED)).intValue();
   }
 
   @Override public boolean notifyEvent(Object p) {
-    return Boolean.TRUE.equals(call(new Json.Obj().put("op", "notify").put("percept", Text.literal(p))).get("ok"));
+    return Boolean.TRUE.equals(call(new Json.Obj().put(Link.Key.OP, Link.Op.NOTIFY).put(Link.Key.PERCEPT, Text.literal(p)))
+        .get(Link.Key.OK));
   }
 
   @Override public boolean notifyEvent(Object p, int k) {
-    return Boolean.TRUE.equals(call(new Json.Obj().put("op", "notify").put("percept", Text.literal(p))
-        .put("priority", k)).get("ok"));
+    return Boolean.TRUE.equals(call(new Json.Obj().put(Link.Key.OP, Link.Op.NOTIFY).put(Link.Key.PERCEPT, Text.literal(p))
+        .put(Link.Key.PRIORITY, k)).get(Link.Key.OK));
   }
 
   @Override public boolean put(Object o) {
-    return Boolean.TRUE.equals(call(new Json.Obj().put("op", "put").put("object", Text.literal(o))).get("ok"));
+    return Boolean.TRUE.equals(call(new Json.Obj().put(Link.Key.OP, Link.Op.PUT).put(Link.Key.OBJECT, Text.literal(o)))
+        .get(Link.Key.OK));
   }
 
   @Override public void hostMessage(String performative, Object content) {
-    call(new Json.Obj().put("op", "message").put("performative", performative).put("content", Text.literal(content)));
+    call(new Json.Obj().put(Link.Key.OP, Link.Op.MESSAGE).put(Link.Key.PERFORMATIVE, performative)
+        .put(Link.Key.CONTENT, Text.literal(content)));
   }
 
-  @Override public void deliverCreateMessages() { call(new Json.Obj().put("op", "create_messages")); }
+  @Override public void deliverCreateMessages() { call(new Json.Obj().put(Link.Key.OP, Link.Op.CREATE_MESSAGES)); }
 
-  @Override public void finishRun() { call(new Json.Obj().put("op", "finish")); }
+  @Override public void finishRun() { call(new Json.Obj().put(Link.Key.OP, Link.Op.FINISH)); }
 }

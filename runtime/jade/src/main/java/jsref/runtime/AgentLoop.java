@@ -1,0 +1,337 @@
+package jsref.runtime;
+
+import jade.core.JsrefScheduler;
+import jade.core.behaviours.Behaviour;
+import java.util.ArrayList;
+import java.util.HashMap;
+import java.util.List;
+import java.util.concurrent.atomic.AtomicLong;
+import jsref.runtime.TraceFormat.Action;
+
+/** The agent loop of the rulings (R3; docs/semantics.md "Agent rules"), one
+    method per rule of spec/AgentLoop.tla, on JADE's own machinery: an
+    iteration runs where JADE's scheduler picks the next behaviour
+    ({@link #iteration}, called through {@link SchedulerHooks}): Transfer
+    (R3a; TransferOne/TransferSpin/TransferEnd in {@code printed}; into the
+    message queue in {@code native}), then per percept Dequeue, Handle or
+    Skip per registered handler and EndDispatch (R3b, R4), then JADE's round
+    robin picks the behaviour whose step (BehaviourStep, R5a-R5d) JADE's
+    thread then runs ({@link #step}); with no behaviour ready, NextIteration
+    or Idle (R3e). Each rule waits for its turn ({@link LockStep#rule}) and
+    is written to the trace, then the events of the bodies it ran. */
+final class AgentLoop {
+  private final JadescriptAgent agent;
+  /** The priority queue of percepts (R3b). */
+  private final PerceptQueue pq = new PerceptQueue();
+  /** Percepts dequeued since the last Transfer (the budget of {@code budgeted}). */
+  private int dispatched;
+  /** Percepts dequeued by this agent so far (the bench's windows). */
+  final AtomicLong dequeued = new AtomicLong();
+  /** The behaviour step JADE is about to run, or ran: its sends go when the
+      next iteration starts (R5e: after JADE has blocked or removed it). */
+  private boolean stepInProgress;
+  /** The types of the instances the trace has seen, by id: a skip or a step
+      of an instance deactivated since still names its type. */
+  private final HashMap<Integer, String> known = new HashMap<>();
+  /** The registered handlers of the dispatch in progress (R4a), reused from
+      one percept to the next: instances and handler numbers. */
+  private JadescriptBehaviour[] snapB = new JadescriptBehaviour[16];
+  private int[] snapH = new int[16];
+
+  AgentLoop(JadescriptAgent agent) { this.agent = agent; }
+
+  /** The loop: one iteration up to the behaviour step, run where JADE's
+      scheduler picks the next behaviour. @param s JADE's scheduler of the agent
+      @return the behaviour whose step JADE runs next
+      @throws InterruptedException on JADE's deletion */
+  Behaviour iteration(JsrefScheduler s) throws InterruptedException {
+    RunConfig cfg = agent.cfg;
+    if (stepInProgress) {
+      stepInProgress = false;
+      agent.messaging.deliverSent();
+    }
+    if (!cfg.lockStep) agent.messaging.deliverCreateMessagesWhenAllExist();   // D13
+    SchedulerHooks hooks = agent.hooks;
+    while (true) {
+      agent.lockStep.awaitTurn();
+      try {
+        switch (cfg.variant) {
+          case PRINTED -> transferPrinted();
+          case NATIVE -> transferNative();
+          default -> transfer();
+        }
+        if (cfg.variant != Variant.NATIVE) dispatch();
+      } catch (RuntimeException | StackOverflowError e) {
+        agent.internalError(e);
+      }
+      agent.lockStep.rule();
+      // BehaviourStep, Idle or NextIteration: decided with no message half
+      // posted (JADE's postMessage holds the queue's monitor from the arrival
+      // to restartAll) and no behaviour half restarted (the scheduler's), so
+      // that a Send is wholly before the decision or wholly after it
+      synchronized (hooks.queue) {
+        synchronized (s) {
+          if (s.readyCount() > 0) {
+            stepInProgress = true;
+            return s.pick();
+          }
+          synchronized (hooks.o2a) {   // and no notify half done (its line and its put)
+            if (cfg.variant != Variant.PRINTED && idleCondition(s)) {
+              hooks.idle = true;
+              cfg.trace.idle(agent.getLocalName());
+              ruleWritten(Action.IDLE);
+              continue;
+            }
+            cfg.trace.nextIteration(agent.getLocalName());
+            ruleWritten(Action.NEXT_ITERATION);
+          }
+        }
+      }
+    }
+  }
+
+  /** The rule's line is written: remember the instances' types, then write
+      the events of the bodies it ran. */
+  private void ruleWritten(String action) {
+    if (agent.cfg.trace.writes()) for (JadescriptBehaviour b : agent.active) known.put(b.id(), b.typeName());
+    agent.body.flush(action);
+  }
+
+  /** IdleCondition (R3e): nothing ready, no percept to transfer or dispatch. */
+  private boolean idleCondition(JsrefScheduler s) {
+    if (s.readyCount() > 0 || !pq.isEmpty()) return false;
+    jade.util.leap.List o2a = agent.hooks.o2a;
+    synchronized (o2a) {
+      for (int i = 0; i < o2a.size(); i++) if (o2a.get(i) instanceof PerceptEntry) return false;
+    }
+    return true;
+  }
+
+  // ------------------------------------------------------------ transfer
+
+  /** The percepts of the O2A queue, oldest first, taken out of it; the other
+      objects stay, in order (R3a). The caller holds JADE's O2A lock, so that
+      its trace line is written before any later notify's. */
+  private List<PerceptEntry> takePercepts() {
+    jade.util.leap.List o2a = agent.hooks.o2a;
+    List<PerceptEntry> moved = new ArrayList<>();
+    int n = o2a.size();
+    boolean objects = false;
+    for (int i = 0; i < n; i++) {
+      Object x = o2a.get(i);
+      if (x instanceof PerceptEntry e) moved.add(e); else objects = true;
+    }
+    if (!moved.isEmpty()) {
+      if (!objects) o2a.clear();
+      else for (int i = n - 1; i >= 0; i--) if (o2a.get(i) instanceof PerceptEntry) o2a.remove(i);
+    }
+    return moved;
+  }
+
+  /** Transfer (R3a). */
+  private void transfer() throws InterruptedException {
+    agent.lockStep.rule();
+    synchronized (agent.hooks.o2a) {
+      List<PerceptEntry> moved = takePercepts();
+      for (PerceptEntry e : moved) pq.insert(e);
+      dispatched = 0;
+      agent.cfg.trace.transfer(agent.getLocalName(), moved.size());
+      ruleWritten(Action.TRANSFER);
+    }
+  }
+
+  /** TransferOne / TransferSpin / TransferEnd (printed, Algorithm 1). */
+  private void transferPrinted() throws InterruptedException {
+    jade.util.leap.List o2a = agent.hooks.o2a;
+    Trace trace = agent.cfg.trace;
+    while (true) {
+      agent.lockStep.rule();
+      synchronized (o2a) {
+        Object head = o2a.isEmpty() ? null : o2a.get(0);
+        if (head == null) {
+          dispatched = 0;
+          trace.transferEnd(agent.getLocalName());
+          ruleWritten(Action.TRANSFER_END);
+          return;
+        }
+        if (head instanceof PerceptEntry e) {
+          o2a.remove(0);
+          pq.insert(e);
+          trace.transferOne(agent.getLocalName(), e);
+          ruleWritten(Action.TRANSFER_ONE);
+        } else {
+          trace.transferSpin(agent.getLocalName(), head instanceof PutObject po ? po.value() : head);
+          ruleWritten(Action.TRANSFER_SPIN);
+        }
+      }
+    }
+  }
+
+  /** Transfer (native): the percepts go to the end of JADE's message queue,
+      through {@code postMessage} (which restarts the blocked behaviours). */
+  private void transferNative() throws InterruptedException {
+    agent.lockStep.rule();
+    synchronized (agent.hooks.queue) {   // the percepts join the message queue together
+      List<PerceptEntry> moved;
+      synchronized (agent.hooks.o2a) {
+        moved = takePercepts();
+        agent.host.nativePercepts.addAndGet(moved.size());   // still the O2A's room (D6)
+        dispatched = 0;
+        agent.cfg.trace.transfer(agent.getLocalName(), moved.size());
+        ruleWritten(Action.TRANSFER);
+      }
+      for (PerceptEntry e : moved) agent.messaging.postPercept(e);
+    }
+  }
+
+  // ------------------------------------------------------------ dispatch
+
+  /** Dequeue, Handle/Skip per handler of the snapshot, EndDispatch (R3b, R4). */
+  private void dispatch() throws InterruptedException {
+    RunConfig cfg = agent.cfg;
+    Trace trace = cfg.trace;
+    Body body = agent.body;
+    String name = agent.getLocalName();
+    while (!pq.isEmpty() && !(cfg.variant == Variant.BUDGETED && dispatched >= cfg.budget)) {
+      agent.lockStep.rule();
+      PerceptEntry e = pq.pop();
+      dispatched++;
+      dequeued.lazySet(dequeued.get() + 1);
+      trace.dequeue(name, e);
+      ruleWritten(Action.DEQUEUE);
+      // the registered handlers (R4a): active instances in activation order,
+      // each one's handlers in declaration order (inherited first)
+      int n = 0;
+      for (JadescriptBehaviour b : agent.active) n += b.perceptHandlerCount();
+      if (snapB.length < n) { snapB = new JadescriptBehaviour[2 * n]; snapH = new int[2 * n]; }
+      final JadescriptBehaviour[] insts = snapB;
+      final int[] hs = snapH;
+      n = 0;
+      for (JadescriptBehaviour b : agent.active)
+        for (int h = 1; h <= b.perceptHandlerCount(); h++) { insts[n] = b; hs[n] = h; n++; }
+      boolean applied = false;
+      for (int k = 0; k < n; k++) {
+        agent.lockStep.rule();
+        JadescriptBehaviour b = insts[k];
+        int h = hs[k];
+        if (!b.jsActive) {   // R4b: deactivated since the snapshot
+          skip(b, h);
+          continue;
+        }
+        body.reserved = new SnapshotIds(insts, k, n);   // the snapshot's ids from here on (D2)
+        body.running = b;
+        body.clearEffects();
+        body.freshFuel();
+        boolean ran;
+        try {
+          ran = b.perceptHandler(h, e.percept());
+        } finally {
+          body.running = null;
+          body.reserved = List.of();
+        }
+        if (ran) {
+          applied = true;
+          if (trace.writes())
+            trace.handle(name, b.id(), b.typeName(), h, e.percept(), e.seq(), body.describeEffects());
+          ruleWritten(Action.HANDLE);
+        } else {
+          skip(b, h);
+        }
+        body.clearEffects();
+        agent.messaging.deliverSent();
+      }
+      agent.lockStep.rule();
+      trace.endDispatch(name, e.seq(), !applied);
+      ruleWritten(Action.END_DISPATCH);
+    }
+  }
+
+  /** Skip (R4b): the line names the instance's type even when it was
+      deactivated since. */
+  private void skip(JadescriptBehaviour b, int h) {
+    Trace trace = agent.cfg.trace;
+    if (trace.writes()) trace.skip(agent.getLocalName(), b.id(), known.getOrDefault(b.id(), "?"), h);
+    ruleWritten(Action.SKIP);
+  }
+
+  /** The ids of a dispatch snapshot's instances from position {@code from}
+      on: the reserved ids of D2, read only when an activation asks. */
+  private static final class SnapshotIds extends java.util.AbstractList<Integer> {
+    private final JadescriptBehaviour[] insts;
+    private final int from;
+    private final int to;
+    SnapshotIds(JadescriptBehaviour[] insts, int from, int to) { this.insts = insts; this.from = from; this.to = to; }
+    @Override public Integer get(int i) { return insts[from + i].id(); }
+    @Override public int size() { return to - from; }
+  }
+
+  // ------------------------------------------------------------ the behaviour step
+
+  /** BehaviourStep (R5a-R5d): run by JADE's agent thread in the behaviour's
+      {@code action()}. @param b the behaviour JADE picked */
+  void step(JadescriptBehaviour b) {
+    // the step is atomic with respect to arrivals (R6): JADE's postMessage
+    // holds the queue's monitor, so a message arrives wholly before the step
+    // (and may be taken by it) or after it. (Plain JADE lets a message
+    // arrive during a step; see JadeRestartDuringStep.)
+    synchronized (agent.hooks.queue) { stepAtomically(b); }
+  }
+
+  private void stepAtomically(JadescriptBehaviour b) {
+    RunConfig cfg = agent.cfg;
+    Body body = agent.body;
+    int id = b.id();
+    body.reserved = List.of(id);
+    body.running = b;
+    String lastBehaviour = "";
+    List<String> actionEffects = null;
+    Integer handler = null;
+    List<String> handlerEffects = null;
+    Messaging.Arrived taken = null;
+    try {
+      if (b.hasAction()) {
+        lastBehaviour = b.typeName();
+        body.clearEffects();
+        body.freshFuel();
+        b.actionBlock();
+        actionEffects = body.describeEffects();
+        body.clearEffects();
+      }
+      if (cfg.variant == Variant.NATIVE) {
+        for (int h = 1; h <= b.perceptHandlerCount() && taken == null; h++) {
+          body.clearEffects();
+          Messaging.Arrived a = agent.messaging.take(b, h, true);   // its handler has run
+          if (a != null) {
+            agent.host.nativePercepts.decrementAndGet();
+            taken = a;
+            lastBehaviour = b.typeName();
+            handler = h;
+            handlerEffects = body.describeEffects();
+          }
+        }
+      }
+      for (int h = 1; h <= b.messageHandlerCount() && taken == null; h++) {
+        Messaging.Arrived a = agent.messaging.take(b, h, false);
+        if (a != null) {
+          taken = a;
+          lastBehaviour = b.typeName();
+          body.clearEffects();
+          body.freshFuel();
+          b.messageHandler(h, a.msg());
+          handler = h;
+          handlerEffects = body.describeEffects();
+        }
+      }
+    } finally {
+      body.running = null;
+      body.reserved = List.of();
+      body.clearEffects();
+    }
+    if (!b.isCyclic()) { agent.active.remove(b); b.jsActive = false; }   // JADE removes it: done() (R5c, D1)
+    else if (!b.hasAction() && taken == null && b.jsActive) b.block();   // JADE blocks it (R5d)
+    cfg.trace.behaviourStep(agent.getLocalName(), id, lastBehaviour.isEmpty() ? known.getOrDefault(id, "?") : lastBehaviour,
+        taken == null ? null : taken.msg(), taken == null ? 0 : taken.seq(), taken == null ? null : taken.percept(),
+        actionEffects, handler, handlerEffects);
+    ruleWritten(Action.BEHAVIOUR_STEP);
+  }
+}
