@@ -8,7 +8,7 @@ From Jsref Require Import Loop.
 
 Section Facts.
 
-Context {P M O B : Type}.
+Context {P M Ob B : Type}.
 Variable peqb : P -> P -> bool.
 Variable bd : bodies P M B.
 Variable p : params.
@@ -24,23 +24,23 @@ Fixpoint msg_percepts (q : list (msg_item P M)) : list entry :=
   | M_message _ _ :: r => msg_percepts r
   end.
 
-Lemma o2a_percepts_app : forall (l1 l2 : list (o2a_item P O)),
+Lemma o2a_percepts_app : forall (l1 l2 : list (o2a_item P Ob)),
   o2a_percepts (l1 ++ l2) = o2a_percepts l1 ++ o2a_percepts l2.
 Proof. induction l1 as [|[e|o] l IH]; intros; simpl; try rewrite IH; auto. Qed.
 
-Lemma o2a_percepts_objects : forall (l : list (o2a_item P O)), o2a_percepts (o2a_objects l) = [].
+Lemma o2a_percepts_objects : forall (l : list (o2a_item P Ob)), o2a_percepts (o2a_objects l) = [].
 Proof. induction l as [|[e|o] l IH]; simpl; auto. Qed.
 
-Lemma o2a_objects_app : forall (l1 l2 : list (o2a_item P O)),
+Lemma o2a_objects_app : forall (l1 l2 : list (o2a_item P Ob)),
   o2a_objects (l1 ++ l2) = o2a_objects l1 ++ o2a_objects l2.
 Proof. intros; unfold o2a_objects; apply filter_app. Qed.
 
-Lemma o2a_objects_length : forall (l : list (o2a_item P O)), length (o2a_objects l) <= length l.
+Lemma o2a_objects_length : forall (l : list (o2a_item P Ob)), length (o2a_objects l) <= length l.
 Proof.
   induction l as [|[e|o] l IH]; simpl; [lia|lia|]. unfold o2a_objects in *; simpl; lia.
 Qed.
 
-Lemma o2a_percepts_length : forall (l : list (o2a_item P O)), length (o2a_percepts l) <= length l.
+Lemma o2a_percepts_length : forall (l : list (o2a_item P Ob)), length (o2a_percepts l) <= length l.
 Proof. induction l as [|[e|o] l IH]; simpl; lia. Qed.
 
 Lemma msg_percepts_app : forall (l1 l2 : list (msg_item P M)),

@@ -47,16 +47,16 @@ Definition phase_eqb (a b : phase) : bool :=
 
 (* ------------------------------------------------------------------ *)
 (* Configurations (Machine.config), over any type of percepts P,        *)
-(* messages M, objects O and behaviours B.                              *)
+(* messages M, objects Ob and behaviours B.                             *)
 (* ------------------------------------------------------------------ *)
 
 (* A notified percept: the percept, its effective priority (R2a), its seq
    (R2b). *)
 Record entry (P : Type) := { ep : P; eprio : nat; eseq : nat }.
 
-Inductive o2a_item (P O : Type) :=
+Inductive o2a_item (P Ob : Type) :=
 | O_percept (e : entry P)
-| O_object (o : O).
+| O_object (o : Ob).
 
 Inductive msg_item (P M : Type) :=
 | M_message (m : M) (mseq : nat)
@@ -70,15 +70,15 @@ Record dispatch (P : Type) := { de : entry P; todo : list (nat * nat); applied :
 
 Inductive effect (B : Type) := Activate (b : B) | Deactivate.
 
-Inductive label (P M O : Type) :=
+Inductive label (P M Ob : Type) :=
 | L_init
 | L_notify (e : entry P)
 | L_notify_with (e : entry P)
-| L_put (o : O)
+| L_put (o : Ob)
 | L_send (m : M) (s : nat)
 | L_transfer (moved : nat)
 | L_transfer_one (e : entry P)
-| L_transfer_spin (o : O)
+| L_transfer_spin (o : Ob)
 | L_transfer_end
 | L_dequeue (e : entry P)
 | L_handle (id h : nat) (x : P) (s : nat)
@@ -88,8 +88,8 @@ Inductive label (P M O : Type) :=
 | L_next_iteration
 | L_idle.
 
-Record config (P M O B : Type) := {
-  o2a : list (o2a_item P O);
+Record config (P M Ob B : Type) := {
+  o2a : list (o2a_item P Ob);
   pq : list (entry P);            (* a multiset: its order means nothing *)
   msgq : list (msg_item P M);
   next_seq : nat;
@@ -104,7 +104,7 @@ Record config (P M O B : Type) := {
   dispatched : nat;
   done_ : list nat;               (* ghost: seqs that left, one per exit *)
   waits : list (nat * nat * nat); (* ghost: (seq, priority, inversions) *)
-  last : label P M O;
+  last : label P M Ob;
 }.
 
 (* The bodies, as the spec abstracts them (the constants Kind, HasAction,
@@ -132,24 +132,24 @@ Inductive result (A : Type) := Ok (a : A) | Error (r : refusal).
 
 Arguments ep {P}. Arguments eprio {P}. Arguments eseq {P}.
 Arguments Build_entry {P}.
-Arguments O_percept {P O}. Arguments O_object {P O}.
+Arguments O_percept {P Ob}. Arguments O_object {P Ob}.
 Arguments M_message {P M}. Arguments M_percept {P M}.
 Arguments iid {B}. Arguments ibeh {B}. Arguments Build_instance {B}.
 Arguments de {P}. Arguments todo {P}. Arguments applied {P}. Arguments Build_dispatch {P}.
 Arguments Activate {B}. Arguments Deactivate {B}.
-Arguments L_init {P M O}. Arguments L_notify {P M O}. Arguments L_notify_with {P M O}.
-Arguments L_put {P M O}. Arguments L_send {P M O}. Arguments L_transfer {P M O}.
-Arguments L_transfer_one {P M O}. Arguments L_transfer_spin {P M O}.
-Arguments L_transfer_end {P M O}. Arguments L_dequeue {P M O}. Arguments L_handle {P M O}.
-Arguments L_skip {P M O}. Arguments L_end_dispatch {P M O}.
-Arguments L_behaviour_step {P M O}. Arguments L_next_iteration {P M O}.
-Arguments L_idle {P M O}.
-Arguments o2a {P M O B}. Arguments pq {P M O B}. Arguments msgq {P M O B}.
-Arguments next_seq {P M O B}. Arguments msg_seq {P M O B}. Arguments puts {P M O B}.
-Arguments active {P M O B}. Arguments ready {P M O B}. Arguments blocked {P M O B}.
-Arguments pos {P M O B}. Arguments phase_of {P M O B}. Arguments cur {P M O B}.
-Arguments dispatched {P M O B}. Arguments done_ {P M O B}. Arguments waits {P M O B}.
-Arguments last {P M O B}. Arguments Build_config {P M O B}.
+Arguments L_init {P M Ob}. Arguments L_notify {P M Ob}. Arguments L_notify_with {P M Ob}.
+Arguments L_put {P M Ob}. Arguments L_send {P M Ob}. Arguments L_transfer {P M Ob}.
+Arguments L_transfer_one {P M Ob}. Arguments L_transfer_spin {P M Ob}.
+Arguments L_transfer_end {P M Ob}. Arguments L_dequeue {P M Ob}. Arguments L_handle {P M Ob}.
+Arguments L_skip {P M Ob}. Arguments L_end_dispatch {P M Ob}.
+Arguments L_behaviour_step {P M Ob}. Arguments L_next_iteration {P M Ob}.
+Arguments L_idle {P M Ob}.
+Arguments o2a {P M Ob B}. Arguments pq {P M Ob B}. Arguments msgq {P M Ob B}.
+Arguments next_seq {P M Ob B}. Arguments msg_seq {P M Ob B}. Arguments puts {P M Ob B}.
+Arguments active {P M Ob B}. Arguments ready {P M Ob B}. Arguments blocked {P M Ob B}.
+Arguments pos {P M Ob B}. Arguments phase_of {P M Ob B}. Arguments cur {P M Ob B}.
+Arguments dispatched {P M Ob B}. Arguments done_ {P M Ob B}. Arguments waits {P M Ob B}.
+Arguments last {P M Ob B}. Arguments Build_config {P M Ob B}.
 Arguments cyclic {P M B}. Arguments has_action {P M B}. Arguments action_effects {P M B}.
 Arguments percept_handlers {P M B}. Arguments percept_accepts {P M B}.
 Arguments percept_effects {P M B}. Arguments message_handlers {P M B}.
@@ -167,16 +167,16 @@ Definition is_nil {A : Type} (l : list A) : bool :=
 
 Section Machine.
 
-Context {P M O B : Type}.
+Context {P M Ob B : Type}.
 (* Equality of percepts: the flood abstraction merges equal entries, and a
    dequeue removes the entry it took. *)
 Variable peqb : P -> P -> bool.
 Variable bd : bodies P M B.
 Variable p : params.
 
-Notation config := (config P M O B).
+Notation config := (config P M Ob B).
 Notation entry := (entry P).
-Notation label := (label P M O).
+Notation label := (label P M Ob).
 Notation bstate := (bstate B).
 
 (* ---------------------------------------------------------------- *)
@@ -292,14 +292,14 @@ Definition bump_waits (c : config) (e : entry) : list (nat * nat * nat) :=
 Definition add_done (c : config) (s : nat) : list nat :=
   if p_flood p then done_ c else s :: done_ c.
 
-Definition is_o2a_percept (x : o2a_item P O) : bool :=
+Definition is_o2a_percept (x : o2a_item P Ob) : bool :=
   match x with O_percept _ => true | O_object _ => false end.
 
 Definition is_percept_msg (x : msg_item P M) : bool :=
   match x with M_percept _ => true | M_message _ _ => false end.
 
 (* The percept entries of an O2A queue, in order. *)
-Fixpoint o2a_percepts (l : list (o2a_item P O)) : list entry :=
+Fixpoint o2a_percepts (l : list (o2a_item P Ob)) : list entry :=
   match l with
   | [] => []
   | O_percept e :: r => e :: o2a_percepts r
@@ -307,7 +307,7 @@ Fixpoint o2a_percepts (l : list (o2a_item P O)) : list entry :=
   end.
 
 (* The rest of an O2A queue: its objects, in order. *)
-Definition o2a_objects (l : list (o2a_item P O)) : list (o2a_item P O) :=
+Definition o2a_objects (l : list (o2a_item P Ob)) : list (o2a_item P Ob) :=
   filter (fun x => negb (is_o2a_percept x)) l.
 
 (* PerceptInO2A *)
@@ -429,7 +429,7 @@ Definition notify_event (c : config) (x : P) (default : nat) (priority : option 
   end.
 
 (* Put(o) (R2c): does not wake an idle agent (D3) *)
-Definition put (c : config) (o : O) : config :=
+Definition put (c : config) (o : Ob) : config :=
   {| o2a := o2a c ++ [O_object o]; pq := pq c; msgq := msgq c; next_seq := next_seq c;
      msg_seq := msg_seq c; puts := S (puts c); active := active c; ready := ready c;
      blocked := blocked c; pos := pos c; phase_of := phase_of c; cur := cur c;

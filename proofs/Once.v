@@ -11,12 +11,12 @@ From Jsref Require Import Loop Run Facts.
 
 Section Once.
 
-Context {P M O B : Type}.
+Context {P M Ob B : Type}.
 Variable peqb : P -> P -> bool.
 Variable bd : bodies P M B.
 Variable p : params.
 
-Notation config := (config P M O B).
+Notation config := (config P M Ob B).
 
 (* The seq of the dispatch in progress, if any. *)
 Definition cur_seqs (c : config) : list nat :=
@@ -181,16 +181,42 @@ Qed.
    are 1..next_seq, each exactly once: no notified percept is lost, none is
    duplicated, and nothing else is there. *)
 Theorem exactly_once :
-  forall {P M O B : Type} (peqb : P -> P -> bool) (bd : bodies P M B) (p : params)
-         (c : config P M O B),
+  forall {P M Ob B : Type} (peqb : P -> P -> bool) (bd : bodies P M B) (p : params)
+         (c : config P M Ob B),
   p_flood p = false ->
   (forall x y, peqb x y = true <-> x = y) ->
   reachable peqb bd p c ->
   forall s, count_occ Nat.eq_dec (places c) s
             = (if (1 <=? s) && (s <=? next_seq c) then 1 else 0).
 Proof.
-  intros P M O B peqb bd p c Hf Hp [behs Hr] s.
+  intros P M Ob B peqb bd p c Hf Hp [behs Hr] s.
   destruct (once_reachable peqb bd p Hf Hp (init behs) c (once_init _) Hr) as [_ H].
   rewrite (proj1 (Permutation_count_occ Nat.eq_dec _ _) H), count_occ_seq.
   destruct (1 <=? s); simpl; auto.
+Qed.
+
+(* THEOREM refused_notification. The host's notifyEvent is refused exactly
+   when the priority is negative (R2a) or the O2A queue is full (R2d); a
+   refusal yields no configuration (the agent's stays as it was, the
+   percept gets no seq, so by exactly_once it is nowhere), and an accepted
+   notification is a step of the host (Notify or NotifyWith). *)
+Theorem refused_notification :
+  forall {P M Ob B : Type} (peqb : P -> P -> bool) (bd : bodies P M B) (p : params)
+         (c : config P M Ob B) (x : P) (default : nat) (k : option host_int),
+  match notify_event p c x default k with
+  | Error r =>
+    (exists m, k = Some (Negative m) /\ r = Negative_priority (Negative m))
+    \/ (o2a_has_room p c = false /\ r = O2a_full)
+  | Ok c' => next peqb bd p c c' /\ next_seq c' = (if p_flood p then 0 else S (next_seq c))
+  end.
+Proof.
+  intros P M Ob B peqb bd p c x default k.
+  unfold notify_event. destruct k as [[m|n]|].
+  - left; eauto.
+  - destruct (o2a_has_room p c) eqn:R; simpl.
+    + split; [apply Next_host, H_notify_with; auto|reflexivity].
+    + right; auto.
+  - destruct (o2a_has_room p c) eqn:R; simpl.
+    + split; [apply Next_host, H_notify; auto|reflexivity].
+    + right; auto.
 Qed.

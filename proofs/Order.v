@@ -7,7 +7,7 @@ Import ListNotations.
 From Jsref Require Import Loop Run Facts.
 
 (* The labels of a transfer step: the iteration boundary. *)
-Definition is_transfer_label {P M O : Type} (l : label P M O) : bool :=
+Definition is_transfer_label {P M Ob : Type} (l : label P M Ob) : bool :=
   match l with L_transfer _ | L_transfer_one _ | L_transfer_end => true | _ => false end.
 
 (* Finish the cases of in_cases whose label is not the one looked for. *)
@@ -21,12 +21,12 @@ Ltac wrong_label :=
 
 Section Transfer.
 
-Context {P M O B : Type}.
+Context {P M Ob B : Type}.
 Variable peqb : P -> P -> bool.
 Variable bd : bodies P M B.
 Variable p : params.
 
-Notation config := (config P M O B).
+Notation config := (config P M Ob B).
 
 Lemma transfer_step : forall (c c' : config) n,
   In (L_transfer n, c') (step peqb bd p c) -> In (L_transfer n, c') (transfer peqb p c).
@@ -45,15 +45,15 @@ End Transfer.
    their order, the priority queue gains exactly the O2A percepts, and the
    step's label counts them. *)
 Theorem transfer_moves_every_percept :
-  forall {P M O B : Type} (peqb : P -> P -> bool) (bd : bodies P M B) (p : params)
-         (c c' : config P M O B) (n : nat),
+  forall {P M Ob B : Type} (peqb : P -> P -> bool) (bd : bodies P M B) (p : params)
+         (c c' : config P M Ob B) (n : nat),
   p_flood p = false -> p_variant p <> Native ->
   In (L_transfer n, c') (step peqb bd p c) ->
   o2a c' = o2a_objects (o2a c)
   /\ pq c' = pq c ++ o2a_percepts (o2a c)
   /\ n = length (o2a_percepts (o2a c)).
 Proof.
-  intros P M O B peqb bd p c c' n Hf Hv H. apply transfer_step in H.
+  intros P M Ob B peqb bd p c c' n Hf Hv H. apply transfer_step in H.
   unfold transfer in H; in_cases H;
     try (unfold is_native in *; destruct (p_variant p); congruence).
   simpl. rewrite fold_pq_add_noflood; auto.
@@ -63,15 +63,15 @@ Qed.
    O2A percept, in order, to the message queue, and the O2A queue keeps
    exactly its objects, in their order. *)
 Theorem transfer_native :
-  forall {P M O B : Type} (peqb : P -> P -> bool) (bd : bodies P M B) (p : params)
-         (c c' : config P M O B) (n : nat),
+  forall {P M Ob B : Type} (peqb : P -> P -> bool) (bd : bodies P M B) (p : params)
+         (c c' : config P M Ob B) (n : nat),
   p_variant p = Native ->
   In (L_transfer n, c') (step peqb bd p c) ->
   o2a c' = o2a_objects (o2a c)
   /\ msgq c' = msgq c ++ map M_percept (o2a_percepts (o2a c))
   /\ pq c' = pq c.
 Proof.
-  intros P M O B peqb bd p c c' n Hv H. apply transfer_step in H.
+  intros P M Ob B peqb bd p c c' n Hv H. apply transfer_step in H.
   unfold transfer in H; in_cases H; simpl; auto.
   unfold is_native in *; rewrite Hv in *; discriminate.
 Qed.
@@ -80,13 +80,13 @@ Qed.
    and budgeted loops, Transfer is the one rule the agent can take: it
    never spins and never waits (unlike the printed loop, see Printed.v). *)
 Theorem transfer_always_taken :
-  forall {P M O B : Type} (peqb : P -> P -> bool) (bd : bodies P M B) (p : params)
-         (c : config P M O B),
+  forall {P M Ob B : Type} (peqb : P -> P -> bool) (bd : bodies P M B) (p : params)
+         (c : config P M Ob B),
   (p_variant p = Reference \/ p_variant p = Budgeted) ->
   phase_of c = Transfer_phase ->
   exists c', step peqb bd p c = [(L_transfer (length (o2a_percepts (o2a c))), c')].
 Proof.
-  intros P M O B peqb bd p c Hv Hph.
+  intros P M Ob B peqb bd p c Hv Hph.
   unfold step, transfer, transfer_one, transfer_spin, transfer_end, dequeue, handle_or_skip,
     end_dispatch, behaviour_step, next_iteration, idle, is_printed, is_native.
   rewrite Hph. destruct Hv as [Hv|Hv]; rewrite Hv; simpl; eexists; reflexivity.
@@ -100,12 +100,12 @@ Qed.
 
 Section Dequeue.
 
-Context {P M O B : Type}.
+Context {P M Ob B : Type}.
 Variable peqb : P -> P -> bool.
 Variable bd : bodies P M B.
 Variable p : params.
 
-Notation config := (config P M O B).
+Notation config := (config P M Ob B).
 
 Lemma dequeue_step : forall (c c' : config) e,
   In (L_dequeue e, c') (step peqb bd p c) ->
@@ -137,14 +137,14 @@ End Dequeue.
    the priority queue whose priority is maximal; under the Stable tie
    policy, among the entries of that priority, one with the smallest seq. *)
 Theorem dequeue_takes_highest :
-  forall {P M O B : Type} (peqb : P -> P -> bool) (bd : bodies P M B) (p : params)
-         (c c' : config P M O B) (e : entry P),
+  forall {P M Ob B : Type} (peqb : P -> P -> bool) (bd : bodies P M B) (p : params)
+         (c c' : config P M Ob B) (e : entry P),
   In (L_dequeue e, c') (step peqb bd p c) ->
   In e (pq c)
   /\ (forall f, In f (pq c) -> eprio f <= eprio e)
   /\ (p_tie p = Stable -> forall f, In f (pq c) -> eprio f = eprio e -> eseq e <= eseq f).
 Proof.
-  intros P M O B peqb bd p c c' e H. apply dequeue_step in H as [H _].
+  intros P M Ob B peqb bd p c c' e H. apply dequeue_step in H as [H _].
   split; [eapply candidates_in; eauto|split].
   - intros f Hf; eapply candidates_max; eauto.
   - intros Ht f Hf Hk; eapply candidates_stable; eauto.
@@ -155,15 +155,15 @@ Qed.
    run (host steps included) with no transfer step, a later Dequeue takes
    an entry of priority at most that of e1. *)
 Theorem dequeues_do_not_increase :
-  forall {P M O B : Type} (peqb : P -> P -> bool) (bd : bodies P M B) (p : params)
-         (c0 c1 c2 : config P M O B) (cs : list (config P M O B)) (e1 e2 : entry P),
+  forall {P M Ob B : Type} (peqb : P -> P -> bool) (bd : bodies P M B) (p : params)
+         (c0 c1 c2 : config P M Ob B) (cs : list (config P M Ob B)) (e1 e2 : entry P),
   In (L_dequeue e1, c1) (step peqb bd p c0) ->
   run peqb bd p c1 cs ->
   (forall c, In c cs -> is_transfer_label (last c) = false) ->
   In (L_dequeue e2, c2) (step peqb bd p (List.last cs c1)) ->
   eprio e2 <= eprio e1.
 Proof.
-  intros P M O B peqb bd p c0 c1 c2 cs e1 e2 H1 Hrun Hnt H2.
+  intros P M Ob B peqb bd p c0 c1 c2 cs e1 e2 H1 Hrun Hnt H2.
   assert (Hc1 : forall f, In f (pq c1) -> eprio f <= eprio e1).
   { apply dequeue_step in H1 as [Hc Hq]. intros f Hf. rewrite Hq in Hf.
     apply remove_one_incl in Hf. eapply candidates_max; eauto. }

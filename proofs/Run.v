@@ -10,13 +10,13 @@ From Jsref Require Import Loop.
 
 Section Run.
 
-Context {P M O B : Type}.
+Context {P M Ob B : Type}.
 Variable peqb : P -> P -> bool.
 Variable bd : bodies P M B.
 Variable p : params.
 
-Notation config := (config P M O B).
-Notation label := (label P M O).
+Notation config := (config P M Ob B).
+Notation label := (label P M Ob).
 
 (* HostStep: the host notifies (any percept, any priority; refused when
    the O2A queue is full, R2d), puts an object (refused when full), or
@@ -54,12 +54,12 @@ Fixpoint every_step (R : config -> config -> Prop) (c : config) (cs : list confi
 
 End Run.
 
-Arguments host_step {P M O B}.
-Arguments next {P M O B}.
-Arguments reachable_from {P M O B}.
-Arguments reachable {P M O B}.
-Arguments run {P M O B}.
-Arguments every_step {P M O B}.
+Arguments host_step {P M Ob B}.
+Arguments next {P M Ob B}.
+Arguments reachable_from {P M Ob B}.
+Arguments reachable {P M Ob B}.
+Arguments run {P M Ob B}.
+Arguments every_step {P M Ob B}.
 
 (* ------------------------------------------------------------------ *)
 (* Lemmas about single steps                                            *)
@@ -80,12 +80,12 @@ Ltac in_cases H :=
 
 Section Lemmas.
 
-Context {P M O B : Type}.
+Context {P M Ob B : Type}.
 Variable peqb : P -> P -> bool.
 Variable bd : bodies P M B.
 Variable p : params.
 
-Notation config := (config P M O B).
+Notation config := (config P M Ob B).
 
 Lemma in_step_cases : forall (c : config) l c',
   In (l, c') (step peqb bd p c) ->

@@ -10,7 +10,8 @@
 # fails stops the check with coqc's message and exit status 1.
 #
 # dune runs it at build time (proofs/dune); `make proofs` runs it directly
-# with --time (the seconds of each file).
+# with --time: the seconds of each file, and its lines of specification and
+# of proof (sizes.awk).
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 out=$(pwd)
@@ -21,6 +22,10 @@ for a in "$@"; do
     *) out=$(cd "$a" && pwd) ;;
   esac
 done
+case "$here" in
+  */_build/*) ;;
+  *) [ "$out" != "$here" ] || { echo "proofs: error: give a folder for the outputs (the source folder would shadow dune's rule)" >&2; exit 1; } ;;
+esac
 command -v coqc >/dev/null || { echo "proofs: error: coqc not found (scripts/setup installs Coq)" >&2; exit 1; }
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -44,6 +49,10 @@ for f in $order; do
 done
 cp proved_loop.ml proved_loop.mli audit.txt "$out"/
 if $time_it; then
+  echo "  lines of specification and of proof (proofs/sizes.awk):"
+  for f in $order; do awk -f "$here/sizes.awk" "${f#./}"; done |
+    awk '{ printf "  %-20s %5d %5d\n", $1, $2, $3; s += $2; p += $3 }
+         END { printf "  %-20s %5d %5d\n", "total", s, p }'
   printf 'proofs: every proof checked in %s s (coqc %s)\n' \
     "$(secs "$total_start")" "$(coqc -print-version | cut -d' ' -f1)"
 fi
