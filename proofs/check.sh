@@ -29,19 +29,20 @@ esac
 command -v coqc >/dev/null || { echo "proofs: error: coqc not found (scripts/setup installs Coq)" >&2; exit 1; }
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-cp "$here"/*.v "$work"/
+# in $work/proofs, so that coqc's messages name proofs/FILE.v
+mkdir "$work/proofs"
+cp "$here"/*.v "$work/proofs/"
 cd "$work"
-order=$(coqdep -Q . Jsref -sort ./*.v)
+order=$(coqdep -Q proofs Jsref -sort proofs/*.v)
 ms() { echo $(( $(date +%s%N) / 1000000 )); }
 secs() { local d=$(( $(ms) - $1 )); printf '%d.%d' $((d / 1000)) $(((d % 1000) / 100)); }
 total_start=$(ms)
 for f in $order; do
-  f=${f#./}
   start=$(ms)
-  if [ "$f" = Audit.v ]; then
-    coqc -q -Q . Jsref "$f" > audit.txt
+  if [ "$f" = proofs/Audit.v ]; then
+    coqc -q -Q proofs Jsref "$f" > audit.txt
   else
-    coqc -q -Q . Jsref "$f"
+    coqc -q -Q proofs Jsref "$f"
   fi
   if $time_it; then
     printf '  %-20s %6s s\n' "$f" "$(secs "$start")"
@@ -50,7 +51,7 @@ done
 cp proved_loop.ml proved_loop.mli audit.txt "$out"/
 if $time_it; then
   echo "  lines of specification and of proof (proofs/sizes.awk):"
-  for f in $order; do awk -f "$here/sizes.awk" "${f#./}"; done |
+  for f in $order; do awk -f "$here/sizes.awk" "$f"; done |
     awk '{ printf "  %-20s %5d %5d\n", $1, $2, $3; s += $2; p += $3 }
          END { printf "  %-20s %5d %5d\n", "total", s, p }'
   printf 'proofs: every proof checked in %s s (coqc %s)\n' \

@@ -165,11 +165,31 @@ let proved_steps p c =
   sorted_results (List.map (fun (l, c') -> (label_of l, view_of_proved c'))
                     (L.step peqb bodies (params_of p) (config_to c)))
 
-let describe_results m r =
-  String.concat " | " (List.map (fun (l, v) ->
-      Printf.sprintf "%s (%d in pq, %d waiting)" (Mc.action_name l) (List.length v.v_pq)
-        (List.length v.v_waits)) r)
-  |> fun s -> if s = "" then "(nothing)" else s ^ " in " ^ m
+(* A view, one field per line, for a failure message. *)
+let show_view v =
+  let ints l = "[" ^ String.concat ";" (List.map string_of_int l) ^ "]" in
+  let entry (e : int Mc.entry) = Printf.sprintf "(%d,%d,#%d)" e.p e.prio e.seq in
+  let list f l = "[" ^ String.concat ";" (List.map f l) ^ "]" in
+  let msg = function
+    | Mc.M_message { m; mseq } -> Printf.sprintf "msg(%d,#%d)" m mseq
+    | Mc.M_percept e -> entry e in
+  String.concat "; " [
+    "o2a=" ^ list (function Mc.O_percept e -> entry e | Mc.O_object o -> Printf.sprintf "obj %d" o) v.v_o2a;
+    "pq=" ^ list entry v.v_pq; "msgq=" ^ list msg v.v_msgq;
+    "next_seq,msg_seq,puts,pos,dispatched=" ^ ints v.v_nums;
+    "active=" ^ list (fun (i, b) -> Printf.sprintf "%d:B%d" i b) v.v_active;
+    "ready=" ^ ints v.v_ready; "blocked=" ^ ints v.v_blocked;
+    "cur=" ^ (match v.v_cur with
+        | None -> "none"
+        | Some (e, todo, a) -> Printf.sprintf "%s todo=%s applied=%b" (entry e)
+                                 (list (fun (i, h) -> Printf.sprintf "%d.%d" i h) todo) a);
+    "done=" ^ ints v.v_done;
+    "waits=" ^ list (fun (s, k, n) -> Printf.sprintf "(#%d,%d,%d)" s k n) v.v_waits;
+    "last=" ^ Mc.action_name v.v_last ]
+
+let describe_results r =
+  if r = [] then "(nothing)"
+  else String.concat "\n  | " (List.map (fun (l, v) -> Mc.action_name l ^ " -> " ^ show_view v) r)
 
 (* The host rules of both machines from [c]: every percept notified with
    its priority, and with every override, every object put, every message
@@ -181,7 +201,8 @@ let compare_host ~where ~percepts ~overrides ~objects ~messages p (c : Model.M.t
   let same what a b =
     incr n;
     if view_of_machine a <> view_of_proved b then
-      Alcotest.failf "%s: %s differs from %s" where what (Explorer.key c) in
+      Alcotest.failf "%s: %s from %s\ngives in the machine %s\nand in the proved machine %s" where what
+        (show_view (view_of_machine c)) (show_view (view_of_machine a)) (show_view (view_of_proved b)) in
   if Model.M.o2a_has_room p c <> L.o2a_has_room lp lc then
     Alcotest.failf "%s: o2a_has_room differs" where;
   (* Notify and NotifyWith, as the explorer takes them *)
@@ -237,8 +258,8 @@ let extracted_is_machine_on_models () =
           incr states;
           let a = machine_steps m.params c and b = proved_steps m.params c in
           if a <> b then
-            Alcotest.failf "%s: from %s\nMachine.step takes %s\nthe proved step takes %s" m.name
-              (Explorer.show m c) (describe_results m.name a) (describe_results m.name b);
+            Alcotest.failf "%s: from %s\nMachine.step takes\n  %s\nthe proved step takes\n  %s" m.name
+              (Explorer.show m c) (describe_results a) (describe_results b);
           List.iter (fun (l, _) ->
               let k = Mc.action_name l in
               Hashtbl.replace per_action k (1 + Option.value ~default:0 (Hashtbl.find_opt per_action k))) a;
@@ -300,8 +321,8 @@ let random_run seed =
     incr states;
     let a = machine_steps p !c and b = proved_steps p !c in
     if a <> b then
-      Alcotest.failf "%s: from %s\nMachine.step takes %s\nthe proved step takes %s" where
-        (Explorer.key !c) (describe_results where a) (describe_results where b);
+      Alcotest.failf "%s: from %s\nMachine.step takes\n  %s\nthe proved step takes\n  %s" where
+        (show_view (view_of_machine !c)) (describe_results a) (describe_results b);
     ignore (compare_host ~where ~percepts:[ (Random.State.int rand percepts, prio ()) ]
               ~overrides:[ prio () ] ~objects:[ 0 ] ~messages:[ Random.State.int rand messages ] p !c);
     let agent = Model.M.step p !c in
@@ -335,6 +356,33 @@ let read_file path =
   Fun.protect ~finally:(fun () -> close_in_noerr ic)
     (fun () -> really_input_string ic (in_channel_length ic))
 
+(* A file of the source tree: looked for from the current folder up (dune
+   runs the test in _build/default/test/proofs, scripts/test from the
+   root), then from the source tree above _build. *)
+let repo_file rel =
+  let rec up dir =
+    let p = Filename.concat dir rel in
+    if Sys.file_exists p then Some p
+    else let d = Filename.dirname dir in if d = dir then None else up d in
+  let rec outside_build d =
+    if Filename.basename d = "_build" then Filename.dirname d
+    else let u = Filename.dirname d in if u = d then d else outside_build u in
+  let exe_dir = Filename.dirname Sys.executable_name in
+  let exe_dir = if Filename.is_relative exe_dir then Filename.concat (Sys.getcwd ()) exe_dir else exe_dir in
+  match up (Sys.getcwd ()) with
+  | Some p -> p
+  | None -> match up (outside_build exe_dir) with
+    | Some p -> p
+    | None -> Alcotest.failf "%s not found" rel
+
+(* coqc's answer to proofs/Audit.v, written at build time next to the
+   extracted machine: test/proofs/test_proofs.exe is in the same build
+   folder as proofs/audit.txt. *)
+let audit_file () =
+  let exe_dir = Filename.dirname Sys.executable_name in
+  Filename.concat exe_dir (Filename.concat Filename.parent_dir_name
+                             (Filename.concat Filename.parent_dir_name "proofs/audit.txt"))
+
 let words s = String.split_on_char ' ' (String.map (function '\n' | '\t' | '\r' -> ' ' | c -> c) s)
               |> List.filter (( <> ) "")
 
@@ -364,16 +412,18 @@ let coq_blocks text =
 let closed = "Closed under the global context"
 
 let statements_are_the_documented_ones () =
-  let audit = audit_lines (read_file "../../proofs/audit.txt") in
+  let audit = audit_lines (read_file (audit_file ())) in
   (* every theorem rests on no axiom, and no proof was admitted *)
   (match List.rev (List.filter (fun l -> String.trim l <> "") audit) with
    | last :: _ when String.trim last = closed -> ()
-   | _ -> Alcotest.failf "the theorems rest on axioms or admitted proofs:\n%s"
-            (String.concat "\n" (List.filter (fun l -> String.trim l <> "") audit
-                                 |> List.rev |> fun l -> List.filteri (fun i _ -> i < 20) l |> List.rev)));
+   | _ ->
+     (* Print Assumptions lists them after a line "Axioms:" *)
+     let rec from = function [] -> [] | l :: r -> if String.trim l = "Axioms:" then l :: r else from r in
+     Alcotest.failf "the theorems rest on axioms or admitted proofs (proofs/audit.txt):\n%s"
+       (String.concat "\n" (List.filteri (fun i _ -> i < 20) (from audit))));
   let checked = List.filter (fun l -> String.trim l <> closed) audit in
   let theorems = List.filter (fun l -> String.length l > 1 && l.[0] = '@') checked in
-  let docs = coq_blocks (read_file "../../docs/proofs.md") in
+  let docs = coq_blocks (read_file (repo_file "docs/proofs.md")) in
   let a = words (String.concat "\n" checked) and d = words (String.concat "\n" docs) in
   if a <> d then begin
     let rec first i a d = match a, d with
@@ -398,7 +448,7 @@ let expectation (m : Model.t) prop =
 
 (* The outcome TLC observed (spec/results.md, generated by make spec). *)
 let observed model prop =
-  let text = read_file "../../spec/results.md" in
+  let text = read_file (repo_file "spec/results.md") in
   List.find_map (fun l ->
       match List.map String.trim (String.split_on_char '|' l) with
       | _ :: m :: _ :: q :: _ :: obs :: _ when m = model && q = prop -> Some (obs = "holds")
@@ -466,7 +516,7 @@ let bounds_agree_with_tlc () =
       check "BoundedInversion" (reach_inv <= r.inversion_bound);
       check "DispatchesWithinBudget" (reach_disp <= r.budget)) rows;
   (* the table of docs/proofs.md states the same numbers *)
-  let docs = read_file "../../docs/proofs.md" in
+  let docs = read_file (repo_file "docs/proofs.md") in
   List.iter (fun r ->
       let row = Printf.sprintf "| %s | %d | %d | %d | %d |" r.model r.bound r.max_notify r.inversion r.dispatches in
       match Str_find.find docs row with
