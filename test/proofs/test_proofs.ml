@@ -347,7 +347,7 @@ let extracted_is_machine_on_random_runs () =
   done;
   (* beyond the models: they notify at most 8 percepts *)
   Alcotest.(check bool) (Printf.sprintf "%d configurations, up to %d percepts notified in a run"
-                           !states !longest) true (!longest > 50)
+                           !states !longest) true (!longest > 100)
 
 (* --------------------------------------------- the audited statements *)
 
