@@ -30,12 +30,7 @@ Notation config := (config P M Ob B).
 
 Lemma transfer_step : forall (c c' : config) n,
   In (L_transfer n, c') (step peqb bd p c) -> In (L_transfer n, c') (transfer peqb p c).
-Proof.
-  intros c c' n H. apply in_step_cases in H. repeat destruct H as [H|H]; auto;
-  unfold transfer_one, transfer_spin, transfer_end, dequeue, handle_or_skip,
-    end_dispatch, behaviour_step, next_iteration, idle, set_last in H;
-  in_cases H; try discriminate.
-Qed.
+Proof. intros c c' n H. apply (step_rule peqb bd p) in H. exact (proj1 H). Qed.
 
 End Transfer.
 
@@ -111,10 +106,8 @@ Lemma dequeue_step : forall (c c' : config) e,
   In (L_dequeue e, c') (step peqb bd p c) ->
   In e (candidates p (pq c)) /\ pq c' = remove_one peqb e (pq c).
 Proof.
-  intros c c' e H. apply in_step_cases in H. repeat destruct H as [H|H];
-  unfold transfer, transfer_one, transfer_spin, transfer_end, dequeue, handle_or_skip,
-    end_dispatch, behaviour_step, next_iteration, idle, set_last in H;
-  in_cases H; try discriminate; auto.
+  intros c c' e H. apply (step_rule peqb bd p) in H as [H _]. simpl in H.
+  unfold dequeue in H; in_cases H; auto.
 Qed.
 
 (* Steps that are not transfers take nothing into the priority queue. *)

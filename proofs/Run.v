@@ -99,15 +99,35 @@ Proof.
   repeat (apply in_app_or in H; destruct H as [H|H]; [tauto|]); tauto.
 Qed.
 
-(* Every agent rule records itself in [last]. *)
-Lemma step_last : forall (c : config) l c', In (l, c') (step peqb bd p c) -> last c' = l.
+(* The rule that produced an agent step, by its label. *)
+Definition rule_of (l : label P M Ob) : config -> list (label P M Ob * config) :=
+  match l with
+  | L_transfer _ => transfer peqb p
+  | L_transfer_one _ => transfer_one peqb p
+  | L_transfer_spin _ => transfer_spin p
+  | L_transfer_end => transfer_end p
+  | L_dequeue _ => dequeue peqb bd p
+  | L_handle _ _ _ _ | L_skip _ _ => handle_or_skip bd p
+  | L_end_dispatch _ _ => end_dispatch p
+  | L_behaviour_step _ _ => behaviour_step bd p
+  | L_next_iteration => next_iteration p
+  | L_idle => idle p
+  | _ => fun _ => []
+  end.
+
+(* Every agent rule records itself in [last], and its label names it. *)
+Lemma step_rule : forall (c : config) l c',
+  In (l, c') (step peqb bd p c) -> In (l, c') (rule_of l c) /\ last c' = l.
 Proof.
   intros c l c' H; apply in_step_cases in H;
-  repeat destruct H as [H|H];
+  repeat destruct H as [H|H]; pose proof H as H0;
   unfold transfer, transfer_one, transfer_spin, transfer_end, dequeue, handle_or_skip,
     end_dispatch, behaviour_step, next_iteration, idle, set_last in H;
-  in_cases H; reflexivity.
+  in_cases H; (split; [exact H0|reflexivity]).
 Qed.
+
+Lemma step_last : forall (c : config) l c', In (l, c') (step peqb bd p c) -> last c' = l.
+Proof. intros c l c' H; apply (step_rule c l c' H). Qed.
 
 Lemma run_app : forall (c : config) cs c' cs',
   run peqb bd p c (cs ++ c' :: cs') ->
