@@ -4,7 +4,7 @@
 #   make test    every test suite; last line "N passed, M failed"
 # Both run scripts/setup first, which installs what is missing (idempotent).
 
-.PHONY: all setup build demo test bench spec spec-full conformance clean playground fuzz
+.PHONY: all setup build demo test bench spec spec-full conformance clean playground fuzz proofs
 
 all: build
 
@@ -19,6 +19,13 @@ demo: build
 
 test: setup
 	@bash scripts/test
+
+# The proofs of the agent loop (docs/proofs.md): every proof of proofs/*.v
+# checked again by coqc from scratch, with the seconds of each file and its
+# lines of specification and of proof. (`make test` checks them too: a
+# broken proof fails the build.)
+proofs: setup
+	@out=$$(mktemp -d) && bash proofs/check.sh --time "$$out"; status=$$?; rm -rf "$$out"; exit $$status
 
 bench: build
 	@dune exec --no-print-directory bench/bench.exe -- all

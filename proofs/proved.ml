@@ -1,0 +1,1 @@
+module Loop = Proved_loop
