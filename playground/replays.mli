@@ -24,7 +24,14 @@ type t = {
   command : string;         (** the one command line that has TLC find it ([make spec ...]) *)
   setup : Session.setup;
   steps : step list;
-  final : string;           (** TLC's last state, in the spec's terms *)
+  final : string;
+      (** the last state, in the spec's terms: TLC's counterexample's when
+          [violated]; otherwise the state these steps reach in the model,
+          where TLC prints no state *)
+  violated : bool;
+      (** whether TLC finds a property of the model violated (it then prints
+          the counterexample replayed); [false] for MCBudgeted, where every
+          property holds *)
 }
 
 val all : t list
@@ -46,6 +53,6 @@ val run : t -> (Session.t, string) result
 (** Creates the session and applies every step. *)
 
 val to_json : unit -> Yojson.Safe.t
-(** Every replay, for the page: id, title, finding, command, final, the setup
+(** Every replay, for the page: id, title, finding, command, final, violated, the setup
     (files, agents, variant, tie, budget, o2a_capacity) and the steps (tla,
     say, and what is done). *)
