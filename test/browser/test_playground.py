@@ -2,12 +2,14 @@
 """The playground in a real browser: headless Chromium loads
 out/playground/index.html from the file system, and the tests drive the page
 as a student does (pick an example, edit, notify, put, send, step, step back,
-replay a counterexample, watch the corridor). What the page shows is compared
+replay a counterexample, watch the corridor, solve the exercises, compare two
+loops side by side, reload, open a shared link in a second browser, follow
+docs/tutorial.md step by step). What the page shows is compared
 with the command line: the trace lines must be exactly those of
 `jadescript-ref run --trace` for the same events, the queues those the trace
 implies, the diagnostics those of `jadescript-ref check`. Screenshots for
-docs/tutorial.md are taken on the way (--shots). The last line printed is
-"N passed, M failed".
+docs/tutorial.md are taken on the way (--shots), by the test that follows
+the tutorial step by step. The last line printed is "N passed, M failed".
 
     test_playground.py --page out/playground/index.html --cli PATH/main.exe [--shots DIR]
 """
@@ -15,6 +17,7 @@ docs/tutorial.md are taken on the way (--shots). The last line printed is
 import argparse
 import json
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -297,11 +300,9 @@ def robome_step_by_step_matches_run():
         {"agent": "r", "notify": "position(0, 1)"}, {"agent": "r", "notify": 'qrCodeRead("A7")'},
         {"agent": "r", "notify": "obstacle"}, {"agent": "r", "notify": "position(0, 2)", "priority": 9},
         {"agent": "r", "message": 'qrCodeRead("X")'}])
-    # a screenshot in the middle of a dispatch, for the tutorial
+    # four rules and four steps back: the same page as before
     for _ in range(4):
         click("step")
-    if ARGS.shots:
-        B.screenshot(os.path.join(ARGS.shots, "playground-dispatch.png"))
     B.js("document.getElementById('back').click(); document.getElementById('back').click();"
          "document.getElementById('back').click(); document.getElementById('back').click();")
     n = compare_stepwise(cli, what="RoboMe")
@@ -358,8 +359,6 @@ def shapes_two_agents_and_messages_match_run():
     n = compare_stepwise(cli, what="Shapes")
     check(n > 3, "only %d rules were taken" % n)
     equal(shown_trace(), cli, "the whole trace")
-    if ARGS.shots:
-        B.screenshot(os.path.join(ARGS.shots, "playground-shapes.png"))
 
 
 @test
@@ -465,9 +464,6 @@ def syntax_and_type_errors_are_shown_as_check_reports_them():
             line, col = int(want[0].split(":")[1]), int(want[0].split(":")[2])
             caret = B.js("const t = document.getElementById('source'); return t.value.slice(0, t.selectionStart).split('\\n')")
             equal((len(caret), len(caret[-1]) + 1), (line, col), "the cursor after a click on the diagnostic")
-            if ARGS.shots:
-                B.js("window.scrollTo(0, 0)")
-                B.screenshot(os.path.join(ARGS.shots, "playground-type-error.png"))
     click("load")
     check(B.js("return document.querySelectorAll('[data-agent]').length") == 0, "a program with errors does not start")
     check("fix the errors" in B.js("return document.getElementById('load-status').textContent"), "the status says why")
@@ -576,9 +572,6 @@ def counterexample_replays_reach_tlcs_states():
         for k in ("waits", "dispatched"):
             if k in want:
                 check(want[k] in ghosts, "%s: %r not in %r" % (rid, want[k], ghosts))
-        if ARGS.shots and rid in ("MCPrintedObject", "MCInversion", "MCNative"):
-            B.js("window.scrollTo(0, 0)")
-            B.screenshot(os.path.join(ARGS.shots, "replay-%s.png" % rid))
         # step back through the replay: the first step undone leaves the start state
         for _ in range(n):
             click("back")
@@ -598,8 +591,6 @@ def corridor_animation_builds_the_map():
     for _ in range(30):
         click("corridor-step")
     B.js("window.corridorView.at(window.CORRIDOR.end / 2)")
-    if ARGS.shots:
-        B.screenshot(os.path.join(ARGS.shots, "corridor.png"))
     B.js("window.corridorView.at(window.CORRIDOR.end)")
     end = B.js("return document.getElementById('corridor-clock').textContent")
     check(("map entries: %d" % total) in end, "the whole map at the end: " + end)
@@ -1056,14 +1047,481 @@ def side_by_side_marks_the_first_difference():
     set_value("cmp-left-variant", "budgeted", "change")
     equal(B.js("return document.getElementById('cmp-diff').dataset.index"), "", "budgeted and budgeted: no difference")
     check(len(shown("left")) >= 4 and "No difference" in text_of("cmp-diff"), "the host actions were kept: %r" % text_of("cmp-diff"))
-    if ARGS.shots:
-        set_value("compare-preset", "reference|budgeted", "change")
-        click("cmp-run")
-        B.js("window.scrollTo(0, 0)")
-        B.screenshot(os.path.join(ARGS.shots, "side-by-side.png"))
     # the Playground's own session is untouched by the columns
     click("mode-play")
     equal(shown_trace(), play_trace, "the Playground's session")
+
+
+# ------------------------------------------------ the tutorial, followed
+
+TUTORIAL = os.path.join(ROOT, "docs", "tutorial.md")
+STEPS = {}
+COMMANDS = [0]
+# the reading model the tutorial states: 200 words a minute, 5 s a click or
+# field, 30 s a command line
+WORDS_PER_MINUTE, SECONDS_PER_ACTION, SECONDS_PER_COMMAND = 200, 5, 30
+
+
+def step(name):
+    def reg(f):
+        STEPS[name] = f
+        return f
+    return reg
+
+
+def tutorial_blocks(name):
+    """The code blocks the tutorial gives in step [name] (up to the next step
+    or heading): the test runs the text the reader copies."""
+    text = read(TUTORIAL)
+    start = text.index("<!-- step %s -->" % name)
+    rest = text[start + 1:]
+    ends = [m.start() for m in re.finditer(r"<!-- step |\n#", rest)]
+    part = rest[:ends[0]] if ends else rest
+    return [textwrap_dedent(b) for b in re.findall(r"```\n(.*?)```", part, re.S)]
+
+
+def textwrap_dedent(b):
+    lines = b.split("\n")
+    ind = min((len(l) - len(l.lstrip()) for l in lines if l.strip()), default=0)
+    return "\n".join(l[ind:] for l in lines).strip()
+
+
+def run_command(cmd):
+    """A command line of the tutorial, as a reader runs it from the
+    repository's root: `dune exec -- jadescript-ref` is the command line
+    the tests built, /tmp/events.jsonl a file of the test's own. `make spec`
+    lines are checked against the models (the spec suite runs TLC on them)."""
+    COMMANDS[0] += 1
+    m = re.match(r'make spec SPEC_MODELS="([^"]+)"$', cmd)
+    if m:
+        for model in m.group(1).split():
+            f = os.path.join(ROOT, "spec", "models", model + ".tla")
+            check(os.path.isfile(f), "the model %s exists" % model)
+            check(re.search(r"\\\* expect \w+ violated", read(f)) or model == "MCBudgeted",
+                  "%s: TLC is expected to find a property violated" % model)
+        return ""
+    d = tempfile.mkdtemp(prefix="jsref-tutorial-")
+    cmd = cmd.replace("dune exec -- jadescript-ref", ARGS.cli).replace("/tmp/events.jsonl", os.path.join(d, "events.jsonl"))
+    r = subprocess.run(["bash", "-c", cmd], cwd=ROOT, capture_output=True, text=True, timeout=120)
+    equal(r.returncode, 0, "the command %r: %s" % (cmd[:80], r.stderr[-300:]))
+    return r.stdout
+
+
+def replay_all(model):
+    set_value("replay", model, "change")
+    click("replay-all")
+    labels = B.js("return [...document.querySelectorAll('#replay-steps .tla')].map(e => e.textContent)")
+    check(labels and all(l.endswith("✓") for l in labels), "%s: every step ✓: %r" % (model, labels))
+    check("final ok" in B.js("return document.getElementById('replay-final').className"), model + ": the last state checked")
+
+
+@step("five-1")
+def _five_1():
+    check(os.path.isfile(ARGS.page), "make playground wrote the page")
+    open_page()
+
+
+@step("five-2")
+def _five_2():
+    click("mode-replay")
+    equal(B.js("return document.getElementById('replay').value"), "MCPrintedObject", "model 1 first")
+    replay_all("MCPrintedObject")
+    equal(shown_queues()["r"]["o2a"], ['object|"obj"', "position|2|1"], "the object at the head, the percept behind it")
+
+
+@step("five-3")
+def _five_3():
+    replay_all("MCInversion")
+    check("#3 (priority 8) 2" in B.js("return document.querySelector('[data-box=ghosts]').textContent"), "obstacle #3 behind two")
+    replay_all("MCBudgeted")
+    equal(shown_queues()["r"]["pq"], ["position|2|2"], "the obstacle went first")
+
+
+@step("five-4")
+def _five_4():
+    replay_all("MCNative")
+    taken = [json.loads(l)["message"]["percept"] for l in shown_trace()[1:]
+             if json.loads(l).get("event") == "behaviour_step" and (json.loads(l).get("message") or {}).get("percept")]
+    equal(taken[:2], ["position", "obstacle"], "the position before the obstacle")
+
+
+@step("five-5")
+def _five_5():
+    click("mode-compare")
+    equal(B.js("return document.getElementById('compare-preset').value"), "reference|budgeted", "reference and budgeted")
+    for _ in range(4):
+        click("cmp-next-event")
+    click("cmp-run")
+    marked = B.js("return [...document.querySelectorAll('.cmp-trace .line.differ')].map(e => JSON.parse(e.textContent).event)")
+    equal(marked, ["dequeue", "behaviour_step"], "the first difference: a dispatch on the left, a behaviour step on the right")
+
+
+@step("full-1.1")
+def _full_1_1():
+    open_page()
+    tabs = B.js("return [...document.querySelectorAll('button.mode[data-mode]')].map(b => b.textContent)")
+    equal(tabs, ["Playground", "Exercises", "Side by side", "TLC's counterexamples", "RoboMe in the corridor"], "the five tabs")
+    click("help-toggle")
+    check(B.js("return document.getElementById('loop-picture').getBoundingClientRect().width > 300"), "the loop's picture")
+    B.js("document.querySelector('#help a.term[data-term=R3b], #help a.term').click()")
+    check(not B.js("return document.getElementById('glossary').hidden"), "a term opens the glossary")
+    click("glossary-toggle")
+
+
+@step("full-2.1")
+def _full_2_1():
+    for _ in range(4):
+        click("next-event")
+    equal(shown_queues()["r"]["o2a"], ["position(0.0, 1.0)|2|1", 'qrCodeRead("A7")|4|2', "obstacle|8|3", "position(0.0, 2.0)|9|4"],
+          "the O2A queue in arrival order")
+
+
+@step("full-2.2")
+def _full_2_2():
+    click("step")
+    equal(last_rule(), "Transfer", "the rule")
+    equal(shown_queues()["r"]["pq"][0], "position(0.0, 2.0)|9|4", "priority 9 first")
+
+
+@step("full-2.3")
+def _full_2_3():
+    click("step")
+    equal(last_rule(), "Dequeue", "the rule")
+    check(B.js("return document.querySelectorAll('[data-box=dispatch] a.src').length") == 4, "the handlers, with their lines")
+    at = B.js("return document.querySelector('[data-run-at]').dataset.runAt")
+    equal(at, "robome.jade:67", "the line of the next rule, as the tutorial says")
+    equal(B.js("return [...document.querySelectorAll('#gutter .run')].map(e => e.textContent)"), ["67"], "marked in the editor")
+    if ARGS.shots:
+        B.js("window.scrollTo(0, 0)")
+        B.screenshot(os.path.join(ARGS.shots, "playground-dispatch.png"))
+    B.js("document.querySelectorAll('[data-box=dispatch] a.src')[3].click()")
+    caret = B.js("const t = document.getElementById('source'); return t.value.slice(0, t.selectionStart).split('\\n').length")
+    equal(caret, 81, "a click on a handler's line goes there")
+    seen = []
+    for _ in range(6):
+        click("step")
+        seen.append(last_rule())
+        if seen[-1] == "EndDispatch":
+            break
+    equal(seen, ["Skip", "Skip", "Skip", "Handle", "EndDispatch"], "the handlers tried for position(0, 2)")
+    props = B.js("return Object.fromEntries([...document.querySelectorAll('[data-agent=r] [data-prop]')].map(r => [r.dataset.prop, r.children[1].textContent]))")
+    equal(props["currentPosition"], "position(0.0, 2.0)", "currentPosition after the position handler")
+
+
+@step("full-2.4")
+def _full_2_4():
+    click("iteration")
+    equal(last_rule(), "BehaviourStep", "an iteration ends with the behaviour step")
+    click("run")
+    check(all_idle(), "Run to idle: the agent sleeps")
+    idle_trace = shown_trace()
+    click("back")
+    click("back")
+    check(len(shown_trace()) < len(idle_trace), "stepped back")
+    click("run")
+    equal(shown_trace(), idle_trace, "the same run again")
+
+
+@step("full-2.5")
+def _full_2_5():
+    props = B.js("return Object.fromEntries([...document.querySelectorAll('[data-agent=r] [data-prop]')].map(r => [r.dataset.prop, r.children[1].textContent]))")
+    equal((props["worldMap"], props["currentPosition"]), ('{position(0.0, 2.0): "A7"}', "position(0.0, 1.0)"), "the map and the robot")
+
+
+@step("full-2.6")
+def _full_2_6():
+    (cmd,) = tutorial_blocks("full-2.6")
+    out = [l for l in run_command(cmd).split("\n") if l.strip()]
+    out = out[:next((i for i, l in enumerate(out) if '"event":"destroy"' in l), len(out))]
+    equal(shown_trace(), out, "the page's trace is the command line's")
+
+
+@step("full-3.1")
+def _full_3_1():
+    text = B.js("return document.getElementById('source').value")
+    set_value("source", text.replace("currentPosition = position(x, y)", "currentPosition = posit(x, y)", 1))
+    deadline = time.time() + 5
+    while not B.js("return document.querySelectorAll('#gutter .err').length") and time.time() < deadline:
+        time.sleep(0.05)
+    d = B.js("return document.querySelector('#diagnostics li').textContent")
+    check(re.match(r"robome\.jade:82:\d+: error: ", d), "the error, located: %r" % d)
+    B.js("document.querySelector('#diagnostics li').click()")
+    caret = B.js("const t = document.getElementById('source'); return t.value.slice(0, t.selectionStart).split('\\n').length")
+    equal(caret, 82, "the cursor at the error's line")
+    if ARGS.shots:
+        B.js("window.scrollTo(0, 0)")
+        B.screenshot(os.path.join(ARGS.shots, "playground-type-error.png"))
+    set_value("source", text)
+    deadline = time.time() + 5
+    while B.js("return document.querySelectorAll('#gutter .err').length") and time.time() < deadline:
+        time.sleep(0.05)
+
+
+@step("full-3.2")
+def _full_3_2():
+    prog = ("ontology Lab\n\tproposition ping extends percept with priority = 1\n\n"
+            "agent Lamp uses ontology Lab\n\ton create do\n\t\tactivate behaviour Blink\n\n"
+            "cyclic behaviour Blink for agent Lamp\n\ton percept when content matches ping do\n\t\tlog \"pong\"\n")
+    set_value("source", prog)
+    set_value("agents", "l:Lamp")
+    click("load")
+    check(B.js("const s = document.getElementById('example'); return s.options[s.selectedIndex].textContent").startswith("Your program"),
+          "the page calls it Your program")
+    check(B.js("return document.getElementById('events-box').hidden"), "RoboMe's events are not offered")
+    notify("l", "ping")
+    set_value("variant", "budgeted", "change")
+    check("done again" in message(), "a setting applies at once: %r" % message())
+    click("run")
+    check("l: pong" in text_of("output"), "the new agent runs")
+
+
+@step("full-3.3")
+def _full_3_3():
+    pick_example("shapes")
+    for _ in range(80):
+        if all_idle():
+            break
+        click("step")
+        if "RequestNewShape" in B.js("return [...document.querySelectorAll('.last')].map(e => e.textContent).join()"):
+            break
+    check(any("RequestNewShape" in t for t in B.js("return [...document.querySelectorAll('.last')].map(e => e.textContent)")),
+          "the one-shot named by the last rule")
+    click("run")
+    if ARGS.shots:
+        B.js("window.scrollTo(0, 0)")
+        B.screenshot(os.path.join(ARGS.shots, "playground-shapes.png"))
+
+
+@step("full-4.1")
+def _full_4_1():
+    click("mode-replay")
+    set_value("replay", "MCPrintedObject", "change")
+    n = B.js("return window.playground.replay.steps.length")
+    for _ in range(n):
+        B.js("document.dispatchEvent(new KeyboardEvent('keydown', {key: 'n', bubbles: true}))")
+        ACTIONS[0] += 1
+    check("reached the state TLC printed" in text_of("replay-final"), "the state TLC printed")
+    if ARGS.shots:
+        B.js("window.scrollTo(0, 0)")
+        B.screenshot(os.path.join(ARGS.shots, "replay-MCPrintedObject.png"))
+
+
+@step("full-4.2")
+def _full_4_2():
+    click("mode-play")
+    pick_example("robome")
+    set_value("variant", "printed", "change")
+    put("r", '"obj"')
+    notify("r", "obstacle")
+    click("run")
+    check("5000 rules taken" in message(), "5,000 rules: %r" % message())
+    equal(last_rule(), "TransferSpin", "spinning")
+
+
+@step("full-4.3")
+def _full_4_3():
+    spec, run = tutorial_blocks("full-4.3")
+    run_command(spec)
+    events = [json.loads(l)["event"] for l in [l for l in run_command(run).split("\n") if l.strip()][1:]]
+    check(events.count("transfer_spin") >= 3 and "dequeue" not in events, "the interpreter spins too: %r" % events)
+
+
+@step("full-5.1")
+def _full_5_1():
+    click("mode-replay")
+    replay_all("MCInversion")
+    if ARGS.shots:
+        B.js("window.scrollTo(0, 0)")
+        B.screenshot(os.path.join(ARGS.shots, "replay-MCInversion.png"))
+    replay_all("MCBudgeted")
+    check("TLC prints no state" in text_of("replay-final"), "MCBudgeted: no state printed")
+
+
+@step("full-5.2")
+def _full_5_2():
+    click("mode-compare")
+    set_value("compare-preset", "reference|budgeted", "change")
+    click("cmp-restart")
+    for _ in range(4):
+        click("cmp-next-event")
+    for _ in range(40):
+        if B.js("return document.getElementById('cmp-diff').dataset.index") != "":
+            break
+        click("cmp-step")
+    check(B.js("return document.getElementById('cmp-diff').dataset.index") != "", "a first difference marked")
+    click("cmp-run")
+    if ARGS.shots:
+        B.js("window.scrollTo(0, 0)")
+        B.screenshot(os.path.join(ARGS.shots, "side-by-side.png"))
+
+
+@step("full-5.3")
+def _full_5_3():
+    click("mode-play")
+    pick_example("robome")
+    set_value("tie", "unstable", "change")
+    notify("r", "position(0, 1)")
+    notify("r", "position(0, 2)")
+    click("step")
+    equal(len(B.js("return [...document.querySelectorAll('#next-rule [data-choice]')]")), 2, "both Dequeues offered")
+
+
+@step("full-5.4")
+def _full_5_4():
+    spec, run = tutorial_blocks("full-5.4")
+    run_command(spec)
+    lines = [l.strip() for l in run_command(run).split("\n") if l.strip()]
+    equal(len(lines), 2, "a line per loop")
+    check(lines[0].startswith("transfer dequeue dequeue dequeue behaviour_step"), "reference: %r" % lines[0])
+    check(lines[1].startswith("transfer dequeue behaviour_step transfer dequeue"), "budgeted: %r" % lines[1])
+
+
+@step("full-6.1")
+def _full_6_1():
+    click("mode-replay")
+    replay_all("MCNative")
+    if ARGS.shots:
+        B.js("window.scrollTo(0, 0)")
+        B.screenshot(os.path.join(ARGS.shots, "replay-MCNative.png"))
+    replay_all("MCFloodNative")
+
+
+def native_order():
+    return [json.loads(l)["message"]["percept"] for l in shown_trace()[1:]
+            if json.loads(l).get("event") == "behaviour_step" and (json.loads(l).get("message") or {}).get("percept")]
+
+
+@step("full-6.2")
+def _full_6_2():
+    click("mode-play")
+    pick_example("robome")
+    set_value("variant", "native", "change")
+    notify("r", "position(0, 1)")
+    notify("r", "obstacle")
+    click("run")
+    equal(native_order(), ["obstacle", "position(0.0, 1.0)"], "the obstacle first, by declaration order")
+    text = B.js("return document.getElementById('source').value")
+    pos = "\ton percept when content matches position(x, y) do\n\t\tcurrentPosition = position(x, y)\n"
+    obs = "\ton percept when content matches obstacle do\n"
+    check(pos in text and obs in text, "the handlers to move")
+    moved = text.replace(pos, "").replace(obs, pos + "\n" + obs)
+    set_value("source", moved)
+    click("load")
+    notify("r", "position(0, 1)")
+    notify("r", "obstacle")
+    click("run")
+    equal(native_order(), ["position(0.0, 1.0)", "obstacle"], "the position first, once its handler comes first")
+
+
+@step("full-6.3")
+def _full_6_3():
+    (spec,) = tutorial_blocks("full-6.3")
+    run_command(spec)
+
+
+@step("full-7.1")
+def _full_7_1():
+    click("mode-exercise")
+    equal(B.js("return document.getElementById('exercise').value"), "obstacle-first", "exercise 1 first")
+    click("exercise-check")
+    check(text_of("exercise-verdict").startswith("✗"), "the starting program fails: %r" % text_of("exercise-verdict"))
+    click("exercise-hint")
+    click("exercise-hint")
+    text = B.js("return document.getElementById('source').value")
+    old = "proposition obstacle extends percept with priority = 1"
+    check(old in text, "the obstacle's priority is 1")
+    set_value("source", text.replace(old, "proposition obstacle extends percept with priority = 8"))
+    click("exercise-check")
+    check(text_of("exercise-verdict").startswith("✓ Solved."), "solved: %r" % text_of("exercise-verdict"))
+    if ARGS.shots:
+        B.js("window.scrollTo(0, 0)")
+        B.screenshot(os.path.join(ARGS.shots, "exercise.png"))
+
+
+@step("full-7.2")
+def _full_7_2():
+    titles = B.js("return [...document.querySelectorAll('#exercise option')].map(o => o.textContent)")
+    check(len(titles) >= 7 and titles[0].startswith("✓ 1."), "the menu, exercise 1 ticked: %r" % titles)
+    set_value("exercise", titles and B.js("return document.querySelectorAll('#exercise option')[6].value"), "change")
+    click("exercise-solution")
+    click("exercise-check")
+    check(text_of("exercise-verdict").startswith("✓ Solved."), "exercise 7 by its solution")
+
+
+@step("full-8.1")
+def _full_8_1():
+    before = page_state()
+    open_page(fresh=False)
+    equal(page_state(), before, "every tab as left, after a reload")
+    click("share-toggle")
+    click("share-copy")
+    check(B.js("return document.getElementById('share-link').value").startswith(page_url() + "#s="), "the link")
+    click("share-toggle")
+
+
+@step("full-9.1")
+def _full_9_1():
+    click("mode-corridor")
+    click("corridor-play")
+    t0 = time.time()
+    while B.js("return +document.getElementById('corridor-time').value") == 0 and time.time() - t0 < 5:
+        time.sleep(0.05)
+    check(B.js("return +document.getElementById('corridor-time').value") > 0, "Play animates the run")
+    click("corridor-play")   # pause
+    B.js("window.corridorView.at(150)")
+    check(B.js("return document.querySelectorAll('#corridor line.belief').length") > 0, "the map's beliefs drawn")
+    if ARGS.shots:
+        B.screenshot(os.path.join(ARGS.shots, "corridor.png"))
+
+
+def tutorial_sections():
+    """(title, stated minutes, words of prose, its steps) for the five-minute
+    path and each section of the full path that states its minutes."""
+    text = read(TUTORIAL)
+    parts = re.split(r"\n(?=#{2,3} )", text)
+    out = []
+    for part in parts:
+        title = part.split("\n", 1)[0].lstrip("#").strip()
+        m = re.search(r"\((\d+) minutes?\)$", title)
+        minutes = 5 if title == "The five-minute path" else int(m.group(1)) if m else None
+        prose = re.sub(r"```.*?```", " ", part, flags=re.S)
+        prose = re.sub(r"!\[[^\]]*\]\([^)]*\)|<!--.*?-->", " ", prose)
+        out.append((title, minutes, len(re.findall(r"\S+", prose)), re.findall(r"<!-- step (\S+) -->", part)))
+    return out
+
+
+@test
+def tutorial_followed_step_by_step():
+    names = re.findall(r"<!-- step (\S+) -->", read(TUTORIAL))
+    equal(len(names), len(set(names)), "each step marked once")
+    equal(sorted(names), sorted(STEPS), "the tutorial's steps and those this test follows")
+    cost = {}
+    wall = {}
+    for n in names:
+        a0, c0, t0 = ACTIONS[0], COMMANDS[0], time.time()
+        try:
+            STEPS[n]()
+        except Failed as e:
+            raise Failed("step %s: %s" % (n, e))
+        cost[n] = (ACTIONS[0] - a0, COMMANDS[0] - c0)
+        wall[n] = time.time() - t0
+    # the minutes each section states hold for a reader of the stated model
+    table = [int(m) for m in re.findall(r"^\| +(\d+) \| ", read(TUTORIAL), re.M)]
+    timed = []
+    over = []
+    for title, minutes, words, steps in tutorial_sections():
+        if minutes is None:
+            check(not steps, "%s: a section with steps states its minutes" % title)
+            continue
+        secs = 60.0 * words / WORDS_PER_MINUTE + sum(SECONDS_PER_ACTION * cost[s][0] + SECONDS_PER_COMMAND * cost[s][1] for s in steps)
+        timed.append((title, minutes))
+        if secs > 60 * minutes:
+            over.append("%s: states %d minutes, but %d words, %d actions and %d commands take %.1f" % (
+                title, minutes, words, sum(cost[s][0] for s in steps), sum(cost[s][1] for s in steps), secs / 60))
+        print("        %-75s %2d min stated, %4.1f estimated, %4.1f s in the browser" % (
+            title[:75], minutes, secs / 60, sum(wall[s] for s in steps)))
+    equal(over, [], "sections that take longer than they say")
+    equal(table, [m for t, m in timed if t != "The five-minute path"], "the full path's table and its sections' minutes")
 
 
 def main():
