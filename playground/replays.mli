@@ -4,7 +4,8 @@
     model's loop variant and tie policy, and TLC's steps as host actions and
     agent rules, each labelled with its TLA+ action and a sentence on what
     goes wrong. The last state is checked against the state TLC printed
-    ({!check}). *)
+    ({!check}), or, for a model where every property holds and TLC prints
+    none (MCBudgeted), against the state the same steps reach there. *)
 
 type action =
   | Host of Session.host_action
@@ -47,7 +48,8 @@ val apply : Session.t -> step -> (unit, string) result
 
 val check : t -> Session.t -> (unit, string) result
 (** After every step: is the session's agent in the state TLC printed
-    ({!t.final})? [Error] says which part differs. *)
+    ({!t.final}; for MCBudgeted, the state these steps reach)? [Error] says
+    which part differs. *)
 
 val run : t -> (Session.t, string) result
 (** Creates the session and applies every step. *)

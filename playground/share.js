@@ -67,6 +67,8 @@
     if (w.started) started = Object.assign({}, w.started, { files: copy(w.started.files || base),
       fuel: ex && ex.fuel ? ex.fuel : null, max_steps: ex && ex.max_steps ? ex.max_steps : null });
     const files = w.files === "started" && started ? copy(started.files) : copy(w.files || base);
+    // an example or exercise this build no longer has: the tab opens as new
+    if (files.length === 0) return;
     let loaded = false;
     if (started && w.history) {
       const r = PG.inSlot(name, () => call("restore", JSON.stringify(started), JSON.stringify(w.history)));
