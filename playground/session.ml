@@ -135,8 +135,12 @@ let on_event ?before st (pl : P.t) (e : P.event) =
     let i = index st name in
     let before = match before with Some c -> c | None -> prev.agents.(i).config in
     let after = pl.agents.(i).config in
-    remember st name before; remember st name after;
-    if after.active != before.active then E.set_live after.world (List.length after.active);  (* D19 *)
+    if after.active != before.active then begin
+      (* every list of instances is remembered when it appears (and at the
+         agent's creation), so a step that leaves it alone adds nothing *)
+      remember st name before; remember st name after;
+      E.set_live after.world (List.length after.active)  (* D19 *)
+    end;
     Interp.Tracer.step st.tr ~agent:name ~before ~after:pl.agents.(i).config l
   | P.Delivered { receiver; _ } ->
     Interp.Tracer.host st.tr ~agent:receiver pl.agents.(index st receiver).config
