@@ -103,7 +103,9 @@
     try { localStorage.setItem(KEY, JSON.stringify(snapshot())); } catch (_) { /* storage full or refused: the link still works */ }
   }
   let timer = null;
-  PG.saveSoon = () => { clearTimeout(timer); timer = setTimeout(save, 100); };
+  // a burst of actions (Run to idle, the tests) is saved once, when it pauses;
+  // leaving the page saves at once (pagehide)
+  PG.saveSoon = () => { clearTimeout(timer); timer = setTimeout(save, 400); };
   PG.saveNow = save;
   window.addEventListener("pagehide", save);
   // a link pasted into the address bar of a page already open changes only
