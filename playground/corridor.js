@@ -27,6 +27,16 @@
   events.sort((a, b) => a.t - b.t);
 
   let t = 0, timer = null, built = false, path, robot, heading, mapLayer;
+  // Where each map entry's code is printed: the centre of the cube's face
+  // (faces in the order east, north, west, south of the cube's frame).
+  const faceOf = (code) => {
+    for (const c of D.cubes) {
+      const k = c.faces.indexOf(code);
+      if (k >= 0) { const a = c.yaw + k * Math.PI / 2; return [c.x + c.size / 2 * Math.cos(a), c.y + c.size / 2 * Math.sin(a)]; }
+    }
+    return null;
+  };
+  const outside = (m) => m[0] < 0 || m[0] > D.length || m[1] < 0 || m[1] > D.width;
   function build() {
     const s = $("corridor");
     s.replaceChildren();
@@ -52,6 +62,15 @@
       `driving the simulated robot through the "${D.scenario}" corridor (seed ${D.seed}, ${D.end} s): ` +
       `the same run as jadescript-ref sim ${D.scenario} --seed ${D.seed}. Blue: the path; orange: cubes; green dots: ` +
       `the map entries (worldMap[currentPosition] = qrCode) as the agent builds them. ${D.positions_handled} position percepts were handled (one in five seconds is listed).`;
+    const far = D.map.filter(outside).length;
+    $("corridor-lesson").textContent = `What the map believes. The QR code handler files each code under currentPosition: ` +
+      `the robot's own position as the agent last handled it, not the cube's. A dashed line joins each map entry to the cube face ` +
+      `where its code is printed. Three things pull them apart: the distance from which the camera reads a code; the noise of the ` +
+      `UWB positions` + (far ? ` (${far} of the ${D.map.length} entries, in red, even lie outside the corridor's walls)` : "") +
+      `; and the order of dispatch, since priorities reorder what the map believes: a QR code (priority 4) is dispatched before ` +
+      `the positions (priority 2) that arrived in the same iteration, and is filed under an older one. The Playground's RoboMe ` +
+      `example shows the last with four events, and exercise 7 asks you to fix it (docs/simulation.md: the map error).`;
+    if (window.PG && window.PG.explain) window.PG.explain($("corridor-lesson"));
     built = true;
   }
   function poseAt(time) {
@@ -67,16 +86,22 @@
     heading.setAttribute("x1", X(p[1])); heading.setAttribute("y1", Y(p[2]));
     heading.setAttribute("x2", X(p[1] + 0.25 * Math.cos(p[3]))); heading.setAttribute("y2", Y(p[2] + 0.25 * Math.sin(p[3])));
     mapLayer.replaceChildren();
+    let entries = 0;
     for (const m of D.map) {
       if (m[3] > t) continue;   // the time the agent made this entry
-      mapLayer.append(svg("circle", { cx: X(m[0]), cy: Y(m[1]), r: 5, fill: "#1d7a3a" }));
-      const lb = svg("text", { x: X(m[0]) + 7, y: Y(m[1]) + 4, "font-size": 11, fill: "#1d7a3a" });
+      entries++;
+      // the belief: a thin line from where the map files the code to where it is printed
+      const f = faceOf(m[2]);
+      if (f) mapLayer.append(svg("line", { x1: X(m[0]), y1: Y(m[1]), x2: X(f[0]), y2: Y(f[1]), class: "belief", stroke: "#1d7a3a", "stroke-width": 1, "stroke-dasharray": "3 3", "stroke-opacity": 0.7 }));
+      const out = outside(m);
+      mapLayer.append(svg("circle", { cx: X(m[0]), cy: Y(m[1]), r: 5, fill: out ? "#b3261e" : "#1d7a3a", class: "entry" + (out ? " outside" : "") }));
+      const lb = svg("text", { x: X(m[0]) + 7, y: Y(m[1]) + 4, "font-size": 11, fill: out ? "#b3261e" : "#1d7a3a" });
       lb.textContent = m[2];
       mapLayer.append(lb);
     }
     $("corridor-time").value = Math.round(t * 10);
     const seen = events.filter((e) => e.t <= t);
-    $("corridor-clock").textContent = `t = ${t.toFixed(1)} s · ${seen.length} events · map entries: ${mapLayer.childElementCount / 2}`;
+    $("corridor-clock").textContent = `t = ${t.toFixed(1)} s · ${seen.length} events · map entries: ${entries}`;
     const ol = $("corridor-log");
     ol.replaceChildren(...seen.slice(-60).map((e, i, a) => {
       const li = document.createElement("li");

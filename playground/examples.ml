@@ -47,14 +47,18 @@ let robome = {
   id = "robome"; title = "RoboMe (the paper's agent, Figures 5-7 completed)";
   about = "The paper's RoboMe agent: four percept types with priorities (falling 10, obstacle 8, \
            qrCodeRead 4, position 2) and one cyclic behaviour whose handlers drive the robot. \
-           The events are a short drive: notify them one by one, or step through them.";
+           The events are the tutorial's short drive: the robot is at (0, 1) when it reads the QR \
+           code A7, then the host sends position(0, 2) with its own priority 9 (R2a). Do them all, \
+           run to idle, and compare worldMap with currentPosition: A7 is filed under \
+           position(0.0, 2.0) while the robot ends at position(0.0, 1.0). Priorities reorder what \
+           the map believes: the override overtook the code, and position(0, 1) came last \
+           (exercise 7 asks you to fix it).";
   files = [ "robome.jade", file "examples/robome/robome.jade" ];
   agents = [ "r:RoboMe:@robome" ]; o2a_capacity = None; fuel = None; seed = None; variant = None; max_steps = None;
   events = [ {|{"agent": "r", "notify": "position(0, 1)"}|};
              {|{"agent": "r", "notify": "qrCodeRead(\"A7\")"}|};
              {|{"agent": "r", "notify": "obstacle"}|};
-             {|{"agent": "r", "notify": "position(0, 2)"}|};
-             {|{"agent": "r", "notify": "falling"}|} ];
+             {|{"agent": "r", "notify": "position(0, 2)", "priority": 9}|} ];
 }
 
 let vectors = List.map of_vector Examples_data.vectors

@@ -15,6 +15,7 @@ type t = {
   setup : Session.setup;
   steps : step list;
   final : string;
+  violated : bool;
 }
 
 (* The models' agent: one cyclic behaviour Main with a percept handler per
@@ -72,6 +73,7 @@ let printed_object = {
     s Rule "TransferSpin" "Still spinning: position#1 is never transferred (NoLoss), Main never runs (BehaviourProgress), the message is never read (MessageProgress), and the agent does no work although work is pending (NoLivelock).";
   ];
   final = "last.act = \"TransferSpin\", o2a = <<obj, position#1>>, pq = {}, one message waiting, forever";
+  violated = true;
 }
 
 let flood_printed = {
@@ -94,6 +96,7 @@ let flood_printed = {
     s Rule "TransferOne" "The priority queue is never drained, Main never runs and the message is never read: the agent is busy (NoLivelock holds) but starved by its own transfer loop.";
   ];
   final = "last.act = \"TransferOne\", ready = <<1>> never run, msgq = <<inform>> never read, pq growing";
+  violated = true;
 }
 
 let inversion_steps tail = [
@@ -119,6 +122,7 @@ let inversion = {
       s Rule "Dequeue" "position#2 is dispatched too: obstacle#3 has waited behind two lower-priority dispatches (BoundedInversion, bound 1, violated) and this iteration has dispatched two percepts (DispatchesWithinBudget, budget 1, violated). With an unbounded O2A both numbers are unbounded.";
     ];
   final = "last.act = \"Dequeue\" of position#2, dispatched = 2, waits of obstacle#3 = 2 inversions";
+  violated = true;
 }
 
 let budgeted = {
@@ -135,6 +139,7 @@ let budgeted = {
       s Rule "Dequeue" "obstacle#3 (priority 8) is dispatched before position#2: it waited behind one lower-priority dispatch, within the bound.";
     ];
   final = "last.act = \"Dequeue\" of obstacle#3, dispatched = 1, position#2 still queued";
+  violated = false;
 }
 
 let ties = {
@@ -166,6 +171,7 @@ let ties = {
     s (Dequeue_seq 2) "Dequeue" "Under the unstable policy any entry of the highest priority may leave first: a#2 is taken while a#1, notified earlier, still waits (FifoAmongEquals violated). Try the other choice in the rule list: both are enabled.";
   ];
   final = "last.act = \"Dequeue\" of a#2 while a#1 is in pq";
+  violated = true;
 }
 
 let native = {
@@ -191,6 +197,7 @@ let native = {
     s Rule "Idle" "The agent sleeps with noise#3 still in its message queue, forever (NoLoss violated); the reference loop would have discarded it with a trace record (R3b).";
   ];
   final = "last.act = \"Idle\", msgq = <<noise#3>>, position#2 handled before obstacle#1";
+  violated = true;
 }
 
 let flood_native = {
@@ -214,6 +221,7 @@ let flood_native = {
     s Rule "BehaviourStep" "Main runs in every iteration, but the message is never consumed (MessageProgress violated): the paper's \"percepts before messages\" moved into each behaviour's handler list.";
   ];
   final = "last.act = \"BehaviourStep\" taking a percept, msgq = <<inform>> never read";
+  violated = true;
 }
 
 let all = [ printed_object; flood_printed; inversion; budgeted; ties; native; flood_native ]
@@ -340,7 +348,7 @@ let to_json () =
       let s = r.setup in
       `Assoc [
         "id", `String r.id; "title", `String r.title; "finding", `String r.finding;
-        "command", `String r.command; "final", `String r.final;
+        "command", `String r.command; "final", `String r.final; "violated", `Bool r.violated;
         "files", `List (List.map (fun (n, t) -> `Assoc [ "name", `String n; "text", `String t ]) s.files);
         "agents", `List (List.map (fun a -> `String a) s.agents);
         "variant", `String (Mc.string_of_variant s.variant);

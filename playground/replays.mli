@@ -4,7 +4,8 @@
     model's loop variant and tie policy, and TLC's steps as host actions and
     agent rules, each labelled with its TLA+ action and a sentence on what
     goes wrong. The last state is checked against the state TLC printed
-    ({!check}). *)
+    ({!check}), or, for a model where every property holds and TLC prints
+    none (MCBudgeted), against the state the same steps reach there. *)
 
 type action =
   | Host of Session.host_action
@@ -24,7 +25,14 @@ type t = {
   command : string;         (** the one command line that has TLC find it ([make spec ...]) *)
   setup : Session.setup;
   steps : step list;
-  final : string;           (** TLC's last state, in the spec's terms *)
+  final : string;
+      (** the last state, in the spec's terms: TLC's counterexample's when
+          [violated]; otherwise the state these steps reach in the model,
+          where TLC prints no state *)
+  violated : bool;
+      (** whether TLC finds a property of the model violated (it then prints
+          the counterexample replayed); [false] for MCBudgeted, where every
+          property holds *)
 }
 
 val all : t list
@@ -40,12 +48,13 @@ val apply : Session.t -> step -> (unit, string) result
 
 val check : t -> Session.t -> (unit, string) result
 (** After every step: is the session's agent in the state TLC printed
-    ({!t.final})? [Error] says which part differs. *)
+    ({!t.final}; for MCBudgeted, the state these steps reach)? [Error] says
+    which part differs. *)
 
 val run : t -> (Session.t, string) result
 (** Creates the session and applies every step. *)
 
 val to_json : unit -> Yojson.Safe.t
-(** Every replay, for the page: id, title, finding, command, final, the setup
+(** Every replay, for the page: id, title, finding, command, final, violated, the setup
     (files, agents, variant, tie, budget, o2a_capacity) and the steps (tla,
     say, and what is done). *)

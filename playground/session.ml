@@ -52,6 +52,10 @@ type state = {
   mutable round : int list;             (* agents still to run in this round *)
   mutable current : int option;         (* the agent in the middle of an iteration *)
   max_steps : int;
+  names : (string * int, string) Hashtbl.t;
+  (* (agent, instance id) -> behaviour type, for every instance seen active:
+     the label of a rule names a behaviour that may have left (a one-shot
+     after its step, R5c; a deactivated one, R4b) *)
 }
 
 type t = {
@@ -106,10 +110,16 @@ let tracer st =
 
 let world st i = st.platform.agents.(i).config.world
 
-let behaviour_of (c : M.t) id =
+let behaviour_of ?(known = fun _ -> None) (c : M.t) id =
   match List.find_opt (fun (a : E.beh Mc.instance) -> a.id = id) c.active with
   | Some a -> E.beh_type a.beh
-  | None -> "?"
+  | None -> Option.value (known id) ~default:"?"
+
+let remember st name (c : M.t) =
+  List.iter (fun (a : E.beh Mc.instance) -> Hashtbl.replace st.names (name, a.id) (E.beh_type a.beh)) c.active
+
+(* The name of instance [id] of agent [name], also after it left. *)
+let known st name id = Hashtbl.find_opt st.names (name, id)
 
 let index st name = match P.find st.platform name with
   | Some i -> i
@@ -130,6 +140,11 @@ let on_event ?before st (pl : P.t) (e : P.event) =
     let agents = Array.copy pl.agents in
     agents.(i) <- { (agents.(i)) with config = after };
     st.platform <- { P.agents };
+    if after.active != before.active then begin
+      (* every list of instances is remembered when it appears (and at the
+         agent's creation), so a step that leaves it alone adds nothing *)
+      remember st name before; remember st name after
+    end;
     Interp.Tracer.step st.tr ~agent:name ~before ~after l evs
   | P.Delivered { receiver; _ } ->
     Interp.Tracer.host st.tr ~agent:receiver pl.agents.(index st receiver).config
@@ -189,7 +204,8 @@ let boot (s : setup) : (state, string list) result =
                    rand = Option.map (fun n -> Random.State.make [| n |]) s.seed;
                    tr = Interp.Tracer.create (Trace.nowhere ()) ~on_body:(fun _ _ -> ());
                    lines = []; out = [];
-                   round = []; current = None; max_steps = s.max_steps } in
+                   round = []; current = None; max_steps = s.max_steps;
+                   names = Hashtbl.create 16 } in
         st.tr <- tracer st;
         Interp.Tracer.header st.tr env st.params ~seed:s.seed (List.map (fun (n, ty, _) -> (n, ty)) specs);
         let created = List.map (fun (name, ty, args) ->
@@ -200,6 +216,7 @@ let boot (s : setup) : (state, string list) result =
             Interp.Tracer.created st.tr ~agent:name ~agent_type:ty args behs evs;
             (name, M.init st.params ~world:a behs)) specs in
         st.platform <- P.create created;
+        List.iter (fun (name, c) -> remember st name c) created;
         Array.iteri (fun i _ ->
             let ag = st.platform.agents.(i) in
             let (world, out) = E.Bodies.take_outbox ag.config.world in
@@ -453,7 +470,8 @@ let next_agent t = pick ~commit:false t.st
 let entry_view (e : V.t Mc.entry) =
   `Assoc [ "percept", str (V.to_literal e.p); "priority", int e.prio; "seq", int e.seq ]
 
-let label_text (c : M.t) (l : M.lbl) =
+let label_text ?known (c : M.t) (l : M.lbl) =
+  let behaviour_of = behaviour_of ?known in
   let e (x : V.t Mc.entry) = Printf.sprintf "%s (priority %d, #%d)" (V.to_literal x.p) x.prio x.seq in
   match l with
   | Mc.Init -> "Init"
@@ -479,10 +497,14 @@ let label_text (c : M.t) (l : M.lbl) =
   | Mc.Next_iteration -> "NextIteration"
   | Mc.Idle -> "Idle"
 
+(* Percept handler [h] (from 1) of behaviour type [beh], as R4a counts them. *)
+let handler_decl t beh h =
+  let hs = List.filter (fun (x : T.handler) -> x.h_kind = T.On_percept) (T.behaviour_handlers t.st.env beh) in
+  List.nth_opt hs (h - 1)
+
 (* The handler's declaration, for the dispatch in progress: the source line. *)
 let handler_info t beh h =
-  let hs = List.filter (fun (x : T.handler) -> x.h_kind = T.On_percept) (T.behaviour_handlers t.st.env beh) in
-  match List.nth_opt hs (h - 1) with
+  match handler_decl t beh h with
   | None -> ("", "")
   | Some x ->
     let line = x.h_at.left.line in
@@ -499,7 +521,7 @@ let handler_info t beh h =
 let next_rules t i : string list =
   let p = t.st.params in
   let c = t.st.platform.agents.(i).config in
-  let beh id = behaviour_of c id in
+  let beh id = behaviour_of ~known:(known t.st t.st.platform.agents.(i).name) c id in
   match c.phase, c.cur with
   | Mc.Idle_phase, _ -> []
   | Mc.Transfer_phase, _ when p.variant = Mc.Printed ->
@@ -531,6 +553,35 @@ let next_rules t i : string list =
 
 let choices t = match next_agent t with None -> [] | Some i -> next_rules t i
 
+(* Where the program code that the next rule of agent [i] runs is written:
+   the percept handler tried next (its [on percept] line), or the behaviour
+   that steps next (the first statement of its action section, else its
+   declaration). [`Null] for the rules that run no code of the program
+   (Transfer, Dequeue, EndDispatch, Idle, ...). The conditions are those of
+   [next_rules]. *)
+let run_at t i =
+  let p = t.st.params in
+  let ag = t.st.platform.agents.(i) in
+  let c = ag.config in
+  let beh id = behaviour_of ~known:(known t.st ag.name) c id in
+  let at kind (r : Source.region) =
+    if r.left.line = 0 then `Null
+    else `Assoc [ "file", str r.left.file; "line", int r.left.line; "kind", str kind ] in
+  let dequeue_next =
+    p.variant <> Mc.Native && not (Semantics.Pqueue.is_empty c.pq)
+    && not (p.variant = Mc.Budgeted && c.dispatched >= p.budget) in
+  match c.phase, c.cur with
+  | Mc.Handle_phase, Some { todo = (id, h) :: _; _ }
+    when List.exists (fun (a : E.beh Mc.instance) -> a.id = id) c.active ->
+    (match handler_decl t (beh id) h with Some x -> at "handler" x.h_at | None -> `Null)
+  | Mc.Dispatch_phase, _ when not dequeue_next && c.ready <> [] ->
+    let b = beh (List.nth c.ready (c.pos - 1)) in
+    (match T.behaviour_action t.st.env b, T.behaviour t.st.env b with
+     | Some (s :: _), _ -> at "behaviour" s.at
+     | _, Some d -> at "behaviour" d.b_decl.at
+     | _, None -> `Null)
+  | _ -> `Null
+
 let phase_name = function
   | Mc.Transfer_phase -> "transfer" | Mc.Dispatch_phase -> "dispatch"
   | Mc.Handle_phase -> "handle" | Mc.Idle_phase -> "idle"
@@ -538,7 +589,8 @@ let phase_name = function
 let agent_view t next i (ag : P.agent) =
   let c = ag.config in
   let a = c.world in
-  let beh id = behaviour_of c id in
+  let known = known t.st ag.name in
+  let beh id = behaviour_of ~known c id in
   let o2a = List.map (function
       | Mc.O_percept e -> `Assoc [ "kind", str "percept"; "percept", str (V.to_literal e.p);
                                    "priority", int e.prio; "seq", int e.seq ]
@@ -581,7 +633,8 @@ let agent_view t next i (ag : P.agent) =
     "waits", `List (List.map (fun (seq, prio, inv) ->
         `Assoc [ "seq", int seq; "priority", int prio; "inversions", int inv ]) c.waits);
     "done", int (Mc.Int_set.cardinal c.done_);
-    "last", str (label_text c c.last);
+    "last", str (label_text ~known c c.last);
+    "run_at", run_at t i;
     "last_action", str (Mc.action_name c.last);
     "props", `List props;
     "rules", `List (List.map str (next_rules t i));
@@ -601,3 +654,72 @@ let view t =
     "all_idle", `Bool (P.all_idle st.platform);
     "agents", `List (Array.to_list (Array.mapi (agent_view t next) st.platform.agents));
   ]
+
+(* ------------------------------------------------ saving and restoring *)
+
+(* The history as JSON, oldest first: host actions as the lines of an events
+   file say them, runs of rules counted. *)
+let host_line = function
+  | Notify { agent; percept; priority } ->
+    `Assoc ([ "agent", str agent; "notify", str percept ]
+            @ (match priority with Some k -> [ "priority", int k ] | None -> []))
+  | Put { agent; obj } -> `Assoc [ "agent", str agent; "put", str obj ]
+  | Message { agent; perf; content } ->
+    `Assoc [ "agent", str agent; "message", str content; "performative", str perf ]
+
+let export t =
+  let rec go acc = function
+    | [] -> List.rev acc
+    | H h :: rest -> go (host_line h :: acc) rest
+    | R (0, true) :: _ as l ->
+      let rec count n = function R (0, true) :: r -> count (n + 1) r | r -> (n, r) in
+      let (n, rest) = count 0 l in
+      go (`Assoc [ "rules", int n ] :: acc) rest
+    | R (c, _) :: rest -> go (`Assoc [ "choice", int c ] :: acc) rest
+    | Round :: rest ->
+      let rec count n = function R (_, false) :: r -> count (n + 1) r | r -> (n, r) in
+      let (n, rest) = count 0 rest in
+      go (`Assoc [ "round", int n ] :: acc) rest
+    | A i :: _ as l ->
+      let rec count n = function A j :: r when j = i -> count (n + 1) r | r -> (n, r) in
+      let (n, rest) = count 0 l in
+      go (`Assoc [ "single", int i; "n", int n ] :: acc) rest in
+  `List (go [] (List.rev t.history))
+
+let restore s (j : Yojson.Safe.t) =
+  let bad what = Error [ "error: the saved session is not readable: " ^ what ] in
+  let field k = function `Assoc f -> List.assoc_opt k f | _ -> None in
+  let text k j = match field k j with Some (`String s) -> Some s | _ -> None in
+  let num k j = match field k j with Some (`Int n) when n >= 0 -> Some n | _ -> None in
+  let times n c = List.init (min n 1_000_000) (fun _ -> c) in
+  let cmd j =
+    match text "agent" j, text "notify" j, text "put" j, text "message" j with
+    | Some agent, Some percept, _, _ ->
+      Some [ H (Notify { agent; percept; priority = num "priority" j }) ]
+    | Some agent, None, Some obj, _ -> Some [ H (Put { agent; obj }) ]
+    | Some agent, None, None, Some content ->
+      Some [ H (Message { agent; content; perf = Option.value (text "performative" j) ~default:"inform" }) ]
+    | _ ->
+      match num "rules" j, num "choice" j, num "round" j, num "single" j with
+      | Some n, _, _, _ -> Some (times n (R (0, true)))
+      | _, Some c, _, _ -> Some [ R (c, true) ]
+      | _, _, Some n, _ -> Some (Round :: times n (R (0, false)))
+      | _, _, _, Some i -> Some (times (Option.value (num "n" j) ~default:1) (A i))
+      | _ -> None in
+  match j with
+  | `List l ->
+    let cmds = List.map cmd l in
+    if List.mem None cmds then bad "an entry is neither a host action nor rules"
+    else begin
+      let cmds = List.concat_map Option.get cmds in
+      match create s with
+      | Error e -> Error e
+      | Ok t ->
+        (match cmds with
+         | [] -> ()
+         | _ ->
+           replay t cmds;
+           t.history <- List.rev cmds; t.nhist <- List.length cmds);
+        Ok t
+    end
+  | _ -> bad "not a list"

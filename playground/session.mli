@@ -132,4 +132,27 @@ val view : t -> Yojson.Safe.t
 (** The state of every agent, for the page: queues (the priority queue in
     dispatch order), behaviours, JADE's ready list and position, the dispatch
     in progress with the handlers still to try, the properties, the ghosts
-    ([dispatched], [waits]) and the enabled rules. *)
+    ([dispatched], [waits]), the enabled rules, and where the program code
+    that the next rule runs is written ([run_at]: the file and line of the
+    handler tried next, or of the behaviour that steps next; [null] for a
+    rule that runs no code). A rule's label names its behaviour also when
+    the instance has left since (a one-shot after its step, R5c). *)
+
+(** {1 Saving and restoring}
+
+    What the page keeps across reloads and puts into a shared link. *)
+
+val export : t -> Yojson.Safe.t
+(** The commands done so far, oldest first, as a JSON list: each host
+    action as the line of an events file says it
+    ([{"agent": A, "notify": P, "priority": K}], [{"agent": A, "put": O}],
+    [{"agent": A, "message": C, "performative": F}]), and the rules as
+    [{"rules": N}] (N single rules, the first choice), [{"choice": K}] (one
+    rule, choice K), [{"round": N}] (a round of {!run_rounds} and its N
+    rules) and [{"single": I, "n": N}] (N rules of agent I, {!run_rules}). *)
+
+val restore : setup -> Yojson.Safe.t -> (t, string list) result
+(** A session created from [setup] with the commands of an {!export} done
+    again: the same trace, the same view, and {!back} undoes them one by
+    one. [Error] as {!create}, or for a list that {!export} could not have
+    written; never raises. *)

@@ -5,7 +5,14 @@ open Js_of_ocaml
 open Playground_core
 module Mc = Semantics.Machine
 
-let session : Session.t option ref = ref None
+(* The sessions, one per slot: the page keeps one for each of its tabs
+   (the playground, the replays, the exercises, the two columns of side by
+   side); [use] picks the slot the other functions act on. *)
+let sessions : (string, Session.t) Hashtbl.t = Hashtbl.create 8
+let slot = ref "play"
+let set_session = function
+  | Some t -> Hashtbl.replace sessions !slot t
+  | None -> Hashtbl.remove sessions !slot
 
 let json j = Js.string (Yojson.Safe.to_string j)
 let err m = `Assoc [ "ok", `Bool false; "error", `String m ]
@@ -39,7 +46,7 @@ let setup_of j : Session.setup =
     max_steps = Option.value (int_member "max_steps" j) ~default:1_000_000;
   }
 
-let with_session f = match !session with
+let with_session f = match Hashtbl.find_opt sessions !slot with
   | None -> json (err "no program is loaded")
   | Some t -> f t
 
@@ -62,8 +69,8 @@ let () =
       "create", fn1 (fun s ->
           let j = Yojson.Safe.from_string (of_js s) in
           match Session.create (setup_of j) with
-          | Ok t -> session := Some t; state t []
-          | Error e -> session := None;
+          | Ok t -> set_session (Some t); state t []
+          | Error e -> set_session None;
             json (`Assoc [ "ok", `Bool false; "errors", `List (List.map (fun l -> `String l) e) ]));
       "host", fn1 (fun s ->
           with_session (fun t ->
@@ -125,6 +132,29 @@ let () =
                 match Replays.check r t with
                 | Ok () -> json (`Assoc [ "ok", `Bool true ])
                 | Error m -> json (err m)));
+      "use", fn1 (fun s ->
+          slot := of_js s;
+          json (`Assoc [ "ok", `Bool true; "loaded", `Bool (Hashtbl.mem sessions !slot) ]));
+      "export", fn0 (fun () -> with_session (fun t -> json (Session.export t)));
+      "restore", Js.Unsafe.inject (Js.wrap_callback (fun s h -> protect (fun () ->
+          let j = Yojson.Safe.from_string (of_js s) in
+          match Session.restore (setup_of j) (Yojson.Safe.from_string (of_js h)) with
+          | Ok t -> set_session (Some t); state t []
+          | Error e -> set_session None;
+            json (`Assoc [ "ok", `Bool false; "errors", `List (List.map (fun l -> `String l) e) ]))));
+      "glossary", fn0 (fun () -> json (Glossary.to_json ()));
+      "exercises", fn0 (fun () -> json (Exercises.to_json ()));
+      "exerciseCheck", Js.Unsafe.inject (Js.wrap_callback (fun id s -> protect (fun () ->
+          match Exercises.find (of_js id) with
+          | None -> json (err "no such exercise")
+          | Some x ->
+            let j = Yojson.Safe.from_string (of_js s) in
+            match Exercises.attempt x (setup_of j) with
+            | Ok (t, v) ->
+              set_session (Some t);
+              state t [ "verdict", `Assoc [ "solved", `Bool v.solved; "says", `String v.says ] ]
+            | Error e -> set_session None;
+              json (`Assoc [ "ok", `Bool false; "errors", `List (List.map (fun l -> `String l) e) ]))));
       "output", fn0 (fun () ->
           with_session (fun t -> json (`List (List.map (fun l -> `String l) (Session.output t)))));
     |])
