@@ -22,6 +22,7 @@ type text_kept = { mutable value : V.t; mutable leaves : V.t array; mutable text
 
 type t = {
   w : Trace.writer;
+  observable : bool;   (* the loop's own steps are not written *)
   on_body : string -> Eval.event -> unit;
   names : (string, names) Hashtbl.t;
   mutable last : string * names;   (* the agent's names last looked up, by address *)
@@ -29,8 +30,8 @@ type t = {
 }
 
 let no_names = { types = [||]; noted = [] }
-let create w ~on_body =
-  { w; on_body; names = Hashtbl.create 16; last = ("", no_names);
+let create ?(level = "full") w ~on_body =
+  { w; observable = level = "observable"; on_body; names = Hashtbl.create 16; last = ("", no_names);
     kept = { value = V.Unit; leaves = [||]; text = "" } }
 
 let unchanging = function
@@ -88,7 +89,8 @@ let header t env (p : Mc.params) ~seed agents =
   Trace.write_header t.w {
     variant = Mc.string_of_variant p.variant;
     tie_policy = (match p.tie with Mc.Stable -> "stable" | Mc.Unstable -> "unstable");
-    budget = p.budget; o2a_capacity = p.o2a_capacity; seed; level = "full"; agents; behaviours; percepts }
+    budget = p.budget; o2a_capacity = p.o2a_capacity; seed;
+    level = (if t.observable then "observable" else "full"); agents; behaviours; percepts }
 
 let message (m : Eval.message) =
   { Trace.performative = m.perf; content = V.to_literal m.content; from = m.sender }
@@ -207,10 +209,18 @@ let undeliverable t ~sender ~receiver (m : Eval.message) =
 (* Without a trace (a writer from [Trace.nowhere]) nothing but the bodies'
    logs and errors is wanted, and the lines are only counted: no event is
    built and no behaviour name kept. *)
+(* The line of a rule, unless it is one of the loop's own steps and the
+   trace is observable. *)
+let write_rule t ~agent c l evs =
+  if not t.observable then Trace.write_with t.w ~agent (fun () -> label_event t agent c l evs)
+  else
+    let e = label_event t agent c l evs in
+    if Trace.observable e then Trace.write t.w ~agent e
+
 let step t ~agent ~before ~after l evs =
   let writes = Trace.writes t.w in
   if writes then note_active t agent before;
-  Trace.write_with t.w ~agent (fun () -> label_event t agent after l evs);
+  write_rule t ~agent after l evs;
   if writes then note_active t agent after;
   match evs with
   | [] -> ()
@@ -223,7 +233,7 @@ let step t ~agent ~before ~after l evs =
    EndDispatch, is the platform's step, written by [step]. *)
 let inside t ~agent ~(start : config) l evs =
   note_active t agent start;
-  Trace.write_with t.w ~agent (fun () -> label_event t agent start l evs);
+  write_rule t ~agent start l evs;
   match evs with
   | [] -> ()
   | _ -> bodies t agent (Mc.action_name l) evs

@@ -5,9 +5,11 @@
 
 type t
 
-val create : Trace.writer -> on_body:(string -> Eval.event -> unit) -> t
+val create : ?level:string -> Trace.writer -> on_body:(string -> Eval.event -> unit) -> t
 (** [on_body agent e] sees every event of a body as it is written (the
-    runtime prints logs and errors there). *)
+    runtime prints logs and errors there). [level] ["observable"]: the
+    loop's own steps are not written ({!Trace.observable}); default
+    ["full"]. *)
 
 val writer : t -> Trace.writer
 

@@ -160,7 +160,7 @@ let key (x : cand) =
   add (match c.phase with Mc.Transfer_phase -> "t" | Dispatch_phase -> "d" | Handle_phase -> "h" | Idle_phase -> "i");
   Semantics.Fqueue.fold (fun () -> function Mc.O_percept e -> int e.seq | Mc.O_object _ -> add "o") () c.o2a;
   add "|";
-  List.iter (fun (e : V.t Mc.entry) -> int e.seq) (Semantics.Pqueue.to_sorted_list c.pq);
+  Semantics.Pqueue.fold (fun () (e : V.t Mc.entry) -> int e.seq) () c.pq;
   add "|";
   Semantics.Fqueue.fold (fun () -> function Mc.M_message { mseq; _ } -> int mseq | Mc.M_percept e -> int (- e.seq)) () c.msgq;
   add "|"; int c.next_seq; int c.msg_seq; int c.puts; int c.pos; int c.dispatched;
@@ -174,6 +174,9 @@ let key (x : cand) =
   Buffer.contents b
 
 let merge st n cands =
+  match cands with
+  | [] | [ _ ] -> cands
+  | _ ->
   let seen = Hashtbl.create 8 in
   let out = List.filter (fun x ->
       let k = key x in

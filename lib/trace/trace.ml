@@ -54,6 +54,11 @@ let event_name = function
      | Log _ -> "log" | Invoke _ -> "invoke" | Send _ -> "send" | Activate _ -> "activate"
      | Deactivate _ -> "deactivate" | Error _ -> "error")
 
+let observable = function
+  | Transfer _ | Transfer_one _ | Transfer_spin _ | Transfer_end | Dequeue _ | Skip _
+  | End_dispatch { discarded = false; _ } | Next_iteration | Idle -> false
+  | _ -> true
+
 let action = function
   | Create _ -> Some "Init"
   | Notify { overridden; _ } -> Some (if overridden then "NotifyWith" else "Notify")

@@ -68,6 +68,13 @@ type event =
 type line = { step : int; agent : string; event : event }
 (** [step] numbers the lines of a trace from 1, after the header. *)
 
+val observable : event -> bool
+(** Whether an event is written in an observable trace (docs/trace-format.md,
+    "Observable traces"): every event but the loop's own steps (transfer,
+    transfer_one, transfer_spin, transfer_end, dequeue, skip, end_dispatch,
+    next_iteration, idle). A discard is written: a percept no handler took
+    is what the loop promises a program to show. *)
+
 val event_name : event -> string
 (** The [event] field: ["create"], ["notify"], ..., ["log"], ["error"]. *)
 
