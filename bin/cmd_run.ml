@@ -82,7 +82,7 @@ let flush_stdout_quietly () = try flush stdout with Sys_error _ -> close_out_noe
 let try_writes : (string -> unit) ref =
   ref (fun m -> prerr_endline ("jadescript-ref: error: " ^ m); raise (Stop 1))
 
-let run files agent_specs events_file trace_file seed max_steps variant fuel capacity max_memory defect reference =
+let run files agent_specs events_file trace_file seed max_steps variant fuel capacity max_memory defect reference level =
   match
     let engine = if reference then Interp.Runtime.Reference else Interp.Runtime.Fast in
     let hooks = match defect with
@@ -140,7 +140,10 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
         if at.left.line = 0 then (List.hd files, 1, 1) else (at.left.file, at.left.line, at.left.column) in
       flush stdout;
       report_at file line col (Interp.Eval.wording kind msg) in
-    let opts = { Interp.Runtime.params; engine; seed; fuel; max_steps; max_memory; trace;
+    let level = match level with
+      | "full" | "observable" -> level
+      | l -> usage_error "option --level: %S is not full or observable" l in
+    let opts = { Interp.Runtime.params; engine; seed; fuel; max_steps; max_memory; trace; level;
                  on_log = (fun a s -> print_string (a ^ ": " ^ s ^ "\n"));
                  on_error } in
     let rt = match Interp.Runtime.create ~hooks env opts specs with
@@ -218,6 +221,10 @@ let cmd =
                          ~doc:"Take every rule on the reference alone (the rules of lib/semantics and the \
                                evaluator's bodies, one rule at a time), not on the fast engine beside it: \
                                the same output and the same trace, more slowly.") in
+  let level = Arg.(value & opt string "full" & info ["level"] ~docv:"L"
+                     ~doc:"The trace's level: full (every rule of the loop), or observable (not the loop's own \
+                           steps: transfer, dequeue, skip, end_dispatch, next_iteration, idle; \
+                           docs/trace-format.md).") in
   Cmd.v (Cmd.info "run" ~doc:"Run a Jadescript program on the reference semantics."
            ~man:[`S Manpage.s_description;
                  `P "Type-checks the program, creates the agents in order, applies the host \
@@ -232,4 +239,4 @@ let cmd =
                      line at a time: every line is checked first, then the events are applied \
                      as they are read."])
     Term.(const run $ files $ agents $ events $ trace $ seed $ max_steps $ variant $ fuel $ capacity $ max_memory $ defect
-          $ reference)
+          $ reference $ level)

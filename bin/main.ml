@@ -110,7 +110,7 @@ let main =
         $(i,FILE:LINE:COL: error: message) on standard error); 124 on a command-line \
         error.";
   ] in
-  Cmd.group (Cmd.info "jadescript-ref" ~version:"0.1.0" ~doc ~man) [parse_cmd; fmt_cmd; Cmd_check.cmd; Cmd_run.cmd; Cmd_compile.cmd; Cmd_validate.cmd; Cmd_conform.cmd; Cmd_defects.cmd; Corridor_sim.Cli.cmd; Cmd_explore.cmd]
+  Cmd.group (Cmd.info "jadescript-ref" ~version:"0.1.0" ~doc ~man) [parse_cmd; fmt_cmd; Cmd_check.cmd; Cmd_run.cmd; Cmd_compile.cmd; Cmd_validate.cmd; Cmd_judge.cmd; Cmd_conform.cmd; Cmd_defects.cmd; Corridor_sim.Cli.cmd; Cmd_explore.cmd]
 
 (* An exception no command caught is still one line: a failed write (the
    standard output full or closed) is the user's environment, exit 1; anything

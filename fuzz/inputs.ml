@@ -400,7 +400,7 @@ let run_scenario env (sc : EG.scenario) ~events ~trace =
   let params = { Mc.default_params with variant = sc.variant; tie = sc.tie; budget = sc.budget;
                                         o2a_capacity = sc.capacity } in
   let opts = { Rt.params; engine = Rt.Fast; seed = sc.seed; fuel = sc.fuel; max_steps = sc.max_steps;
-               max_memory = run_memory (); trace = Some oc; on_log = (fun _ _ -> ()); on_error } in
+               max_memory = run_memory (); level = "full"; trace = Some oc; on_log = (fun _ _ -> ()); on_error } in
   let rt = match Rt.create env opts specs with
     | rt -> rt
     | exception Interp.Eval.Link (_, m) -> close_out_noerr oc; fail "generator" "link error at creation: %s" m in

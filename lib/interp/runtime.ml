@@ -13,6 +13,7 @@ type options = {
   max_steps : int;
   max_memory : int option;
   trace : out_channel option;
+  level : string;
   on_log : string -> string -> unit;
   on_error : Eval.error_kind -> Syntax.Source.region -> string -> unit;
 }
@@ -115,7 +116,7 @@ let create ?hooks env opts specs =
     | Eval.Log s -> opts.on_log agent s
     | Eval.Error (kind, at, msg) -> opts.on_error kind at msg
     | _ -> () in
-  let tr = Tracer.create w ~on_body in
+  let tr = Tracer.create ~level:opts.level w ~on_body in
   Tracer.header tr env opts.params ~seed:opts.seed (List.map (fun (n, ty, _) -> (n, ty)) specs);
   (* the bodies' Ran records (the effects of each handler) are for the
      trace's lines only *)

@@ -21,6 +21,9 @@ type options = {
   max_steps : int;            (** agent steps in the whole run *)
   max_memory : int option;    (** D22: megabytes of heap the run may take *)
   trace : out_channel option;
+  level : string;
+      (** the trace's level: ["full"] (every rule's line) or ["observable"]
+          (not the loop's own steps, docs/trace-format.md) *)
   on_log : string -> string -> unit;   (** agent name, text: [log e] *)
   on_error : Eval.error_kind -> Syntax.Source.region -> string -> unit;
       (** a run-time error (R7), as it is recorded: its kind, where, and

@@ -22,6 +22,7 @@ type text_kept = { mutable value : V.t; mutable leaves : V.t array; mutable text
 
 type t = {
   w : Trace.writer;
+  observable : bool;   (* the loop's own steps are not written *)
   on_body : string -> Eval.event -> unit;
   names : (string, names) Hashtbl.t;
   mutable last : string * names;   (* the agent's names last looked up, by address *)
@@ -29,8 +30,8 @@ type t = {
 }
 
 let no_names = { types = [||]; noted = [] }
-let create w ~on_body =
-  { w; on_body; names = Hashtbl.create 16; last = ("", no_names);
+let create ?(level = "full") w ~on_body =
+  { w; observable = level = "observable"; on_body; names = Hashtbl.create 16; last = ("", no_names);
     kept = { value = V.Unit; leaves = [||]; text = "" } }
 
 let unchanging = function
@@ -70,7 +71,8 @@ let names_of t agent =
     | None -> None
 let writer t = t.w
 
-let header t env (p : Mc.params) ~seed agents =
+(* The program's part of the header: its behaviour types and percept types. *)
+let program_summary env =
   let behaviours = List.map (fun (b : T.behaviour) ->
       let hs = T.behaviour_handlers env b.b_name in
       let percept (h : T.handler) = h.h_kind = T.On_percept in
@@ -79,14 +81,16 @@ let header t env (p : Mc.params) ~seed agents =
         has_action = T.behaviour_action env b.b_name <> None;
         percept_handlers = List.length (List.filter percept hs);
         message_handlers = List.length (List.filter (fun h -> not (percept h)) hs) }) (T.behaviours env) in
+  (behaviours, List.filter_map (fun (s : T.schema) ->
+       if s.s_percept then Some (s.s_name, s.s_priority) else None) (T.schemas env))
+
+let header t env (p : Mc.params) ~seed agents =
+  let (behaviours, percepts) = program_summary env in
   Trace.write_header t.w {
     variant = Mc.string_of_variant p.variant;
     tie_policy = (match p.tie with Mc.Stable -> "stable" | Mc.Unstable -> "unstable");
-    budget = p.budget; o2a_capacity = p.o2a_capacity; seed; agents; behaviours;
-    percepts = List.filter_map (fun (s : T.schema) ->
-        if s.s_percept then Some (s.s_name, s.s_priority) else None) (T.schemas env) }
-
-let entry ?keep t (e : V.t Mc.entry) = { Trace.percept = percept_text ?keep t e.p; priority = e.prio; seq = e.seq }
+    budget = p.budget; o2a_capacity = p.o2a_capacity; seed;
+    level = (if t.observable then "observable" else "full"); agents; behaviours; percepts }
 
 let message (m : Eval.message) =
   { Trace.performative = m.perf; content = V.to_literal m.content; from = m.sender }
@@ -151,36 +155,44 @@ let created t ~agent ~agent_type args behs evs =
                                           behaviours = List.map Eval.beh_type behs });
   bodies t agent "Init" evs
 
-let label_event t agent (c : config) (l : label) evs : Trace.event =
+(* The event of rule [l], which reached [c] (its [puts] for a Put) and
+   whose bodies recorded [evs]: [percept] writes a percept ([keep]: a
+   dequeue, whose handle lines follow), [name] an instance's behaviour. *)
+let event_of ~(percept : ?keep:bool -> V.t -> string) ~(name : int -> string) (c : config) (l : label) evs
+  : Trace.event =
+  let entry ?keep (e : V.t Mc.entry) = { Trace.percept = percept ?keep e.p; priority = e.prio; seq = e.seq } in
   match l with
   | Mc.Init -> Semantics.Fault.crash "Tracer: Init is not a rule of the run"
-  | Mc.Notify e -> Trace.Notify { entry = entry t e; overridden = false }
-  | Mc.Notify_with e -> Trace.Notify { entry = entry t e; overridden = true }
+  | Mc.Notify e -> Trace.Notify { entry = entry e; overridden = false }
+  | Mc.Notify_with e -> Trace.Notify { entry = entry e; overridden = true }
   | Mc.Put o -> Trace.Put { obj = V.to_literal o; index = c.puts }
   | Mc.Send (m, seq) -> Trace.Deliver { message = message m; seq }
   | Mc.Transfer n -> Trace.Transfer n
-  | Mc.Transfer_one e -> Trace.Transfer_one (entry t e)
+  | Mc.Transfer_one e -> Trace.Transfer_one (entry e)
   | Mc.Transfer_spin o -> Trace.Transfer_spin (V.to_literal o)
   | Mc.Transfer_end -> Trace.Transfer_end
-  | Mc.Dequeue e -> Trace.Dequeue (entry ~keep:true t e)
+  | Mc.Dequeue e -> Trace.Dequeue (entry ~keep:true e)
   | Mc.Handle { id; h; p; seq } ->
-    Trace.Handle { instance = id; behaviour = name t agent id; handler = h; percept = percept_text t p; seq;
+    Trace.Handle { instance = id; behaviour = name id; handler = h; percept = percept p; seq;
                    effects = (match ran (fun _ -> true) evs with Some (_, e) -> e | None -> []) }
-  | Mc.Skip { id; h } -> Trace.Skip { instance = id; behaviour = name t agent id; handler = h }
+  | Mc.Skip { id; h } -> Trace.Skip { instance = id; behaviour = name id; handler = h }
   | Mc.End_dispatch { seq; discarded } -> Trace.End_dispatch { seq; discarded }
   | Mc.Behaviour_step { id; msg } ->
     Trace.Behaviour_step {
-      instance = id; behaviour = name t agent id;
+      instance = id; behaviour = name id;
       taken = (match msg with
           | None -> None
           | Some (Mc.M_message { m; mseq }) -> Some (Trace.Took_message (message m, mseq))
-          | Some (Mc.M_percept e) -> Some (Trace.Took_percept (entry t e)));
+          | Some (Mc.M_percept e) -> Some (Trace.Took_percept (entry e)));
       action_effects = Option.map snd (ran (fun h -> h = 0) evs);
       handler = (match msg, ran (fun h -> h > 0) evs with
           | Some _, Some (h, e) -> Some (h, e)
           | _ -> None) }
   | Mc.Next_iteration -> Trace.Next_iteration
   | Mc.Idle -> Trace.Idle
+
+let label_event t agent (c : config) (l : label) evs : Trace.event =
+  event_of ~percept:(fun ?keep v -> percept_text ?keep t v) ~name:(name t agent) c l evs
 
 let host t ~agent (c : config) = Trace.write_with t.w ~agent (fun () -> label_event t agent c c.last [])
 
@@ -197,10 +209,18 @@ let undeliverable t ~sender ~receiver (m : Eval.message) =
 (* Without a trace (a writer from [Trace.nowhere]) nothing but the bodies'
    logs and errors is wanted, and the lines are only counted: no event is
    built and no behaviour name kept. *)
+(* The line of a rule, unless it is one of the loop's own steps and the
+   trace is observable. *)
+let write_rule t ~agent c l evs =
+  if not t.observable then Trace.write_with t.w ~agent (fun () -> label_event t agent c l evs)
+  else
+    let e = label_event t agent c l evs in
+    if Trace.observable e then Trace.write t.w ~agent e
+
 let step t ~agent ~before ~after l evs =
   let writes = Trace.writes t.w in
   if writes then note_active t agent before;
-  Trace.write_with t.w ~agent (fun () -> label_event t agent after l evs);
+  write_rule t ~agent after l evs;
   if writes then note_active t agent after;
   match evs with
   | [] -> ()
@@ -213,7 +233,7 @@ let step t ~agent ~before ~after l evs =
    EndDispatch, is the platform's step, written by [step]. *)
 let inside t ~agent ~(start : config) l evs =
   note_active t agent start;
-  Trace.write_with t.w ~agent (fun () -> label_event t agent start l evs);
+  write_rule t ~agent start l evs;
   match evs with
   | [] -> ()
   | _ -> bodies t agent (Mc.action_name l) evs

@@ -5,9 +5,11 @@
 
 type t
 
-val create : Trace.writer -> on_body:(string -> Eval.event -> unit) -> t
+val create : ?level:string -> Trace.writer -> on_body:(string -> Eval.event -> unit) -> t
 (** [on_body agent e] sees every event of a body as it is written (the
-    runtime prints logs and errors there). *)
+    runtime prints logs and errors there). [level] ["observable"]: the
+    loop's own steps are not written ({!Trace.observable}); default
+    ["full"]. *)
 
 val writer : t -> Trace.writer
 
@@ -16,11 +18,28 @@ val header :
 (** The header line: the run's parameters, its agents (name, type) and the
     program's behaviours and percept types. *)
 
+val program_summary : Typing.Tenv.t -> Trace.behaviour_info list * (string * int) list
+(** The program's part of a header: every behaviour type (kind, action
+    block, handler counts, inherited first) and every percept type with its
+    default priority (R1a). *)
+
 type config = (Value.t, Eval.message, Value.t, Eval.beh, Eval.agent) Semantics.Machine.config
 type label = (Value.t, Eval.message, Value.t) Semantics.Machine.label
 
 val created : t -> agent:string -> agent_type:string -> Value.t list -> Eval.beh list -> Eval.event list -> unit
 (** The [create] line of an agent, then the events of its [on create]. *)
+
+val event_of :
+  percept:(?keep:bool -> Value.t -> string) -> name:(int -> string) -> config -> label -> Eval.event list ->
+  Trace.event
+(** The trace event of a rule: its label [l], the configuration [c] it
+    reached (a Put's index), the events its bodies recorded (a handler's
+    effects); [percept] writes a percept ([Value.to_literal]; [keep] for a
+    dequeue), [name] names an instance's behaviour. What {!step} writes,
+    and what the judge expects. *)
+
+val body : Eval.event -> Trace.body option
+(** The line of a body's event; [None] for [Ran], which is no line. *)
 
 val host : t -> agent:string -> config -> unit
 (** The line of a host rule (Notify, NotifyWith, Put, Send), from the

@@ -54,6 +54,11 @@ let event_name = function
      | Log _ -> "log" | Invoke _ -> "invoke" | Send _ -> "send" | Activate _ -> "activate"
      | Deactivate _ -> "deactivate" | Error _ -> "error")
 
+let observable = function
+  | Transfer _ | Transfer_one _ | Transfer_spin _ | Transfer_end | Dequeue _ | Skip _
+  | End_dispatch { discarded = false; _ } | Next_iteration | Idle -> false
+  | _ -> true
+
 let action = function
   | Create _ -> Some "Init"
   | Notify { overridden; _ } -> Some (if overridden then "NotifyWith" else "Notify")
@@ -71,13 +76,14 @@ type behaviour_info = { name : string; kind : string; has_action : bool;
 
 type header = {
   variant : string; tie_policy : string; budget : int; o2a_capacity : int option;
-  seed : int option; agents : (string * string) list;
+  seed : int option; level : string; agents : (string * string) list;
   behaviours : behaviour_info list; percepts : (string * int) list;
 }
 
 (* ------------------------------------------------------------ encoding *)
 
-let version = 1
+let version = 2
+let levels = [ "full"; "observable" ]
 
 let str s = `String s
 let int i = `Int i
@@ -137,7 +143,7 @@ let header_to_json h =
   `Assoc [
     "trace", str "jadescript-ref"; "version", int version;
     "variant", str h.variant; "tie_policy", str h.tie_policy; "budget", int h.budget;
-    "o2a_capacity", opt_int h.o2a_capacity; "seed", opt_int h.seed;
+    "o2a_capacity", opt_int h.o2a_capacity; "seed", opt_int h.seed; "level", str h.level;
     "agents", `List (List.map (fun (n, ty) -> `Assoc [ "name", str n; "type", str ty ]) h.agents);
     "program", `Assoc [
       "behaviours", `List (List.map (fun b ->
@@ -323,13 +329,16 @@ let header_of_json j =
   | `Assoc fs when is_header j ->
     (try
        if get_str "trace" fs <> "jadescript-ref" then bad "not a jadescript-ref trace";
-       (match List.assoc_opt "version" fs with
-        | Some (`Int v) when v = version -> ()
-        | Some (`Int v) -> bad "trace format version %d is not supported (this reader knows version %d)" v version
-        | Some v -> bad "field \"version\" is %s, not the integer %d" (describe v) version
-        | None -> bad "the header has no field \"version\" (this reader knows version %d)" version);
+       (* version 1: no level (every rule has its line); version 2 names it *)
+       let v = match List.assoc_opt "version" fs with
+         | Some (`Int v) when v = 1 || v = version -> v
+         | Some (`Int v) -> bad "trace format version %d is not supported (this reader knows versions 1 and %d)" v version
+         | Some v -> bad "field \"version\" is %s, not the integer %d" (describe v) version
+         | None -> bad "the header has no field \"version\" (this reader knows versions 1 and %d)" version in
        exact_fields " in the header" fs
-         [ "trace"; "version"; "variant"; "tie_policy"; "budget"; "o2a_capacity"; "seed"; "agents"; "program" ];
+         ([ "trace"; "version"; "variant"; "tie_policy"; "budget"; "o2a_capacity"; "seed" ]
+          @ (if v = 1 then [] else [ "level" ]) @ [ "agents"; "program" ]);
+       let level = if v = 1 then "full" else one_of "level" fs levels in
        let program = get_obj "program" fs in
        exact_fields " in \"program\"" program [ "behaviours"; "percepts" ];
        let o2a_capacity = get_opt_int "o2a_capacity" fs in
@@ -343,7 +352,7 @@ let header_of_json j =
        let percepts = get_obj "percepts" program in
        exact_fields " in \"percepts\"" percepts (List.map fst percepts);
        Ok { variant = one_of "variant" fs variants; tie_policy = one_of "tie_policy" fs tie_policies;
-            budget = get_pos "budget" fs; o2a_capacity; seed;
+            budget = get_pos "budget" fs; o2a_capacity; seed; level;
             agents = (match field "agents" fs with
                 | `List l -> List.map (function
                     | `Assoc a ->
@@ -764,16 +773,20 @@ let max_line = 16 * 1024 * 1024
 
 (* The next line, without its newline; [None] at the end of the file.
    @raise Located when longer than [max_line] *)
+let last_had_newline = ref true
+
 let bounded_line ic n =
   let b = Buffer.create 256 in
   let rec go () =
     match input_char ic with
-    | '\n' -> Some (Buffer.contents b)
+    | '\n' -> last_had_newline := true; Some (Buffer.contents b)
     | c ->
       if Buffer.length b >= max_line then
         raise (Located (n, Printf.sprintf "a line longer than %d bytes: not a trace" max_line));
       Buffer.add_char b c; go ()
-    | exception End_of_file -> if Buffer.length b = 0 then None else Some (Buffer.contents b) in
+    | exception End_of_file ->
+      last_had_newline := false;
+      if Buffer.length b = 0 then None else Some (Buffer.contents b) in
   go ()
 
 (* One printable line: control characters of a message shown as '?'. *)
@@ -810,6 +823,43 @@ let read_located path =
   with
   | (Some h, lines) -> Ok (h, List.rev lines)
   | (None, _) -> Error (1, "not a jadescript-ref trace (no header line)")
+  | exception Located (n, m) -> Error (n, m)
+  | exception Sys_error m -> Error (1, m)
+
+(* One line at a time, as read_located reads them: [f] gets the header,
+   then each line, with its number; memory does not grow with the file. A
+   last line with no newline that is not JSON (a run killed while it wrote
+   it) is not read: [Ok true] says so. *)
+let stream path ~header ~line =
+  let located n fmt = Printf.ksprintf (fun m -> raise (Located (n, m))) fmt in
+  match
+    let ic = open_in_bin path in
+    Fun.protect ~finally:(fun () -> close_in_noerr ic) (fun () ->
+        let rec go seen n =
+          match bounded_line ic n with
+          | None -> (seen, false)
+          | Some l when String.trim l = "" -> go seen (n + 1)
+          | Some l ->
+            let cut = not !last_had_newline in
+            (match Utf8.first_invalid l with
+             | Some k -> if cut then raise Exit else located n "not JSON: byte %d is not valid UTF-8" (k + 1)
+             | None -> ());
+            let j = match Yojson.Safe.from_string l with
+              | j -> j
+              | exception Yojson.Json_error m -> if cut then raise Exit else located n "not JSON: %s" (printable m) in
+            if not seen then begin
+              match header_of_json j with
+              | Ok h -> header h; go true (n + 1)
+              | Error m -> located n "%s" m
+            end else begin
+              match line_of_json j with
+              | Ok l -> line n l; go seen (n + 1)
+              | Error m -> located n "%s" m
+            end in
+        try go false 1 with Exit -> (true, true))
+  with
+  | (true, cut) -> Ok cut
+  | (false, _) -> Error (1, "not a jadescript-ref trace (no header line)")
   | exception Located (n, m) -> Error (n, m)
   | exception Sys_error m -> Error (1, m)
 

@@ -68,6 +68,13 @@ type event =
 type line = { step : int; agent : string; event : event }
 (** [step] numbers the lines of a trace from 1, after the header. *)
 
+val observable : event -> bool
+(** Whether an event is written in an observable trace (docs/trace-format.md,
+    "Observable traces"): every event but the loop's own steps (transfer,
+    transfer_one, transfer_spin, transfer_end, dequeue, skip, end_dispatch,
+    next_iteration, idle). A discard is written: a percept no handler took
+    is what the loop promises a program to show. *)
+
 val event_name : event -> string
 (** The [event] field: ["create"], ["notify"], ..., ["log"], ["error"]. *)
 
@@ -85,6 +92,10 @@ type header = {
   budget : int;
   o2a_capacity : int option;
   seed : int option;
+  level : string;
+      (** ["full"]: every rule has its line; ["observable"]: the loop's own
+          steps have none (docs/trace-format.md, "Observable traces");
+          a version 1 header has no level: ["full"] *)
   agents : (string * string) list;          (** name, type *)
   behaviours : behaviour_info list;
   percepts : (string * int) list;           (** percept type, default priority *)
@@ -164,6 +175,15 @@ val read_located : string -> (header * (int * line) list, int * string) result
     its lines with their line numbers; [Error (line, message)] on the first
     line that is not JSON, not a header of version 1 with known values, or not
     an event with every field of the right type (docs/trace-format.md). *)
+
+val stream : string -> header:(header -> unit) -> line:(int -> line -> unit) -> (bool, int * string) result
+(** The trace one line at a time, read as {!read_located} reads it: [header]
+    is called with the header, then [line] with each line and its number,
+    as they are read (memory does not grow with the file; an exception they
+    raise goes through). [Ok cut]: the file was read to its end; [cut] when
+    its last line, with no newline, was not JSON (a run killed while it
+    wrote that line: the lines before it stand). [Error (line, message)] on
+    the first bad line. *)
 
 val read_file : string -> (header * (int * line) list, string) result
 (** A whole trace: its header and its lines with their line numbers.

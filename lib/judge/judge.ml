@@ -1,0 +1,473 @@
+(* The judge: a trace replayed through the reference semantics of the
+   program that ran (docs/trace-format.md, "Judging a run"). The trace
+   gives only the choices the rulings leave open: which agent's rule comes
+   next (R6), when each host event and each delivery comes, which entry
+   of the highest priority a Dequeue takes under unstable ties. The
+   program gives everything else; the first line no run of the program
+   explains is the verdict.
+
+   For each agent the judge keeps the configurations of the reference
+   machine the run can be in at this point of the trace (its
+   candidates), each with the body lines its last rule still owes.
+   In a full trace every rule has its line, and there is one candidate.
+   In an observable trace the loop's own steps have none: before each line
+   of an agent, a candidate may take any of them first, so the candidates
+   are every configuration those hidden steps reach; each line keeps those
+   that explain it. The candidates share the program's data (the agents'
+   properties, which no hidden step changes) and are bounded in number. *)
+
+module Mc = Semantics.Machine
+module P = Interp.Runtime.P
+module M = P.M
+module V = Interp.Value
+module E = Interp.Eval
+module T = Typing.Tenv
+
+type level = Full | Observable
+
+let level_of_string = function "full" -> Some Full | "observable" -> Some Observable | _ -> None
+let string_of_level = function Full -> "full" | Observable -> "observable"
+
+type options = {
+  fuel : int;
+  max_memory : int option;
+  bound : int;
+}
+
+let default_options = { fuel = 100_000; max_memory = None; bound = 64 }
+
+type verdict =
+  | Accepted of { lines : int; complete : bool; cut : bool; level : level }
+  | Rejected of { line : int; message : string }
+
+exception Reject of int * string
+
+(* ------------------------------------------------------------ state *)
+
+(* A configuration the agent can be in, and the body lines (action,
+   body) its last rule still owes, oldest first, with the message each
+   send line posts. *)
+type cand = {
+  c : M.t;
+  owed : (string * Trace.body * E.message list) list;
+}
+
+(* The platform's own agents (R5e): messages to them are answered by the
+   platform, never traced as theirs. *)
+let platform_agents = [ "ams"; "df" ]
+
+type agent = {
+  name : string;
+  atype : string;
+  args : V.t list;
+  mutable cands : cand list;
+  mutable created : bool;
+  mutable destroyed : bool;
+  names : (int, string) Hashtbl.t;   (* instance id -> its behaviour, when last seen *)
+  mutable undeliverable : (string * E.message) list;   (* sent to absent agents, oldest first *)
+}
+
+type st = {
+  env : T.t;
+  params : Mc.params;
+  config : E.config;
+  level : level;
+  bound : int;
+  agents : agent array;
+  inflight : (string, (string * E.message) Queue.t) Hashtbl.t;
+      (* per receiver, the messages sent to it and not yet delivered, in
+         the order of the sends (R5e) *)
+  mutable ncreated : int;
+  mutable lines : int;
+}
+
+let reject n fmt = Printf.ksprintf (fun m -> raise (Reject (n, m))) fmt
+
+let find_agent st name =
+  let rec go i = if i >= Array.length st.agents then None
+    else if String.equal st.agents.(i).name name then Some st.agents.(i) else go (i + 1) in
+  go 0
+
+let queue st r = match Hashtbl.find_opt st.inflight r with
+  | Some q -> q
+  | None -> let q = Queue.create () in Hashtbl.replace st.inflight r q; q
+
+(* ------------------------------------------------- what a rule writes *)
+
+let show_event (e : Trace.event) =
+  let j = Trace.line_to_json { Trace.step = 1; agent = ""; event = e } in
+  Yojson.Safe.to_string (Trace.without_step (match j with
+      | `Assoc f -> `Assoc (List.remove_assoc "agent" f) | j -> j))
+
+let show_body action b = show_event (Trace.Body { action; body = b })
+
+let note_names ag (c : M.t) =
+  List.iter (fun (i : E.beh Mc.instance) -> Hashtbl.replace ag.names i.id (E.beh_type i.beh)) c.active
+
+(* The behaviour of instance [id] as a line names it: active before the
+   rule, else after it, else when last seen (a Skip of an instance an
+   earlier handler of the dispatch deactivated). *)
+let name_of ag (before : M.t) (after : M.t) id =
+  let find (c : M.t) = List.find_map (fun (i : E.beh Mc.instance) ->
+      if i.id = id then Some (E.beh_type i.beh) else None) c.active in
+  match find before with
+  | Some n -> n
+  | None -> match find after with
+    | Some n -> n
+    | None -> match Hashtbl.find_opt ag.names id with Some n -> n | None -> "?"
+
+(* The line rule [l] writes, reaching [c'] with these body events. *)
+let expected ag ~(before : M.t) (c' : M.t) l evs =
+  Interp.Tracer.event_of ~percept:(fun ?keep:_ v -> V.to_literal v) ~name:(name_of ag before c') c' l evs
+
+(* The body lines of a rule's events (Ran is no line), each send with the
+   messages it posts, one per receiver. *)
+let owed_of sender action evs =
+  List.filter_map (fun (ev : E.event) ->
+      match Interp.Tracer.body ev with
+      | None -> None
+      | Some b ->
+        let msgs = match ev with
+          | E.Sent { perf; content; receivers } ->
+            List.map (fun _ -> { E.perf; content; sender }) receivers
+          | _ -> [] in
+        Some (action, b, msgs)) evs
+
+(* The configuration after a rule, its events and messages taken out (the
+   events are the rule's, the messages are posted by its send lines). *)
+let settle (c : M.t) =
+  let (world, evs) = E.take_events c.world in
+  let (world, _) = E.Bodies.take_outbox world in
+  ({ c with world }, evs)
+
+(* ------------------------------------------------------ hidden steps *)
+
+(* The rules an observable trace does not show: the loop's own steps
+   (docs/trace-format.md, "Observable traces"). *)
+let hidden (l : M.lbl) = match l with
+  | Mc.Transfer _ | Mc.Transfer_one _ | Mc.Transfer_spin _ | Mc.Transfer_end | Mc.Dequeue _
+  | Mc.Skip _ | Mc.Next_iteration | Mc.Idle -> true
+  | Mc.End_dispatch { discarded; _ } -> not discarded
+  | _ -> false
+
+(* A key of a candidate, for merging equal ones: the configuration but its
+   agent's data (shared) and its last label, and what it owes. *)
+let key (x : cand) =
+  let c = x.c in
+  let b = Buffer.create 128 in
+  let add s = Buffer.add_string b s; Buffer.add_char b ' ' in
+  let int i = add (string_of_int i) in
+  add (match c.phase with Mc.Transfer_phase -> "t" | Dispatch_phase -> "d" | Handle_phase -> "h" | Idle_phase -> "i");
+  Semantics.Fqueue.fold (fun () -> function Mc.O_percept e -> int e.seq | Mc.O_object _ -> add "o") () c.o2a;
+  add "|";
+  Semantics.Pqueue.fold (fun () (e : V.t Mc.entry) -> int e.seq) () c.pq;
+  add "|";
+  Semantics.Fqueue.fold (fun () -> function Mc.M_message { mseq; _ } -> int mseq | Mc.M_percept e -> int (- e.seq)) () c.msgq;
+  add "|"; int c.next_seq; int c.msg_seq; int c.puts; int c.pos; int c.dispatched;
+  List.iter (fun (i : E.beh Mc.instance) -> int i.id) c.active; add "|";
+  List.iter int c.ready; add "|"; List.iter int c.blocked; add "|";
+  (match c.cur with
+   | Some d -> int d.e.seq; List.iter (fun (i, h) -> int i; int h) d.todo; add (string_of_bool d.applied)
+   | None -> add "-");
+  int c.world.next_uid; int (List.length x.owed);
+  List.iter (fun (a, body, _) -> add a; add (show_body a body)) x.owed;
+  Buffer.contents b
+
+let merge st n cands =
+  match cands with
+  | [] | [ _ ] -> cands
+  | _ ->
+  let seen = Hashtbl.create 8 in
+  let out = List.filter (fun x ->
+      let k = key x in
+      if Hashtbl.mem seen k then false else (Hashtbl.replace seen k (); true)) cands in
+  if List.length out > st.bound then
+    reject n "more than %d configurations of the agent explain the trace so far (the judge's search bound, --bound)" st.bound;
+  out
+
+(* Every configuration a candidate may be in before its next line: itself
+   and, in an observable trace, those hidden steps reach (a hidden step
+   whose bodies record something, an error of a guard, stops there: its
+   lines come next). *)
+let expand st ag n (cands : cand list) =
+  if st.level = Full then cands
+  else begin
+    let out = ref [] and count = ref 0 in
+    let rec go (x : cand) depth =
+      out := x :: !out;
+      incr count;
+      if !count > 100 * st.bound then
+        reject n "agent %s: the hidden steps before this line go on past the judge's search bound" ag.name;
+      if x.owed = [] && depth < 10_000 then
+        List.iter (fun (l, c') ->
+            if hidden l then begin
+              let (c', evs) = settle c' in
+              go { c = c'; owed = owed_of ag.name (Mc.action_name l) evs } (depth + 1)
+            end) (M.step st.params x.c) in
+    List.iter (fun x -> go x 0) cands;
+    merge st n (List.rev !out)
+  end
+
+(* ------------------------------------------------------------- lines *)
+
+let receivers_known st r = find_agent st r <> None || List.mem r platform_agents
+
+(* The messages a matched send line posts: in flight to its receivers; to
+   an absent one, owed as undeliverable by the sender; to a platform agent,
+   answered (R5e): not_understood, carrying what it could not read. *)
+let post st ag (msgs : E.message list) receivers =
+  List.iter2 (fun r (m : E.message) ->
+      if find_agent st r <> None then Queue.push (ag.name, m) (queue st r)
+      else if List.mem r platform_agents then
+        Queue.push (r, { E.perf = "not_understood"; content = m.content; sender = r }) (queue st ag.name)
+      else ag.undeliverable <- ag.undeliverable @ [ (r, m) ]) receivers msgs
+
+let agent_line st n ag (ev : Trace.event) =
+  match ev with
+  | Trace.Body { action; body } ->
+    let cands = expand st ag n ag.cands in
+    let posted = ref None in
+    let kept = List.filter_map (fun x -> match x.owed with
+        | (a, b, msgs) :: rest when a = action && b = body -> posted := Some msgs; Some { x with owed = rest }
+        | _ -> None) cands in
+    (match kept with
+     | [] ->
+       let owes = List.filter_map (fun x -> match x.owed with (a, b, _) :: _ -> Some (show_body a b) | [] -> None) cands in
+       reject n "agent %s: %s" ag.name
+         (match owes with
+          | [] -> Printf.sprintf "no rule of the program writes %s here" (show_event ev)
+          | o :: _ -> Printf.sprintf "the program writes %s here, not %s" o (show_event ev))
+     | _ ->
+       (match body, !posted with
+        | Trace.Send { receivers; _ }, Some msgs -> post st ag msgs receivers
+        | _ -> ());
+       ag.cands <- merge st n kept)
+  | _ ->
+    let cands = expand st ag n ag.cands in
+    let alternatives = ref [] in
+    let kept = List.concat_map (fun x ->
+        if x.owed <> [] then begin
+          (match x.owed with (a, b, _) :: _ -> alternatives := show_body a b :: !alternatives | [] -> ());
+          []
+        end else
+          List.filter_map (fun (l, c') ->
+              let (c', evs) = settle c' in
+              let e = expected ag ~before:x.c c' l evs in
+              if e = ev then Some { c = c'; owed = owed_of ag.name (Mc.action_name l) evs }
+              else begin
+                if not (st.level = Observable && hidden l) then alternatives := show_event e :: !alternatives;
+                None
+              end) (M.step st.params x.c)) cands in
+    (match kept with
+     | [] ->
+       reject n "agent %s: %s" ag.name
+         (match List.sort_uniq compare !alternatives with
+          | [] -> Printf.sprintf "the program takes no rule here (the agent is idle), not %s" (show_event ev)
+          | [ a ] -> Printf.sprintf "the program takes %s here, not %s" a (show_event ev)
+          | alts -> Printf.sprintf "the program takes one of %s here, not %s" (String.concat " or " alts) (show_event ev))
+     | _ -> List.iter (fun x -> note_names ag x.c) kept; ag.cands <- merge st n kept)
+
+(* ------------------------------------------------------------- host *)
+
+(* A host operation on the agent: [f] on every candidate (after hidden
+   steps, in an observable trace), each answering the configuration after
+   it, or [None] when the operation cannot be there; [what] for the
+   verdict. *)
+let host st n ag what f =
+  let cands = List.filter (fun x -> x.owed = []) (expand st ag n ag.cands) in
+  match List.filter_map (fun x -> Option.map (fun c -> { c; owed = [] }) (f x.c)) cands with
+  | [] -> reject n "agent %s: %s" ag.name what
+  | kept -> ag.cands <- merge st n kept
+
+let parse_value ~file n text =
+  match Syntax.Parse.expr ~file text with
+  | e -> e
+  | exception Syntax.Diag.Failed d -> reject n "%s is not a Jadescript value: %s" text d.message
+
+let percept_of st n ag text =
+  match E.percept_value st.env ~agent_type:ag.atype (parse_value ~file:"trace" n text) with
+  | r -> r
+  | exception (E.Trap (_, m) | E.Link (_, m)) -> reject n "the percept %s: %s" text m
+
+let literal_of st n text =
+  match E.literal_value st.env (parse_value ~file:"trace" n text) with
+  | v -> v
+  | exception (E.Trap (_, m) | E.Link (_, m)) -> reject n "the value %s: %s" text m
+
+let notify st n ag (entry : Trace.entry) overridden =
+  let (v, default) = percept_of st n ag entry.percept in
+  let priority = if overridden then Some entry.priority else None in
+  host st n ag (Printf.sprintf "the notify of %s (priority %d, seq %d) cannot be here" entry.percept entry.priority entry.seq)
+    (fun c ->
+       match M.notify_event st.params c v ~default ~priority with
+       | Ok c' ->
+         (match c'.last with
+          | Mc.Notify e | Mc.Notify_with e when e.prio = entry.priority && e.seq = entry.seq -> Some c'
+          | _ -> None)
+       | Error _ -> None)
+
+let refused st n ag text =
+  let (v, default) = percept_of st n ag text in
+  host st n ag (Printf.sprintf "the O2A queue has room: %s is not refused (R2d)" text) (fun c ->
+      match M.notify_event st.params c v ~default ~priority:None with
+      | Error Mc.O2a_full -> Some c
+      | _ -> None)
+
+let refused_put st n ag text =
+  ignore (literal_of st n text);
+  host st n ag (Printf.sprintf "the O2A queue has room: %s is not refused (R2d)" text) (fun c ->
+      if M.o2a_has_room st.params c then None else Some c)
+
+let put st n ag text index =
+  let v = literal_of st n text in
+  host st n ag (Printf.sprintf "the put of %s (index %d) cannot be here" text index) (fun c ->
+      if not (M.o2a_has_room st.params c) then None
+      else let c' = M.put st.params c v in if c'.puts = index then Some c' else None)
+
+(* A delivery (R5e): from the host (what the events file sent), or the
+   oldest message in flight to the agent, which must be this one. *)
+let deliver st n ag (m : Trace.message) seq =
+  let msg =
+    if m.from = "host" then { E.perf = m.performative; content = literal_of st n m.content; sender = "host" }
+    else match Queue.peek_opt (queue st ag.name) with
+      | Some (sender, msg) when sender = m.from && msg.perf = m.performative && V.to_literal msg.content = m.content ->
+        ignore (Queue.pop (queue st ag.name)); msg
+      | Some (sender, msg) ->
+        reject n "agent %s: the next message to reach it is %s %s from %s (R5e: in the order of the sends), not %s %s from %s"
+          ag.name msg.perf (V.to_literal msg.content) sender m.performative m.content m.from
+      | None ->
+        reject n "agent %s: no message sent to it waits for delivery (%s %s from %s)" ag.name m.performative m.content m.from in
+  host st n ag (Printf.sprintf "the delivery of seq %d cannot be here" seq) (fun c ->
+      let c' = M.send st.params c msg in
+      if c'.msg_seq = seq then Some c' else None)
+
+let undeliverable st n ag receiver perf content =
+  match ag.undeliverable with
+  | (r, m) :: rest when r = receiver && m.perf = perf && V.to_literal m.content = content ->
+    ag.undeliverable <- rest;
+    (* R5e: the platform answers the sender with a failure from ams, which
+       reaches it like any message *)
+    Queue.push ("ams", { E.perf = "failure"; content = V.Aid receiver; sender = "ams" }) (queue st ag.name)
+  | _ ->
+    reject n "agent %s: no message of it to %s waits to be reported undeliverable (%s %s)" ag.name receiver perf content
+
+let create st n ag (agent_type, args, behaviours) =
+  if ag.created then reject n "agent %s is created twice" ag.name;
+  let want = st.agents.(st.ncreated) in
+  if want != ag then reject n "agent %s is created before %s (R5g: in the order the host gives)" ag.name want.name;
+  if agent_type <> ag.atype then reject n "agent %s is a %s, not a %s" ag.name ag.atype agent_type;
+  let lits = List.map V.to_literal ag.args in
+  if lits <> args then
+    reject n "agent %s is created with [%s], not [%s]" ag.name (String.concat ", " lits) (String.concat ", " args);
+  let (a, behs) = match E.create_agent ~config:st.config st.env ~name:ag.name ~atype:ag.atype ~args:ag.args with
+    | r -> r
+    | exception E.Link (_, m) -> reject n "agent %s cannot be created: %s" ag.name m in
+  let names = List.map E.beh_type behs in
+  if names <> behaviours then
+    reject n "agent %s's on create activates [%s], not [%s]" ag.name (String.concat ", " names) (String.concat ", " behaviours);
+  let c = M.init st.params ~world:a behs in
+  let (c, evs) = settle c in
+  ag.created <- true;
+  st.ncreated <- st.ncreated + 1;
+  note_names ag c;
+  ag.cands <- [ { c; owed = owed_of ag.name "Init" evs } ]
+
+let destroy st n ag =
+  if ag.destroyed then reject n "agent %s is destroyed twice" ag.name;
+  let cands = expand st ag n ag.cands in
+  let cands = List.filter (fun x -> x.owed = []) cands in
+  (match cands with
+   | [] -> reject n "agent %s: its last rule still owes its lines: %s" ag.name
+             (String.concat ", " (List.filter_map (fun x -> match x.owed with (a, b, _) :: _ -> Some (show_body a b) | [] -> None) ag.cands))
+   | _ -> ());
+  ag.destroyed <- true;
+  ag.cands <- List.map (fun x ->
+      let a = E.destroy_agent x.c.world in
+      let (a, evs) = E.take_events a in
+      let (a, _) = E.Bodies.take_outbox a in
+      { c = { x.c with world = a }; owed = owed_of ag.name "destroy" evs }) cands
+
+(* ------------------------------------------------------------ a line *)
+
+let line st n (l : Trace.line) =
+  st.lines <- st.lines + 1;
+  let ag = match find_agent st l.agent with
+    | Some a -> a
+    | None -> reject n "%s is not an agent of the run" l.agent in
+  (match l.event with
+   | Trace.Create _ -> ()
+   | _ when not ag.created -> reject n "agent %s is not created yet" ag.name
+   | Trace.Body _ when ag.destroyed -> ()
+   | _ when ag.destroyed -> reject n "agent %s was destroyed" ag.name
+   | _ -> ());
+  if st.level = Observable then begin
+    match l.event with
+    | Trace.Transfer _ | Trace.Transfer_one _ | Trace.Transfer_spin _ | Trace.Transfer_end | Trace.Dequeue _
+    | Trace.Skip _ | Trace.Next_iteration | Trace.Idle | Trace.End_dispatch { discarded = false; _ } ->
+      reject n "a %s line in an observable trace (its header says so): the loop's own steps are not written"
+        (Trace.event_name l.event)
+    | _ -> ()
+  end;
+  match l.event with
+  | Trace.Create { agent_type; args; behaviours } -> create st n ag (agent_type, args, behaviours)
+  | Trace.Notify { entry; overridden } -> notify st n ag entry overridden
+  | Trace.Refused { percept; _ } -> refused st n ag percept
+  | Trace.Refused_put { obj; _ } -> refused_put st n ag obj
+  | Trace.Put { obj; index } -> put st n ag obj index
+  | Trace.Deliver { message; seq } -> deliver st n ag message seq
+  | Trace.Undeliverable { receiver; performative; content } -> undeliverable st n ag receiver performative content
+  | Trace.Destroy -> destroy st n ag
+  | ev -> agent_line st n ag ev
+
+(* ------------------------------------------------------------- a run *)
+
+let check_header env (h : Trace.header) specs =
+  let fail fmt = Printf.ksprintf (fun m -> raise (Reject (1, m))) fmt in
+  let expected = Interp.Tracer.program_summary env in
+  if h.behaviours <> fst expected then fail "the header's behaviours are not the program's";
+  if List.sort compare h.percepts <> List.sort compare (snd expected) then fail "the header's percept types are not the program's";
+  let agents = List.map (fun (n, ty, _) -> (n, ty)) specs in
+  if h.agents <> agents then
+    fail "the header's agents are [%s], the judge was given [%s]"
+      (String.concat ", " (List.map (fun (n, t) -> n ^ ":" ^ t) h.agents))
+      (String.concat ", " (List.map (fun (n, t) -> n ^ ":" ^ t) agents))
+
+let params_of (h : Trace.header) =
+  let variant = Option.get (Mc.variant_of_string h.variant) in
+  { Mc.default_params with variant; tie = (if h.tie_policy = "unstable" then Mc.Unstable else Mc.Stable);
+                           budget = h.budget; o2a_capacity = h.o2a_capacity }
+
+let judge env ~agents ?(options = default_options) path =
+  let st = ref None in
+  let header (h : Trace.header) =
+    check_header env h agents;
+    let level = match level_of_string h.level with Some l -> l | None -> Full in
+    st := Some { env; params = params_of h;
+                 config = { E.default_config with fuel = options.fuel; max_memory = options.max_memory };
+                 level; bound = options.bound;
+                 agents = Array.of_list (List.map (fun (name, atype, args) ->
+                     { name; atype; args; cands = []; created = false; destroyed = false;
+                       names = Hashtbl.create 8; undeliverable = [] }) agents);
+                 inflight = Hashtbl.create 8; ncreated = 0; lines = 1 };
+    () in
+  let on_line n l = match !st with Some s -> line s n l | None -> () in
+  match Trace.stream path ~header ~line:on_line with
+  | Error (n, m) -> Rejected { line = n; message = m }
+  | exception Reject (n, m) -> Rejected { line = n; message = m }
+  | Ok cut ->
+    let s = Option.get !st in
+    let complete = Array.for_all (fun a -> a.destroyed) s.agents in
+    (match
+       if complete && not cut then begin
+         (* D26: a run that ended has delivered every message but those of
+            on destroy; every line a rule owed is written *)
+         Array.iter (fun a ->
+             if List.for_all (fun x -> x.owed <> []) a.cands then
+               raise (Reject (s.lines + 1, Printf.sprintf "agent %s: the trace ends before the lines its on destroy owes" a.name));
+             (match a.undeliverable with
+              | (r, _) :: _ -> raise (Reject (s.lines + 1, Printf.sprintf "agent %s: its message to %s was never reported undeliverable (R5e)" a.name r))
+              | [] -> ())) s.agents
+       end
+     with
+     | () -> Accepted { lines = s.lines; complete; cut; level = s.level }
+     | exception Reject (n, m) -> Rejected { line = n; message = m })
