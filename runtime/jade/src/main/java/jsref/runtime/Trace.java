@@ -87,7 +87,7 @@ public final class Trace {
     for (Map.Entry<String, Integer> e : percepts.entrySet()) ps.put(e.getKey(), e.getValue());
     line(new Json.Obj().put(Header.TRACE, Value.FORMAT).put(Header.VERSION, Value.VERSION)
         .put(Header.VARIANT, variant).put(Header.TIE_POLICY, Value.STABLE).put(Header.BUDGET, budget)
-        .put(Header.O2A_CAPACITY, o2aCapacity).put(Header.SEED, seed).put(Header.AGENTS, as)
+        .put(Header.O2A_CAPACITY, o2aCapacity).put(Header.SEED, seed).put(Header.LEVEL, Value.FULL).put(Header.AGENTS, as)
         .put(Header.PROGRAM, new Json.Obj().put(Field.BEHAVIOURS, bs).put(Header.PERCEPTS, ps)).toString());
   }
 

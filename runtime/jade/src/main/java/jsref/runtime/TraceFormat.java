@@ -1,6 +1,6 @@
 package jsref.runtime;
 
-/** The names of the trace format (docs/trace-format.md, version 1), written
+/** The names of the trace format (docs/trace-format.md, version 2), written
     once: every event name, every field name of a line and of the header, the
     action names and the effect words. They are the names of the OCaml owner
     of the format, {@code lib/trace/trace.ml}; the runtime's test
@@ -112,6 +112,8 @@ public final class TraceFormat {
     public static final String BUDGET = "budget";
     public static final String O2A_CAPACITY = "o2a_capacity";
     public static final String SEED = "seed";
+    /** Version 2: {@code full} (every rule has its line) or {@code observable}. */
+    public static final String LEVEL = "level";
     public static final String AGENTS = "agents";
     public static final String PROGRAM = "program";
     public static final String PERCEPTS = "percepts";
@@ -129,7 +131,11 @@ public final class TraceFormat {
     /** The header's {@code trace}. */
     public static final String FORMAT = "jadescript-ref";
     /** The header's {@code version}: the version this runtime writes. */
-    public static final int VERSION = 1;
+    public static final int VERSION = 2;
+    /** The header's {@code level}: every rule has its line. */
+    public static final String FULL = "full";
+    /** The header's {@code level}: the loop's own steps have no line. */
+    public static final String OBSERVABLE = "observable";
     /** The header's {@code tie_policy} in every run of the runtime (R3b). */
     public static final String STABLE = "stable";
     /** The {@code reason} of every {@code refused} line (R2d). */
