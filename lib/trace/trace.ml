@@ -757,11 +757,10 @@ let fold_file path f init =
         | exception End_of_file -> acc
         | l ->
           if String.trim l = "" then go acc (n + 1)
-          else match Yojson.Safe.from_string l with
-            | j -> go (f acc n j) (n + 1)
-            | exception Yojson.Json_error m ->
-              failwith (Printf.sprintf "%s:%d:1: error: not JSON: %s" path n
-                          (String.concat " " (String.split_on_char '\n' m))) in
+          else match Json_read.of_string l with
+            | Ok j -> go (f acc n j) (n + 1)
+            | Error e ->
+              failwith (Printf.sprintf "%s:%d:%d: error: not JSON: %s" path n e.column e.message) in
       go init 1)
 
 exception Located of int * string
@@ -789,9 +788,8 @@ let bounded_line ic n =
       if Buffer.length b = 0 then None else Some (Buffer.contents b) in
   go ()
 
-(* One printable line: control characters of a message shown as '?'. *)
-let printable m =
-  String.map (fun c -> if c = '\n' || c = '\t' then ' ' else if Char.code c < 0x20 || c = '\127' then '?' else c) m
+(* What the JSON reader said, with its column (a trace line is one line). *)
+let json_error (e : Json_read.error) = Printf.sprintf "%s (column %d)" e.message e.column
 
 let read_located path =
   let located n fmt = Printf.ksprintf (fun m -> raise (Located (n, m))) fmt in
@@ -806,10 +804,9 @@ let read_located path =
             (match Utf8.first_invalid l with
              | Some k -> located n "not JSON: byte %d is not valid UTF-8" (k + 1)
              | None -> ());
-            let j = match Yojson.Safe.from_string l with
-              | j -> j
-              | exception Yojson.Json_error m ->
-                located n "not JSON: %s" (printable m) in
+            let j = match Json_read.of_string l with
+              | Ok j -> j
+              | Error e -> located n "not JSON: %s" (json_error e) in
             match h with
             | None ->
               (match header_of_json j with
@@ -844,9 +841,9 @@ let stream path ~header ~line =
             (match Utf8.first_invalid l with
              | Some k -> if cut then raise Exit else located n "not JSON: byte %d is not valid UTF-8" (k + 1)
              | None -> ());
-            let j = match Yojson.Safe.from_string l with
-              | j -> j
-              | exception Yojson.Json_error m -> if cut then raise Exit else located n "not JSON: %s" (printable m) in
+            let j = match Json_read.of_string l with
+              | Ok j -> j
+              | Error e -> if cut then raise Exit else located n "not JSON: %s" (json_error e) in
             if not seen then begin
               match header_of_json j with
               | Ok h -> header h; go true (n + 1)
