@@ -140,6 +140,31 @@ let eval () =
     1
   | Error `Exn -> 125
 
+(* The stack. A program's width costs stack as well as its depth: the
+   evaluator, the checker and the printer walk a list of a million items
+   (a list literal, the statements of a block, the behaviours of a
+   program, within the 64 MB of a source file) with [List.map] and
+   recursion as deep as the list is long, and the system's usual 8 MB
+   overflow near 200,000. So the soft limit is raised to 4 GiB (address
+   space only: a page is used when it is reached), or to the hard limit if
+   lower, and the command starts again, once (the variable
+   JSREF_STACK_RAISED says it has), since the room the kernel leaves for
+   the stack to grow into is set at exec from the limit then in force.
+   Descriptors and arguments are kept: standard input and an events file
+   given as a pipe are read by the second start only. The nesting a
+   program may have is bounded apart (D27). Test: "stack" in
+   test/hostile/test_hostile.ml. *)
+external raise_stack : int -> bool = "jsref_raise_stack"
+
+let stack_bytes = 4 * 1024 * 1024 * 1024
+
+let () =
+  if Sys.getenv_opt "JSREF_STACK_RAISED" = None && raise_stack stack_bytes then begin
+    Unix.putenv "JSREF_STACK_RAISED" "1";
+    (* if the program cannot start again, it goes on with the stack it has *)
+    try Unix.execv Sys.executable_name Sys.argv with Unix.Unix_error _ -> ()
+  end
+
 let () =
   let code = match eval () with
     | code -> code

@@ -88,6 +88,162 @@ let round_trip =
         | Ok w -> Yojson.Safe.to_string w = s
         | Error e -> QCheck.Test.fail_reportf "%s: %s" s (Json_read.to_string e))
 
+
+(* ------------------------------------------------------------ helpers *)
+
+let exe = Test_support.Support.exe
+let run = Test_support.Support.run_command
+let q = Filename.quote
+
+let has s sub =
+  let n = String.length s and m = String.length sub in
+  let rec go i = i + m <= n && (String.sub s i m = sub || go (i + 1)) in
+  go 0
+
+let lines s = List.filter (( <> ) "") (String.split_on_char '\n' s)
+
+(* [FILE:LINE:COL: error: ...] or [jadescript-ref: error: ...], one line,
+   exit 1 *)
+let one_error ?(says = "") ~what (status, _, err) =
+  Alcotest.(check int) (what ^ ": exit 1 (" ^ err ^ ")") 1 status;
+  match lines err with
+  | [ l ] -> check (what ^ ": an error line: " ^ l) true
+               (has l ": error: " && not (has l "internal error") && has l says)
+  | _ -> Alcotest.failf "%s: expected one line, got: %s" what err
+
+(* ------------------------------------------------------------ stack *)
+
+(* A list literal of [n] items in a [log] (a wide program, not a deep one). *)
+let wide_list n =
+  "agent A\n\ton create do\n\t\tlog [" ^ String.concat ", " (List.init n (fun _ -> "1")) ^ "]\n"
+
+(* The command starts again with a large stack (bin/main.ml, "the stack"):
+   under a soft limit of 1 MB, which a list of 50,000 items overflows
+   without it, the program runs; a hard limit below the 4 GiB it asks for
+   is taken as it is, and the command does not start again and again. *)
+let stack_cases = [
+  "a wide program under a 1 MB soft stack limit", `Quick, (fun () ->
+      Test_support.Support.with_file "wide.jade" (wide_list 50_000) (fun f ->
+          let (status, out, err) =
+            run (Printf.sprintf "ulimit -S -s 1024; %s run %s --agent a:A" exe (q f)) in
+          Alcotest.(check int) ("exit 0: " ^ err) 0 status;
+          check "the log written" true (String.length out > 100_000)));
+  "a hard limit below 4 GiB: one start again, then the run", `Quick, (fun () ->
+      Test_support.Support.with_file "small.jade" "agent A\n\ton create do\n\t\tlog 1\n" (fun f ->
+          let (status, out, err) =
+            run (Printf.sprintf "ulimit -S -s 1024; ulimit -H -s 2048; timeout 20 %s run %s --agent a:A" exe (q f)) in
+          Alcotest.(check int) ("exit 0: " ^ err) 0 status;
+          Alcotest.(check string) "the log" "a: 1\n" out));
+  "stack already raised: no start again", `Quick, (fun () ->
+      Test_support.Support.with_file "small.jade" "agent A\n\ton create do\n\t\tlog 2\n" (fun f ->
+          let (status, out, _) =
+            run (Printf.sprintf "ulimit -S -s unlimited 2>/dev/null; timeout 20 %s run %s --agent a:A" exe (q f)) in
+          Alcotest.(check (pair int string)) "exit 0 and the log" (0, "a: 2\n") (status, out)));
+]
+
+(* ------------------------------------------------------------ events read once *)
+
+(* The events file given as a regular file, a pipe on the standard input
+   (/dev/stdin), a FIFO: the same trace each time, and every event in it
+   (a file read twice would leave a pipe empty the second time). *)
+let events_text =
+  {|{"agent":"r","notify":"position(0, 1)"}
+{"agent":"r","notify":"qrCodeRead(\"A7\")"}
+{"agent":"r","notify":"obstacle"}
+|}
+
+let events_once () =
+  let robome = q (Filename.concat root "examples/robome/robome.jade") in
+  Test_support.Support.with_file "events.jsonl" events_text (fun ev ->
+      let cmd events = Printf.sprintf "%s run %s --agent r:RoboMe:@robome --events %s --trace /dev/stdout"
+          exe robome events in
+      let (s0, file, e0) = run (cmd (q ev)) in
+      Alcotest.(check int) ("a file: exit 0 " ^ e0) 0 s0;
+      let notified = List.length (List.filter (fun l -> has l {|"notify"|} || has l "position(0, 1)") (lines file)) in
+      check "the file's events are in the trace" true (notified >= 1);
+      let (s1, piped, _) = run (Printf.sprintf "(cat %s | %s)" (q ev) (cmd "/dev/stdin")) in
+      Alcotest.(check (pair int string)) "a pipe on /dev/stdin: the same trace" (0, file) (s1, piped);
+      let fifo = Filename.concat (Filename.dirname ev) "events.fifo" in
+      let (s2, fifoed, e2) = run (Printf.sprintf "(mkfifo %s && (cat %s > %s &) && timeout 20 %s)"
+                                    (q fifo) (q ev) (q fifo) (cmd (q fifo))) in
+      Sys.remove fifo;
+      Alcotest.(check (pair int string)) ("a FIFO: the same trace " ^ e2) (0, file) (s2, fifoed))
+
+(* ------------------------------------------------------------ TLA+ values *)
+
+let tla_deep d = String.concat "" (List.init d (fun _ -> "<<")) ^ "1" ^ String.concat "" (List.init d (fun _ -> ">>"))
+
+let tla_refuses s () =
+  match Explore.Tla.parse s with
+  | _ -> Alcotest.failf "%s accepted" (short s)
+  | exception Explore.Tla.Parse_error m -> check ("an error: " ^ m) true (has m "nested")
+
+let tla_cases = [
+  "1,000 deep (the limit)", `Quick, (fun () -> ignore (Explore.Tla.parse (tla_deep Explore.Tla.max_depth)));
+  "1,001 deep", `Quick, tla_refuses (tla_deep (Explore.Tla.max_depth + 1));
+  "200,000 deep: an error, no stack overflow", `Quick, tla_refuses (tla_deep 200_000);
+  "200,000 sets and records deep", `Quick,
+  tla_refuses (String.concat "" (List.init 100_000 (fun _ -> "{[a |-> ")) ^ "1" ^ String.concat "" (List.init 100_000 (fun _ -> "]}")));
+  "a set of 1,000,000 elements", `Quick, (fun () ->
+      (* read, sorted, printed and compared in loops, within the test's
+         own stack of 8 MB *)
+      let n = 1_000_000 in
+      let s = "{" ^ String.concat ", " (List.init n string_of_int) ^ "}" in
+      match Explore.Tla.parse s with
+      | Explore.Tla.Set l as v ->
+        Alcotest.(check int) "its size" n (List.length l);
+        Alcotest.(check int) "equal to itself" 0 (Explore.Tla.compare v v);
+        Alcotest.(check string) "printed back" s (Explore.Tla.to_string v)
+      | _ -> Alcotest.fail "not a set");
+]
+
+(* ------------------------------------------------------------ slots *)
+
+(* The slots of a schema that extends another: the parent's, in their
+   order, with the types of the overrides, then the new ones in theirs
+   (read in one pass: a concept may have many). *)
+let slots_of text name =
+  let r = Syntax.Parse.string ~file:"slots.jade" text in
+  let (env, ds) = Typing.check [ r ] in
+  List.iter (fun d -> if d.Syntax.Diag.severity = Syntax.Diag.Error then
+                Alcotest.failf "refused: %s" (Syntax.Diag.to_string d)) ds;
+  match Typing.Tenv.schema env name with
+  | Some s -> List.map fst s.Typing.Tenv.s_slots
+  | None -> Alcotest.failf "no schema %s" name
+
+let slot_cases = [
+  "overrides keep the parent's order", `Quick, (fun () ->
+      Alcotest.(check (list string)) "the slots of c" [ "x"; "y"; "w"; "z"; "v" ]
+        (slots_of {|ontology P
+    concept a(x as integer, y as integer)
+    concept b(w as integer, y as integer) extends a
+    concept c(z as integer, x as integer, v as integer) extends b
+|} "c"));
+  "10,000 slots, every one overridden", `Quick, (fun () ->
+      let n = 10_000 in
+      let names = List.init n (Printf.sprintf "s%d") in
+      let decl = String.concat ", " (List.map (fun x -> x ^ " as integer") names) in
+      let extra = String.concat ", " (List.map (fun x -> x ^ " as integer") (List.rev names) @ [ "t as integer" ]) in
+      Alcotest.(check (list string)) "the slots of b" (names @ [ "t" ])
+        (slots_of (Printf.sprintf "ontology P\n    concept a(%s)\n    concept b(%s) extends a\n" decl extra) "b"));
+]
+
+(* ------------------------------------------------------------ scenarios *)
+
+let scenario_cases =
+  let refused ?says what text () =
+    Test_support.Support.with_file "scenario.json" text (fun f ->
+        one_error ?says ~what (run (Printf.sprintf "%s sim %s" exe (q f)))) in [
+    "nested 200,000 deep", `Quick, refused ~says:"nested" "deep" (String.make 200_000 '[' ^ String.make 200_000 ']');
+    "longer than 1 MB", `Quick, refused ~says:"longer than 1048576 bytes" "long" ({|{"name": "|} ^ String.make 1_100_000 'a' ^ {|"}|});
+    "NaN", `Quick, refused ~says:":1:" "NaN" {|{"name": "x", "seed": NaN}|};
+  ]
+
 let () =
   Alcotest.run "hostile"
-    [ "json", json_cases @ [ round_trip ] ]
+    [ "json", json_cases @ [ round_trip ];
+      "stack", stack_cases;
+      "events read once", [ "a file, a pipe, a FIFO", `Quick, events_once ];
+      "TLA+ values", tla_cases;
+      "slots", slot_cases;
+      "scenarios", scenario_cases ]
