@@ -660,7 +660,7 @@ let fakes = [
   "dies of SIGSEGV", "\"$JSREF\" run \"$@\" >/dev/null 2>&1; kill -SEGV $$", false;
   "dies of SIGSEGV, no header", "\"$JSREF\" run \"$@\" >/dev/null 2>&1; tail -n +2 \"$T\" > \"$T.x\"; mv \"$T.x\" \"$T\"; kill -SEGV $$", false;
   "prints garbage", "head -c 3000 /dev/urandom > \"$T\"", false;
-  "writes version 999", "\"$JSREF\" run \"$@\" >/dev/null 2>&1; sed -i '1s/\"version\":1/\"version\":999/' \"$T\"", false;
+  "writes version 999", "\"$JSREF\" run \"$@\" >/dev/null 2>&1; sed -i '1s/\"version\":[0-9]*/\"version\":999/' \"$T\"", false;
   "writes no header", "\"$JSREF\" run \"$@\" >/dev/null 2>&1; tail -n +2 \"$T\" > \"$T.x\"; mv \"$T.x\" \"$T\"", false;
   "exits 3", "\"$JSREF\" run \"$@\" >/dev/null 2>&1; exit 3", false;
   "writes no trace", "exit 0", false;

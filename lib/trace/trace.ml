@@ -827,8 +827,9 @@ let read_located path =
    then each line, with its number; memory does not grow with the file. A
    last line with no newline that is not JSON (a run killed while it wrote
    it) is not read: [Ok true] says so. *)
-let stream path ~header ~line =
+let stream_cut path ~header ~line =
   let located n fmt = Printf.ksprintf (fun m -> raise (Located (n, m))) fmt in
+  let cut_at = ref 0 in
   match
     let ic = open_in_bin path in
     Fun.protect ~finally:(fun () -> close_in_noerr ic) (fun () ->
@@ -839,11 +840,12 @@ let stream path ~header ~line =
           | Some l ->
             let cut = not !last_had_newline in
             (match Utf8.first_invalid l with
-             | Some k -> if cut then raise Exit else located n "not JSON: byte %d is not valid UTF-8" (k + 1)
+             | Some k -> if cut && seen then (cut_at := n; raise Exit)
+               else located n "not JSON: byte %d is not valid UTF-8" (k + 1)
              | None -> ());
             let j = match Json_read.of_string l with
               | Ok j -> j
-              | Error e -> if cut then raise Exit else located n "not JSON: %s" (json_error e) in
+              | Error e -> if cut && seen then (cut_at := n; raise Exit) else located n "not JSON: %s" (json_error e) in
             if not seen then begin
               match header_of_json j with
               | Ok h -> header h; go true (n + 1)
@@ -855,10 +857,13 @@ let stream path ~header ~line =
             end in
         try go false 1 with Exit -> (true, true))
   with
-  | (true, cut) -> Ok cut
+  | (true, cut) -> Ok (if cut then Some !cut_at else None)
   | (false, _) -> Error (1, "not a jadescript-ref trace (no header line)")
   | exception Located (n, m) -> Error (n, m)
   | exception Sys_error m -> Error (1, m)
+
+let stream path ~header ~line =
+  Result.map Option.is_some (stream_cut path ~header ~line)
 
 let read_file path =
   match read_located path with

@@ -239,6 +239,136 @@ let scenario_cases =
     "NaN", `Quick, refused ~says:":1:" "NaN" {|{"name": "x", "seed": NaN}|};
   ]
 
+(* ------------------------------------------------------------ a cut trace *)
+
+(* A run killed with SIGKILL leaves its trace cut in the middle of a line:
+   validate checks the lines before it and names the cut; a line cut so
+   anywhere but last, or a cut header, is still an error. *)
+let cut_trace () =
+  let robome = q (Filename.concat root "examples/robome/robome.jade") in
+  Test_support.Support.with_file "events.jsonl" events_text (fun ev ->
+      let dir = Filename.dirname ev in
+      let full = Filename.concat dir "full.jsonl" in
+      let (s, _, e) = run (Printf.sprintf "%s run %s --agent r:RoboMe:@robome --events %s --trace %s"
+                             exe robome (q ev) (q full)) in
+      Alcotest.(check int) ("the run: " ^ e) 0 s;
+      let text = Test_support.Support.read_file full in
+      let ls = lines text in
+      let n = List.length ls in
+      let write name t = let f = Filename.concat dir name in
+        let oc = open_out_bin f in output_string oc t; close_out oc; f in
+      (* every cut inside the last line that leaves it not JSON *)
+      let last = List.nth ls (n - 1) in
+      let before = String.sub text 0 (String.length text - String.length last - 1) in
+      List.iter (fun k ->
+          let f = write "cut.jsonl" (before ^ String.sub last 0 k) in
+          match Explore.Validate.check f with
+          | Ok () -> ()
+          | Error (l, m) -> Alcotest.failf "cut after %d bytes of the last line: line %d: %s" k l m)
+        [ 1; 2; String.length last / 2; String.length last - 1 ];
+      let f = write "cut.jsonl" (before ^ String.sub last 0 (String.length last / 2)) in
+      let (s, _, e) = run (Printf.sprintf "%s validate %s" exe (q f)) in
+      Alcotest.(check int) ("validate: exit 0: " ^ e) 0 s;
+      (match lines e with
+       | [ l ] -> check ("the cut named: " ^ l) true (has l (Printf.sprintf "cut.jsonl:%d:1: warning: the last line is cut" n))
+       | _ -> Alcotest.failf "one warning line expected: %s" e);
+      (* a cut line that is not the last: an error at it *)
+      let second = List.nth ls 1 in
+      let f = write "mid.jsonl" (List.hd ls ^ "\n" ^ String.sub second 0 10 ^ "\n"
+                                 ^ String.concat "\n" (List.filteri (fun i _ -> i >= 2) ls) ^ "\n") in
+      (match Explore.Validate.check f with
+       | Error (2, _) -> ()
+       | Error (l, m) -> Alcotest.failf "a cut line 2: error at line %d: %s" l m
+       | Ok () -> Alcotest.fail "a line cut in the middle of the trace accepted");
+      (* a cut header: no trace *)
+      let f = write "head.jsonl" (String.sub (List.hd ls) 0 20) in
+      (match Explore.Validate.check f with
+       | Error (1, _) -> ()
+       | _ -> Alcotest.fail "a cut header accepted"))
+
+(* ------------------------------------------------------------ bodies and percepts *)
+
+(* validate holds a body's activate and deactivate events to its step's
+   effects, and parses every percept literal (lib/explore/trace_more.ml).
+   The trace of test/hostile/programs/effects.jade is spoilt one way at a
+   time, the steps numbered again, and validate's OCaml part must reject
+   it at the line named. *)
+let effects_trace () =
+  let prog = Filename.concat root "test/hostile/programs/effects.jade" in
+  let events = {|{"agent":"a","notify":"door(1)"}
+{"agent":"a","notify":"door(2)"}
+{"agent":"a","notify":"ping"}
+|} in
+  Test_support.Support.with_file "events.jsonl" events (fun ev ->
+      let dir = Filename.dirname ev in
+      let t0 = Filename.concat dir "t0.jsonl" in
+      let (s, _, e) = run (Printf.sprintf "%s run %s --agent a:A --events %s --trace %s"
+                             exe (q prog) (q ev) (q t0)) in
+      Alcotest.(check int) ("the run: " ^ e) 0 s;
+      let ls = Array.of_list (lines (Test_support.Support.read_file t0)) in
+      (* the lines, edited, written with their steps numbered 1, 2, 3... *)
+      let step_re = Str.regexp {|"step":[0-9]+|} in
+      let write ls =
+        let f = Filename.concat dir "t.jsonl" in
+        let oc = open_out_bin f in
+        List.iteri (fun i l ->
+            output_string oc (if i = 0 then l else Str.replace_first step_re (Printf.sprintf "\"step\":%d" i) l);
+            output_char oc '\n') ls;
+        close_out oc; f in
+      let all = Array.to_list ls in
+      (match Explore.Validate.check (write all) with
+       | Ok () -> ()
+       | Error (l, m) -> Alcotest.failf "the run's trace: line %d: %s" l m);
+      let find sub = let rec go i = if has ls.(i) sub then i else go (i + 1) in go 0 in
+      let handle_door = find {|"effects":["activate Door"]|} in
+      let act = find {|"event":"activate","action":"Handle"|} in
+      let rejected ~what ?line ~says ls =
+        match Explore.Validate.check (write ls) with
+        | Ok () -> Alcotest.failf "%s: accepted" what
+        | Error (l, m) ->
+          check (what ^ ": " ^ m) true (has m says);
+          Option.iter (fun line -> Alcotest.(check int) (what ^ ": the line") line l) line in
+      let edit i f = List.mapi (fun j l -> if j = i then f l else l) all in
+      let insert i x = List.concat (List.mapi (fun j l -> if j = i then [ l; x ] else [ l ]) all) in
+      rejected ~what:"activate Till where the effects say Door" ~line:(handle_door + 1) ~says:"effects"
+        (edit act (fun l -> Str.global_replace (Str.regexp_string {|"behaviour":"Door"|}) {|"behaviour":"Till"|} l));
+      rejected ~what:"a dropped activate" ~line:(handle_door + 1) ~says:"effects"
+        (List.filteri (fun j _ -> j <> act) all);
+      rejected ~what:"a tripled activate" ~line:(handle_door + 1) ~says:"effects"
+        (List.concat (List.mapi (fun j l -> if j = act then [ l; l; l ] else [ l ]) all));
+      rejected ~what:"a deactivate the effects do not have" ~line:(handle_door + 1) ~says:"effects"
+        (insert act {|{"step":0,"agent":"a","event":"deactivate","action":"Handle","instance":1}|});
+      (* percept literals: replaced in every line of one seq (notify, dequeue, handle) *)
+      let percept from into =
+        let jfrom = Printf.sprintf "%S" from and jinto = Yojson.Safe.to_string (`String into) in
+        List.map (fun l -> Str.global_replace (Str.regexp_string jfrom) jinto l) all in
+      rejected ~what:"a percept that does not parse" ~line:(find "door(1)" + 1) ~says:"does not parse"
+        (percept "door(1)" "door(<img src=x>, \"oops");
+      rejected ~what:"a percept not closed" ~says:"does not parse" (percept "door(1)" "door(1");
+      rejected ~what:"text after a percept" ~says:"does not parse" (percept "door(1)" "door(1) door(2)");
+      rejected ~what:"a percept of another arity" ~line:(find "door(2)" + 1) ~says:"slots"
+        (percept "door(2)" "door(2, 3)"))
+
+let literal_cases = [
+  "percept literals as the interpreter writes them", `Quick, (fun () ->
+      List.iter (fun (l, expected) ->
+          match Explore.Trace_more.literal_arity l with
+          | Ok r -> Alcotest.(check (pair string int)) l expected r
+          | Error m -> Alcotest.failf "%s: %s" l m) [
+        "obstacle", ("obstacle", 0);
+        "position(0.0, -1.5E10)", ("position", 2);
+        {|qrCodeRead("A\"7\\")|}, ("qrCodeRead", 1);
+        {|p([1, 2], {"a": [true, false]}, q(NaN, -Infinity, Infinity), aid("x@y"), <java.util.Random>, nothing, agent r, behaviour #3)|}, ("p", 8);
+        "p([], {}, q)", ("p", 3) ]);
+  "what is no percept literal", `Quick, (fun () ->
+      List.iter (fun l ->
+          match Explore.Trace_more.literal_arity l with
+          | Ok (t, k) -> Alcotest.failf "%S read as %s of %d slots" l t k
+          | Error _ -> ())
+        [ ""; "1"; "\"a\""; "p("; "p(1,)"; "p(1 2)"; "p(\"a)"; "p(\"a\nb\")"; "p(<img src=x>)"; "p) ";
+          "p(" ^ String.make 2000 '[' ^ String.make 2000 ']' ^ ")"; "p(1) x" ]);
+]
+
 let () =
   Alcotest.run "hostile"
     [ "json", json_cases @ [ round_trip ];
@@ -246,4 +376,6 @@ let () =
       "events read once", [ "a file, a pipe, a FIFO", `Quick, events_once ];
       "TLA+ values", tla_cases;
       "slots", slot_cases;
-      "scenarios", scenario_cases ]
+      "scenarios", scenario_cases;
+      "a cut trace", [ "validate checks it as far as it goes", `Quick, cut_trace ];
+      "validate: bodies and percepts", ("effects and literals of a spoilt trace", `Quick, effects_trace) :: literal_cases ]
