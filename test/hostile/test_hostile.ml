@@ -369,6 +369,29 @@ let literal_cases = [
           "p(" ^ String.make 2000 '[' ^ String.make 2000 ']' ^ ")"; "p(1) x" ]);
 ]
 
+(* ------------------------------------------------------------ option values *)
+
+(* A bad value of an option of sim, explore or conform: one line, exit 1
+   (not a usage of three lines and exit 124, which conform itself reads as
+   "timed out"); --max-states past what 24 GB hold is refused so too. *)
+let option_cases =
+  let model = q (Filename.concat root "spec/models/MCReference.tla") in
+  let bad what cmd = what, `Quick, (fun () -> one_error ~what (run (exe ^ " " ^ cmd))) in [
+    bad "sim --seed abc" "sim paper --seed abc";
+    bad "sim --seed -1" "sim paper --seed -1";
+    bad "sim --batch x" "sim paper --batch x";
+    bad "explore --max-states x" ("explore " ^ model ^ " --max-states x");
+    bad "explore --max-states 0" ("explore " ^ model ^ " --max-states 0");
+    bad "explore --max-states 50,000,000 (about 30 GB)" ("explore " ^ model ^ " --max-states 50000000");
+    bad "explore --max-states beyond int" ("explore " ^ model ^ " --max-states 99999999999999999999999");
+    bad "conform --timeout -3" "conform --impl true --timeout -3";
+    bad "conform --timeout x" "conform --impl true --timeout x";
+    "explore --max-states 25,000,000 (the largest)", `Quick, (fun () ->
+        let (s, out, e) = run (Printf.sprintf "%s explore %s --max-states 25000000" exe model) in
+        Alcotest.(check int) ("exit 0: " ^ e) 0 s;
+        check "the states counted" true (has out "1869 states"));
+  ]
+
 let () =
   Alcotest.run "hostile"
     [ "json", json_cases @ [ round_trip ];
@@ -378,4 +401,5 @@ let () =
       "slots", slot_cases;
       "scenarios", scenario_cases;
       "a cut trace", [ "validate checks it as far as it goes", `Quick, cut_trace ];
-      "validate: bodies and percepts", ("effects and literals of a spoilt trace", `Quick, effects_trace) :: literal_cases ]
+      "validate: bodies and percepts", ("effects and literals of a spoilt trace", `Quick, effects_trace) :: literal_cases;
+      "option values", option_cases ]
