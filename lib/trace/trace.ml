@@ -132,7 +132,9 @@ let fields = function
        [ "performative", str performative; "content", str content; "to", strs receivers ]
      | Activate b -> [ "behaviour", str b ]
      | Deactivate id -> [ "instance", int id ]
-     | Error { at; message } -> [ "at", str at; "message", str message ])
+     | Error { at; message } ->
+       (* a file name need not be UTF-8, and JSON text must be *)
+       [ "at", str (Utf8.repair at); "message", str (Utf8.repair message) ])
 
 let line_to_json l =
   `Assoc ([ "step", int l.step; "agent", str l.agent; "event", str (event_name l.event);
@@ -625,7 +627,9 @@ let encode_after o ~step ~agent event =
        put_list o ",\"to\":" (write_string o) receivers
      | Activate beh -> put_str o ",\"behaviour\":" beh
      | Deactivate id -> put_int o ",\"instance\":" id
-     | Error { at; message } -> put_str o ",\"at\":" at; put_str o ",\"message\":" message);
+     | Error { at; message } ->
+       (* a file name need not be UTF-8, and JSON text must be *)
+       put_str o ",\"at\":" (Utf8.repair at); put_str o ",\"message\":" (Utf8.repair message));
     add_char o '}'
   | Create _ | Refused_put _ ->
     (* the tree's line after its step number (which holds no comma) *)

@@ -392,6 +392,33 @@ let option_cases =
         check "the states counted" true (has out "1869 states"));
   ]
 
+(* ------------------------------------------------------------ a file name not UTF-8 *)
+
+(* A program whose file name is not UTF-8 and that meets a run-time error:
+   the trace's [at] has U+FFFD for the bad byte (as the JADE back end's
+   Java has), and validate reads the interpreter's own trace. *)
+let non_utf8_name () =
+  let text = "agent A\n\ton create do\n\t\tx as integer = 0\n\t\tlog 1 / x\n" in
+  Test_support.Support.with_file "ok.jade" text (fun ok ->
+      let dir = Filename.dirname ok in
+      let bad = Filename.concat dir "bad\xff.jade" and t = Filename.concat dir "t.jsonl" in
+      Sys.rename ok bad;
+      ignore (run (Printf.sprintf "%s run %s --agent a:A --trace %s" exe (q bad) (q t)));
+      let trace = Test_support.Support.read_file t in
+      check "the position has U+FFFD" true (has trace "bad\xef\xbf\xbd.jade:4:");
+      (match Explore.Validate.check t with
+       | Ok () -> ()
+       | Error (l, m) -> Alcotest.failf "validate: line %d: %s" l m);
+      Sys.rename bad ok)
+
+let repair_cases = [
+  "Utf8.repair", `Quick, (fun () ->
+      List.iter (fun (x, y) -> Alcotest.(check string) (String.escaped x) y (Utf8.repair x)) [
+        "abc", "abc"; "caf\xc3\xa9", "caf\xc3\xa9"; "a\xffb", "a\xef\xbf\xbdb";
+        "\xc3(", "\xef\xbf\xbd("; "\xf0\x9f\x98", "\xef\xbf\xbd\xef\xbf\xbd\xef\xbf\xbd" ]);
+  "a file name that is not UTF-8", `Quick, non_utf8_name;
+]
+
 let () =
   Alcotest.run "hostile"
     [ "json", json_cases @ [ round_trip ];
@@ -402,4 +429,5 @@ let () =
       "scenarios", scenario_cases;
       "a cut trace", [ "validate checks it as far as it goes", `Quick, cut_trace ];
       "validate: bodies and percepts", ("effects and literals of a spoilt trace", `Quick, effects_trace) :: literal_cases;
-      "option values", option_cases ]
+      "option values", option_cases;
+      "file names", repair_cases ]
