@@ -63,7 +63,9 @@ let cmd =
                      every field of the right type), the agents against the header, step \
                      numbers, the literals (a dequeue carries the percept notified with its \
                      seq, a handle the percept dequeued, a delivery the content sent), \
-                     messages across agents (R5e) and the O2A capacity (R2d). Then, for each \
+                     messages across agents (R5e), the O2A capacity (R2d), each body against its \
+                     step's effects and every percept literal parsed (a last line cut by a \
+                     killed run is left out, with a warning). Then, for each \
                      agent, projects the trace onto the spec (each percept and \
                      message its own value; the model's constants read off the trace), \
                      writes a TLA+ module whose behaviours follow the trace's steps, and \
