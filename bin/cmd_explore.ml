@@ -94,8 +94,11 @@ let all ~max_states ~full ~mutants ~simulate ~validate =
   end;
   if !failures = 0 then 0 else 1
 
-(* The largest --max-states: about 30 GB of states. *)
-let max_max_states = 50_000_000
+(* The largest --max-states: at about 650 bytes a state (docs/spec.md,
+   "Ranges"), 25,000,000 states take about 16 GB, which a machine of 24 GB
+   holds beside the system and other work; 50,000,000 (about 30 GB) ended
+   in SIGABRT there. *)
+let max_max_states = 25_000_000
 
 let run model_arg against mutant_name all_flag full mutants simulate validate max_states fingerprints =
   let error msg = prerr_endline (Printf.sprintf "%s:1:1: error: %s"
@@ -146,7 +149,7 @@ let cmd =
                         ~doc:"With --all: have TLC validate N random OCaml runs of each model as traces.") in
   let max_states = Arg.(value & opt int Explorer.default_max_states & info ["max-states"] ~docv:"N"
                           ~doc:"Stop with an exhaustion error when a model has more than N states \
-                                (default 1,000,000, about 650 MB; at most 50,000,000).") in
+                                (default 1,000,000, about 650 MB; at most 25,000,000, about 16 GB).") in
   let fingerprints = Arg.(value & flag & info ["fingerprints"]
                             ~doc:"Only count the states, depth first, keeping a 63-bit fingerprint of each \
                                   (8 bytes, in a table at most three quarters full) and the current path, \

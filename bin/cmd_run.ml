@@ -66,12 +66,13 @@ let agent_spec env spec =
            | exception (Interp.Eval.Trap (_, m) | Interp.Eval.Link (_, m)) -> fail m)) (Interp.Host.split_args args) in
     (name, ty, values)
 
-(* The events file, first pass: every line is checked, and every bad one
-   reported with its location, before anything runs. *)
-let check_events env agents file =
-  match Interp.Events.check env ~agents file ~report:(fun ~line ~col m -> report_at file line col m) with
-  | 0 -> ()
-  | _ -> raise (Stop 1)
+(* The events file, read once (a file, a pipe or a FIFO alike): every line
+   is checked, and every bad one reported with its location, before
+   anything runs; the good lines are kept for the run. *)
+let read_events env agents file =
+  match Interp.Events.read env ~agents file ~report:(fun ~line ~col m -> report_at file line col m) with
+  | Ok f -> f
+  | Error _ -> raise (Stop 1)
   | exception Sys_error m -> report_at file 1 1 ("cannot read the events file: " ^ m); raise (Stop 1)
 
 (* Standard output that cannot be written is closed, its buffer dropped:
@@ -106,7 +107,7 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
     let capacity = number ~opt:"o2a-capacity" ~lo:1 ~hi:int_max ~what:"places in each O2A queue" capacity in
     let max_memory = number ~opt:"max-memory" ~lo:16 ~hi:1_048_576 ~what:"megabytes of heap the run may take" (Some max_memory) in
     let agents = List.map (fun (n, ty, _) -> (n, ty)) specs in
-    Option.iter (check_events env agents) events_file;
+    let events = Option.map (read_events env agents) events_file in
     let variant = match Mc.variant_of_string variant with
       | Some v -> v
       | None -> prerr_endline ("error: unknown variant " ^ variant ^ " (printed, reference, budgeted, native)"); raise (Stop 1) in
@@ -153,7 +154,7 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
     let check = function
       | Ok () -> ()
       | Error m -> host_error := true; prerr_endline ("host: " ^ m) in
-    (* the second pass: each event applied as it is read *)
+    (* each event applied in order, from the lines kept *)
     let apply : Interp.Events.t -> unit = function
       | Notify { agent; percept; default; priority } -> check (Interp.Runtime.notify rt ~agent percept ~default ~priority)
       | Put { agent; obj } -> check (Interp.Runtime.put rt ~agent obj)
@@ -161,12 +162,7 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
       | Run k -> Interp.Runtime.run_rounds rt k
       | Run_rules k -> Interp.Runtime.run_rules rt k
       | Run_idle -> Interp.Runtime.run_until_idle rt in
-    let complete = match events_file with
-      | None -> true
-      | Some f ->
-        (try Interp.Events.iter env ~agents f ~report:(fun ~line ~col m -> report_at f line col m) apply
-         with Sys_error m -> report_at f 1 1 ("cannot read the events file: " ^ m); false) in
-    if not complete then raise (Stop 1);
+    Option.iter (fun e -> Interp.Events.iter e apply) events;
     Interp.Runtime.run_until_idle rt;
     Interp.Runtime.finish rt;
     Option.iter close_out trace;
@@ -235,8 +231,9 @@ let cmd =
                      its handler or step and the run carries on; it is reported on standard \
                      error as $(i,FILE:LINE:COL: error: message) when it happens, and the exit \
                      status is then 1. A program, agent or events-file error stops before \
-                     anything runs, with exit status 1. The events file is read twice, one \
-                     line at a time: every line is checked first, then the events are applied \
-                     as they are read."])
+                     anything runs, with exit status 1. The events file is read once (a file, \
+                     a pipe or a FIFO): every line is checked as it is read, and the run applies \
+                     the events only once every line was found good (a line of at most 16 MB, \
+                     a file of at most 1 GiB)."])
     Term.(const run $ files $ agents $ events $ trace $ seed $ max_steps $ variant $ fuel $ capacity $ max_memory $ defect
           $ reference $ level)

@@ -26,8 +26,15 @@ let report trace verdicts =
 
 let failed trace msg = prerr_endline (Printf.sprintf "%s:1:1: error: %s" trace (one_line msg)); 1
 
+(* A trace whose last line is cut (a run killed while it wrote it): the
+   lines before it are checked, and the cut is told, as a warning (the
+   status is that of the lines checked). *)
+let on_cut trace line =
+  prerr_endline (Printf.sprintf "%s:%d:1: warning: the last line is cut (no newline, not JSON: a run killed \
+                                 while it wrote it); the lines before it are checked" trace line)
+
 let run_one keep trace =
-  match Validate.trace ?keep trace with
+  match Validate.trace ?keep ~on_cut trace with
   | verdicts -> report trace verdicts
   | exception Failure msg -> failed trace msg
   | exception Tlc.Error msg -> failed trace msg
@@ -39,7 +46,7 @@ let run_one keep trace =
    fails, each is validated alone, so that the failure is told for its
    trace. *)
 let run traces keep =
-  match Validate.traces ?keep traces with
+  match Validate.traces ?keep ~on_cut traces with
   | results -> List.fold_left (fun code (t, vs) -> max code (report t vs)) 0 results
   | exception (Failure _ | Tlc.Error _ | Model.Error _ | Sys_error _) ->
     List.fold_left (fun code t -> max code (run_one keep t)) 0 traces
@@ -56,7 +63,9 @@ let cmd =
                      every field of the right type), the agents against the header, step \
                      numbers, the literals (a dequeue carries the percept notified with its \
                      seq, a handle the percept dequeued, a delivery the content sent), \
-                     messages across agents (R5e) and the O2A capacity (R2d). Then, for each \
+                     messages across agents (R5e), the O2A capacity (R2d), each body against its \
+                     step's effects and every percept literal parsed (a last line cut by a \
+                     killed run is left out, with a warning). Then, for each \
                      agent, projects the trace onto the spec (each percept and \
                      message its own value; the model's constants read off the trace), \
                      writes a TLA+ module whose behaviours follow the trace's steps, and \

@@ -107,16 +107,66 @@ let main =
         semantics that is model-checked against a TLA+ specification.";
     `S "EXIT STATUS";
     `P "0 on success; 1 when an input has an error (reported as \
-        $(i,FILE:LINE:COL: error: message) on standard error); 124 on a command-line \
-        error.";
+        $(i,FILE:LINE:COL: error: message) on standard error) and on a command-line \
+        error (an unknown option, a bad option value: one line \
+        $(i,jadescript-ref: error: message)).";
   ] in
   Cmd.group (Cmd.info "jadescript-ref" ~version:"0.1.0" ~doc ~man) [parse_cmd; fmt_cmd; Cmd_check.cmd; Cmd_run.cmd; Cmd_compile.cmd; Cmd_validate.cmd; Cmd_judge.cmd; Cmd_conform.cmd; Cmd_defects.cmd; Corridor_sim.Cli.cmd; Cmd_explore.cmd]
 
 (* An exception no command caught is still one line: a failed write (the
    standard output full or closed) is the user's environment, exit 1; anything
    else is a crash of ours, exit 125 as cmdliner would say. *)
+(* A command-line error (an unknown option, a value cmdliner cannot
+   convert) is one line and exit status 1, as every other bad input: not
+   cmdliner's usage text and its status 124, which conform would read as a
+   timeout (timeout(1) exits with 124). *)
+let eval () =
+  let err = Buffer.create 256 in
+  let err_fmt = Format.formatter_of_buffer err in
+  Format.pp_set_margin err_fmt 100_000;
+  let r = Cmd.eval_value ~catch:false ~err:err_fmt main in
+  Format.pp_print_flush err_fmt ();
+  match r with
+  | Ok (`Ok code) -> code
+  | Ok (`Version | `Help) -> 0
+  | Error (`Parse | `Term) ->
+    let first = match String.split_on_char '\n' (Buffer.contents err) with l :: _ -> String.trim l | [] -> "" in
+    (* "jadescript-ref run: option '--x': ..." -> "option '--x': ..." *)
+    let rest = match String.index_opt first ':' with
+      | Some i when String.length first >= 14 && String.sub first 0 14 = "jadescript-ref" ->
+        String.trim (String.sub first (i + 1) (String.length first - i - 1))
+      | _ -> first in
+    Out.error (if rest = "" then "bad command line (jadescript-ref --help)" else rest ^ " (jadescript-ref --help)");
+    1
+  | Error `Exn -> 125
+
+(* The stack. A program's width costs stack as well as its depth: the
+   evaluator, the checker and the printer walk a list of a million items
+   (a list literal, the statements of a block, the behaviours of a
+   program, within the 64 MB of a source file) with [List.map] and
+   recursion as deep as the list is long, and the system's usual 8 MB
+   overflow near 200,000. So the soft limit is raised to 4 GiB (address
+   space only: a page is used when it is reached), or to the hard limit if
+   lower, and the command starts again, once (the variable
+   JSREF_STACK_RAISED says it has), since the room the kernel leaves for
+   the stack to grow into is set at exec from the limit then in force.
+   Descriptors and arguments are kept: standard input and an events file
+   given as a pipe are read by the second start only. The nesting a
+   program may have is bounded apart (D27). Test: "stack" in
+   test/hostile/test_hostile.ml. *)
+external raise_stack : int -> bool = "jsref_raise_stack"
+
+let stack_bytes = 4 * 1024 * 1024 * 1024
+
 let () =
-  let code = match Cmd.eval' ~catch:false main with
+  if Sys.getenv_opt "JSREF_STACK_RAISED" = None && raise_stack stack_bytes then begin
+    Unix.putenv "JSREF_STACK_RAISED" "1";
+    (* if the program cannot start again, it goes on with the stack it has *)
+    try Unix.execv Sys.executable_name Sys.argv with Unix.Unix_error _ -> ()
+  end
+
+let () =
+  let code = match eval () with
     | code -> code
     | exception Out.Failed m -> Out.error m; Out.give_up_stdout (); 1
     | exception Sys_error m ->

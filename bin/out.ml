@@ -20,6 +20,19 @@ let print s =
    so that a failed write (a full disk) leaves the old file as it was.
    Error: the system's reason. *)
 let replace path s =
+  (* a link is followed: its target is rewritten, and the link stays *)
+  let path = match Unix.lstat path with
+    | { Unix.st_kind = Unix.S_LNK; _ } -> (try Unix.realpath path with Unix.Unix_error _ -> path)
+    | _ -> path
+    | exception Unix.Unix_error _ -> path in
+  (* a file the user may not write is not replaced (a rename beside it
+     would replace it all the same, as the folder is writable) *)
+  match Unix.access path [ Unix.W_OK ]; (Unix.stat path).Unix.st_perm with
+  | exception Unix.Unix_error (e, _, _) -> Error (path ^ ": " ^ Unix.error_message e)
+  | perm when perm land 0o222 = 0 ->
+    (* read-only for everyone (the super-user too would pass [access]) *)
+    Error (path ^ ": the file is read-only")
+  | _ ->
   match Filename.temp_file ~temp_dir:(Filename.dirname path) ".jsref" ".tmp" with
   | exception Sys_error m -> Error m
   | tmp ->

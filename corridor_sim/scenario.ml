@@ -87,7 +87,7 @@ let list path f = function
 
 (* Every number of a scenario has a range, documented in docs/simulation.md
    ("Ranges"), checked here when the file is read: a run is then bounded in
-   time and memory, and infinity or NaN (which Yojson reads) never gets in. *)
+   time and memory, and infinity (a number too large for a float) never gets in. *)
 let show x =
   if Float.is_integer x && Float.abs x < 1e15 then Printf.sprintf "%.0f" x else Printf.sprintf "%g" x
 
@@ -322,24 +322,16 @@ let of_json v =
   List.iteri (fun i id -> if List.mem id (List.filteri (fun j _ -> j < i) ids) then fail "cubes: duplicate id %S" id) ids;
   t
 
-(* Yojson says "Line 2, bytes 3-5: message": the place, as FILE:LINE:COL.
-   The message quotes the bad token, which may hold any bytes: shown
-   printable and short. *)
-let json_error file m =
-  let m = String.map (fun c -> if c = '\n' || (c >= ' ' && c <= '~') then c else '?') m in
-  let m = if String.length m > 200 then String.sub m 0 200 ^ "..." else m in
-  let first = match String.index_opt m '\n' with Some i -> String.sub m 0 i | None -> m in
-  let rest = match String.index_opt m '\n' with
-    | Some i -> String.trim (String.sub m (i + 1) (String.length m - i - 1)) | None -> "" in
-  match Scanf.sscanf first "Line %d, bytes %d-%d:%!" (fun l b _ -> (l, b)) with
-  | (line, byte) when rest <> "" ->
-    fail "%s:%d:%d: error: %s" file (max 1 line) (max 1 (byte + 1)) rest
-  | _ | exception _ -> fail "%s:1:1: error: %s" file (String.trim m)
+(* A scenario is a few kilobytes (at most 1,000 walls, cubes and drop-offs
+   of about 100 bytes each); a longer file is not read (docs/simulation.md,
+   "Ranges"). *)
+let max_bytes = 1024 * 1024
 
 let load file =
-  let v = try Yojson.Safe.from_file file with
-    | Yojson.Json_error m -> json_error file m
-    | Sys_error m -> fail "cannot read the scenario: %s" m in
+  let v = match Json_read.of_file ~max_bytes file with
+    | Ok v -> v
+    | Error e -> fail "%s:%d:%d: error: %s" file e.line e.column e.message
+    | exception Sys_error m -> fail "cannot read the scenario: %s" m in
   of_json v
 
 (* Random cubes: rejection sampling from a stream of their own, so that

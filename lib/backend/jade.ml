@@ -108,9 +108,22 @@ type gen = {
   class_names : (string, unit) Hashtbl.t;        (* every Java class name given *)
 }
 
-let cls g kind name =
+(* A class of the program by its simple name: for its declaration and its
+   file. *)
+let simple_cls g kind name =
   match Hashtbl.find_opt g.classes (kind ^ ":" ^ name) with
   | Some c -> c
+  | None -> "Schema"
+
+(* A class of the program where the generated code refers to it: qualified
+   by its package, since inside an agent or a behaviour a simple name would
+   first find what JADE's classes declare and the class inherits (the
+   nested classes Agent.Interrupted and Behaviour.RunnableChangedEvent, the
+   fields Agent.AP_ACTIVE and Behaviour.STATE_READY), not the program's
+   schema of that name (docs/jade.md, "Names"). *)
+let cls g kind name =
+  match Hashtbl.find_opt g.classes (kind ^ ":" ^ name) with
+  | Some c -> "jsgen." ^ c
   | None -> "Schema"
 
 let source_line g (r : Source.region) =
@@ -129,6 +142,11 @@ let prop_field x = "p_" ^ x
 let fn_method x = "fn_" ^ x
 let proc_method x = "do_" ^ x
 
+(* A name that begins as the fields and methods of members do. *)
+let member_prefixed x =
+  List.exists (fun p -> String.length x > String.length p && String.sub x 0 (String.length p) = p)
+    [ "p_"; "fn_"; "do_" ]
+
 (* A slot's field: the slot's own name unless Java or the generated code
    reserves it. *)
 let slot_field x = if reserved x then x ^ "$" else x
@@ -137,8 +155,7 @@ let assign_classes g =
   let take kind name =
     let base =
       if reserved name || Hashtbl.mem g.class_names name
-         || (List.exists (fun p -> String.length name > String.length p
-                                   && String.sub name 0 (String.length p) = p) ["p_"; "fn_"; "do_"])
+         || member_prefixed name
       then name ^ "$" ^ kind else name in
     let rec fresh c k = if Hashtbl.mem g.class_names c then fresh (base ^ string_of_int k) (k + 1) else c in
     let c = fresh base 2 in
@@ -290,9 +307,12 @@ let prop_lvalue ctx x home = match home with
   | Own -> prop_field x
   | Of_agent -> agent_ref ctx ^ "." ^ prop_field x
 
-(* A local's Java name: its own, unless Java reserves it or a class of the
-   program has it (a local would hide the class in [C.make(...)]). *)
-let local_name ctx x = if reserved x || Hashtbl.mem ctx.g.class_names x then x ^ "$" else x
+(* A local's Java name: its own, unless Java reserves it, a class of the
+   program has it (a local would hide the class in [C.make(...)]), or it
+   begins as the fields and methods of members do ([p_count] would hide the
+   property [count]'s field [p_count]). *)
+let local_name ctx x =
+  if reserved x || Hashtbl.mem ctx.g.class_names x || member_prefixed x then x ^ "$" else x
 
 (* Every local a body may create: parameters, [x as T = e], [for x in],
    pattern variables, and assignments to names that are not properties. *)
@@ -719,7 +739,7 @@ let kind_name = function
 
 let schema_class g (s : T.schema) =
   let o = new_out () in
-  let c = cls g "S" s.s_name in
+  let c = simple_cls g "S" s.s_name in
   let super_schema = match s.s_super with
     | Some p when p <> Ty.percept_root -> T.schema g.env p
     | _ -> None in
@@ -906,7 +926,7 @@ let finish o_head imports body =
 
 let agent_class g (a : T.agent) =
   let o = new_out () in
-  let c = cls g "A" a.a_name in
+  let c = simple_cls g "A" a.a_name in
   let super = match a.a_super with Some s when T.agent g.env s <> None -> Some s | _ -> None in
   let sup = match super with Some s -> cls g "A" s | None -> "JadescriptAgent" in
   let counter = ref 0 and matchers = new_out () in
@@ -1000,7 +1020,7 @@ let agent_class g (a : T.agent) =
 
 let behaviour_class g (b : T.behaviour) =
   let o = new_out () in
-  let c = cls g "B" b.b_name in
+  let c = simple_cls g "B" b.b_name in
   let super = match b.b_super with Some s when T.behaviour g.env s <> None -> Some s | _ -> None in
   let sup = match super with Some s -> cls g "B" s | None -> "JadescriptBehaviour" in
   let counter = ref 0 and matchers = new_out () in
@@ -1300,12 +1320,164 @@ let program_class g =
 
 (* -------------------------------------------------------------- checks *)
 
+(* What javac and the JVM can take (docs/jade.md, "What Java can hold").
+   A program past one of these limits is refused at the place that passes
+   it, before any Java is written, rather than given as Java that javac
+   refuses. The limits are set below what was measured to fail, with a
+   margin for constructs heavier than those measured. *)
+
+(* A text literal is one constant of the class file: at most 65,535 bytes
+   of Java's modified UTF-8, in which a NUL takes 2 bytes and a character
+   beyond U+FFFF 6 (a pair of surrogates of 3 bytes each), and javac takes
+   fewer than 65,535 chars: at most 65,534 bytes (which is at least as many
+   chars) is both. *)
+let max_constant_bytes = 65534
+
+let modified_utf8_length t =
+  let n = ref 0 in
+  String.iter (fun c ->
+      n := !n + (match c with
+          | '\000' -> 2
+          | '\xf0' .. '\xf7' -> 3   (* a 4-byte character: 4 + 2 *)
+          | _ -> 1)) t;
+  !n
+
+(* The names of the program's classes become file names ([NAME.class],
+   [NAME$1.class]), at most 255 bytes on common file systems; a member's
+   name becomes a field or a method. *)
+let max_name_bytes = 200
+
+(* A method has at most 255 parameters, [this] and the generated ones
+   included: a routine's parameters and a schema's slots (its constructor
+   takes one per slot). *)
+let max_params = 250
+
+(* javac walks an expression recursively: a chain of 250 [+] overflowed
+   its stack (200 did not); the generated Java nests about one call per
+   level of the source. *)
+let max_expr_depth = 100
+
+(* A method's code is at most 65,535 bytes. The size of a body is counted
+   in units (an expression or pattern node 2, a statement 4, a statement
+   that opens a block or calls out 16), which measured 2.4 to 3 bytes of
+   bytecode each; a method may have 8,000 units. A class holds at most
+   65,535 constants (a node's position is one): 40,000 units a class. *)
+let max_method_units = 8_000
+let max_class_units = 40_000
+
+(* [Program.java] has a case for each agent type, behaviour type and
+   schema in one method. *)
+let max_types = 1_000
+
+let check_java_limits g =
+  let class_units = ref 0 and class_at = ref None in
+  let rec expr_units depth (e : Ast.expr) =
+    if depth > max_expr_depth then
+      unsupported e.at "an expression nested more than %d deep (javac cannot take it): \
+                        give a part of it a name with a local" max_expr_depth;
+    let sub = List.fold_left (fun acc e -> acc + expr_units (depth + 1) e) 0 in
+    2 + match e.it with
+      | Lit (Text t) ->
+        if modified_utf8_length t > max_constant_bytes then
+          unsupported e.at "a text literal of more than %d bytes (a Java constant cannot hold it): \
+                            build it from shorter ones with +" max_constant_bytes;
+        0
+      | Lit _ | Name _ | This | Agent | Content | Message -> 0
+      | List l -> sub l
+      | Map kvs -> sub (List.concat_map (fun (k, v) -> [ k; v ]) kvs)
+      | Call (_, args) -> sub args
+      | Index (a, b) -> sub [ a; b ]
+      | Of (_, a) | Unop (_, a) -> sub [ a ]
+      | Matches (a, p) -> sub [ a ] + pattern_units p
+      | Binop (_, a, b) -> sub [ a; b ]
+      | Invoke i -> sub (i.target :: i.args)
+  and pattern_units (p : Ast.pattern) = match p.it with
+    | PCons (_, ps) -> 2 + List.fold_left (fun acc p -> acc + pattern_units p) 0 ps
+    | PLit (Text t) when modified_utf8_length t > max_constant_bytes ->
+      unsupported p.at "a text literal of more than %d bytes (a Java constant cannot hold it)" max_constant_bytes
+    | _ -> 2 in
+  let e = expr_units 0 in
+  let es = List.fold_left (fun acc x -> acc + e x) 0 in
+  let rec stmt (st : Ast.stmt) = match st.it with
+    | Assign (lv, v) ->
+      4 + e v + (match lv.it with LName _ -> 0 | LOf (_, a) -> e a | LIndex (a, b) -> e a + e b)
+    | Local (_, _, v) -> 4 + e v
+    | Do (_, Positional args) -> 16 + es args
+    | Do (_, Named args) -> 16 + es (List.map snd args)
+    | Nothing | Deactivate | Break | Continue -> 4
+    | InvokeS i -> 16 + es (i.target :: i.args)
+    | Activate (_, args) -> 16 + es (List.map snd args)
+    | Send (_, c, rs) -> 16 + es (c :: rs)
+    | Log x -> 4 + e x
+    | If (arms, els) ->
+      List.fold_left (fun acc (c, b) -> acc + 16 + e c + block b) 0 arms
+      + (match els with Some b -> block b | None -> 0)
+    | While (c, b) -> 16 + e c + block b
+    | For (_, x, b) -> 16 + e x + block b
+    | Return x -> 4 + (match x with Some x -> e x | None -> 0)
+  and block b = List.fold_left (fun acc s -> acc + stmt s) 0 b in
+  let meth (at : Source.region) units =
+    if units > max_method_units then
+      unsupported at "this body is too large for one Java method (%d units, at most %d: \
+                      docs/jade.md, \"What Java can hold\"): move a part of it into a procedure"
+        units max_method_units;
+    class_units := !class_units + units;
+    if !class_units > max_class_units then
+      unsupported (Option.value !class_at ~default:at)
+        "this type's code is too large for one Java class (more than %d units: docs/jade.md, \
+         \"What Java can hold\"): split it into types that extend one another" max_class_units in
+  let name (n : Ast.name) =
+    if String.length n.it > max_name_bytes then
+      unsupported n.at "a name longer than %d bytes (Java's class files and their file names cannot hold it)"
+        max_name_bytes in
+  let params at (ps : Ast.param list) =
+    List.iter (fun (p : Ast.param) -> name p.pname) ps;
+    if List.length ps > max_params then
+      unsupported at "more than %d parameters (a Java method cannot take them)" max_params in
+  let features (owner : Ast.name) (fs : Ast.feature list) =
+    class_units := 0; class_at := Some owner.at;
+    name owner;
+    let inits = List.fold_left (fun acc (f : Ast.feature) -> match f.it with
+        | Property { name = n; init = Some x; _ } -> name n; acc + 4 + e x
+        | Property { name = n; _ } -> name n; acc
+        | _ -> acc) 0 fs in
+    meth owner.at inits;
+    List.iter (fun (f : Ast.feature) -> match f.it with
+        | Property _ -> ()
+        | Function { name = n; params = ps; body; _ } | Procedure { name = n; params = ps; body } ->
+          name n; params f.at ps; meth f.at (block body)
+        | OnCreate { params = ps; body } -> params f.at ps; meth f.at (block body)
+        | OnDestroy body | ActionSection body -> meth f.at (block body)
+        | OnPercept { guard; body } | OnMessage { guard; body; _ } ->
+          Option.iter (fun x -> meth f.at (e x)) guard; meth f.at (block body)) fs in
+  let count = ref 0 in
+  let one_more (at : Source.region) =
+    incr count;
+    if !count > max_types then
+      unsupported at "more than %d schemas, agent types and behaviour types in one program \
+                      (Program.java cannot list them in one method)" max_types in
+  List.iter (fun (sc : T.schema) ->
+      let d = sc.s_decl in
+      one_more d.it.sname.at;
+      name d.it.sname;
+      List.iter (fun (sl : Ast.slot) -> name sl.slot_name) d.it.slots;
+      List.iter (fun (_, x) -> ignore (e x)) d.it.defaults;
+      if List.length sc.s_slots > max_params then
+        unsupported d.it.sname.at "%s has %d slots (with those it inherits), more than %d \
+                                   (its Java constructor cannot take them)"
+          sc.s_name (List.length sc.s_slots) max_params) (T.schemas g.env);
+  List.iter (fun (a : T.agent) -> one_more a.a_decl.it.aname.at; features a.a_decl.it.aname a.a_decl.it.afeatures)
+    (T.agents g.env);
+  List.iter (fun (b : T.behaviour) -> one_more b.b_decl.it.bname.at; features b.b_decl.it.bname b.b_decl.it.bfeatures)
+    (T.behaviours g.env)
+
 (* Constructs the back end refuses, found before any Java is written. *)
 let check_supported g =
   List.iter (fun (b : T.behaviour) ->
       match b.b_for_agent with
       | Some a when T.agent g.env a = None -> unsupported b.b_decl.at "unknown agent type %s" a
-      | _ -> ()) (T.behaviours g.env)
+      | _ -> ()) (T.behaviours g.env);
+  check_java_limits g
 
 (* ---------------------------------------------------------------- entry *)
 

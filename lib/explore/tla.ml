@@ -21,14 +21,18 @@ let rec compare a b = match a, b with
                      | Set _ -> 4 | Rec _ -> 5 | Fn _ -> 6 in
     Stdlib.compare (tag a) (tag b)
 
+(* [List.map] in a loop: a long sequence does not grow the stack (the
+   nesting, which does, is bounded by [parse]). *)
+let map f l = List.rev (List.rev_map f l)
+
 let rec canon = function
   | (Int _ | Str _ | Bool _) as v -> v
-  | Seq l -> Seq (List.map canon l)
-  | Set l -> Set (List.sort_uniq compare (List.map canon l))
+  | Seq l -> Seq (map canon l)
+  | Set l -> Set (List.sort_uniq compare (map canon l))
   | Rec fs -> Rec (List.sort (fun (f, _) (g, _) -> Stdlib.compare f g)
-                     (List.map (fun (f, v) -> (f, canon v)) fs))
+                     (map (fun (f, v) -> (f, canon v)) fs))
   | Fn kvs -> Fn (List.sort (fun (k, _) (l, _) -> compare k l)
-                    (List.map (fun (k, v) -> (canon k, canon v)) kvs))
+                    (map (fun (k, v) -> (canon k, canon v)) kvs))
 
 let set l = Set (List.sort_uniq compare l)
 let record fs = Rec (List.sort (fun (f, _) (g, _) -> Stdlib.compare f g) fs)
@@ -81,6 +85,8 @@ let to_string v =
 
 exception Parse_error of string
 
+let max_depth = 1000
+
 let parse_prefix s start =
   let n = String.length s in
   let fail i msg = raise (Parse_error (Printf.sprintf "at offset %d: %s" i msg)) in
@@ -99,9 +105,13 @@ let parse_prefix s start =
     while !j < n && (match s.[!j] with 'a'..'z' | 'A'..'Z' | '0'..'9' | '_' -> true | _ -> false) do incr j done;
     if !j = i then fail i "expected a name";
     (String.sub s i (!j - i), !j) in
-  let rec value i =
+  (* [depth]: the sequences, sets, records and functions around [i]; at
+     most [max_depth] (a model's constants nest a few deep) *)
+  let rec value depth i =
     let i = ws i in
     if i >= n then fail i "unexpected end";
+    let nested i = if depth >= max_depth then fail i (Printf.sprintf "values nested more than %d deep" max_depth) in
+    let value = value (depth + 1) and elements = elements (depth + 1) in
     match s.[i] with
     | '"' ->
       let b = Buffer.create 16 in
@@ -124,14 +134,17 @@ let parse_prefix s start =
        | Some k -> (Int k, !j)
        | None -> fail i "bad number")
     | '<' ->
+      nested i;
       let i = expect i "<<" in
       if looking i ">>" then (Seq [], expect i ">>")
       else let (l, i) = elements i ">>" in (Seq l, i)
     | '{' ->
+      nested i;
       let i = expect i "{" in
       if looking i "}" then (Set [], expect i "}")
       else let (l, i) = elements i "}" in (Set l, i)
     | '[' ->
+      nested i;
       let i = expect i "[" in
       let rec fields acc i =
         let (f, i) = ident (ws i) in
@@ -142,6 +155,7 @@ let parse_prefix s start =
       let (fs, i) = fields [] i in
       (Rec fs, i)
     | '(' ->
+      nested i;
       let i = expect i "(" in
       let rec pairs acc i =
         let (k, i) = value i in
@@ -154,11 +168,15 @@ let parse_prefix s start =
     | 'T' when looking i "TRUE" -> (Bool true, expect i "TRUE")
     | 'F' when looking i "FALSE" -> (Bool false, expect i "FALSE")
     | _ -> fail i "unexpected character"
-  and elements i close =
-    let (v, i) = value i in
-    if looking i "," then let (rest, i) = elements (expect i ",") close in (v :: rest, i)
-    else ([v], expect i close) in
-  let (v, i) = value start in
+  (* the elements of a sequence or set, in a loop (a long one does not
+     grow the stack) *)
+  and elements depth i close =
+    let rec go acc i =
+      let (v, i) = value depth i in
+      if looking i "," then go (v :: acc) (expect i ",")
+      else (List.rev (v :: acc), expect i close) in
+    go [] i in
+  let (v, i) = value 0 start in
   (canon v, i)
 
 let parse s =

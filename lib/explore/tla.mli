@@ -42,10 +42,16 @@ val compare : t -> t -> int
 
 exception Parse_error of string
 
+val max_depth : int
+(** 1,000: {!parse} refuses values nested deeper (a model's constants nest
+    a few deep), so that neither it nor the code that walks its values
+    runs out of stack. *)
+
 val parse : string -> t
 (** Parses a value: integers, strings (the escapes of {!string_literal}; another
     escape is an error), [TRUE], [FALSE],
-    [<<...>>], [{...}], [[f |-> v, ...]], [(k :> v @@ ...)]. The result is
+    [<<...>>], [{...}], [[f |-> v, ...]], [(k :> v @@ ...)], nested at most
+    {!max_depth} deep; a long sequence or set is read in a loop. The result is
     canonical. @raise Parse_error *)
 
 val parse_prefix : string -> int -> t * int

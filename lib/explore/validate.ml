@@ -309,18 +309,40 @@ let rec tlc_all ?keep jobs =
       List.map accepted before @ [ rejected agent records k ] @ tlc_all ?keep after
     | _ -> List.map (fun (agent, job) -> tlc_one ?keep agent job) jobs
 
-let check path =
-  match Trace.read_located path with
+(* A trace read strictly, as [Trace.read_located] reads it, except its
+   last line when it has no newline and is not JSON: a run killed while it
+   wrote that line (SIGKILL, which no program can catch) leaves the lines
+   before it, which are checked; the cut line's number is told ([cut]). *)
+let read path =
+  let header = ref None and lines = ref [] in
+  match Trace.stream_cut path ~header:(fun h -> header := Some h)
+          ~line:(fun n l -> lines := (n, l) :: !lines) with
   | Error e -> Error e
-  | Ok (header, lines) -> Trace_check.check header lines
+  | Ok cut -> match !header with
+    | Some h -> Ok (h, List.rev !lines, cut)
+    | None -> Error (1, "not a jadescript-ref trace (no header line)")
 
-let traces ?keep paths =
+(* Trace_check's checks, then Trace_more's (bodies against their effects,
+   percept literals): a separate module, called from here. *)
+let more header lines =
+  match Trace_check.check header lines with
+  | Ok () -> Trace_more.check header lines
+  | Error e -> Error e
+
+let check path =
+  match read path with
+  | Error e -> Error e
+  | Ok (header, lines, _) -> more header lines
+
+
+let traces ?keep ?(on_cut = fun _ _ -> ()) paths =
   (* per trace: Invalid, or per agent Cannot or a model for TLC *)
   let prepared = List.map (fun path ->
-      match Trace.read_located path with
+      match read path with
       | Error (line, message) -> (path, `Invalid (Invalid { line; message }))
-      | Ok (header, lines) ->
-        match Trace_check.check header lines with
+      | Ok (header, lines, cut) ->
+        Option.iter (on_cut path) cut;
+        match more header lines with
         | Error (line, message) -> (path, `Invalid (Invalid { line; message }))
         | Ok () ->
           (path, `Agents (List.map (fun (agent, _) ->
@@ -342,4 +364,4 @@ let traces ?keep paths =
                  | v :: rest -> verdicts := rest; v
                  | [] -> Semantics.Fault.crash "Validate: fewer TLC verdicts than agents")) l)) prepared
 
-let trace ?keep path = snd (List.hd (traces ?keep [ path ]))
+let trace ?keep ?on_cut path = snd (List.hd (traces ?keep ?on_cut [ path ]))

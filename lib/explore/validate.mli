@@ -4,7 +4,8 @@
     First, in OCaml, over the whole trace: the strict reading of the format
     ([Trace.read_located]) and the facts that the per-agent projection below
     cannot see ({!Trace_check}: agents, step numbers, literals, messages across
-    agents, the O2A capacity). Then TLC, agent by agent:
+    agents, the O2A capacity; then {!Trace_more}: bodies against their
+    steps' effects, percept literals parsed). Then TLC, agent by agent:
 
     For each agent of the trace, the run is projected onto the spec: every
     percept notified becomes its own percept value [n<seq>], every message
@@ -38,13 +39,16 @@ type verdict =
           {!Trace_check} (agents, steps, literals, messages across agents, the
           O2A capacity), made before TLC runs *)
 
-val trace : ?keep:string -> string -> verdict list
+val trace : ?keep:string -> ?on_cut:(string -> int -> unit) -> string -> verdict list
 (** The trace file is read and checked in OCaml; if it is [Invalid], that is
     the one verdict; otherwise one verdict per agent, from TLC. [keep]: also
-    write the generated modules into that folder.
+    write the generated modules into that folder. A last line with no
+    newline that is not JSON (a run killed while it wrote it) is left out,
+    the lines before it are checked, and [on_cut path line] is called with
+    its number.
     @raise Tlc.Error when TLC itself fails (a one-line message) *)
 
-val traces : ?keep:string -> string list -> (string * verdict list) list
+val traces : ?keep:string -> ?on_cut:(string -> int -> unit) -> string list -> (string * verdict list) list
 (** {!trace} of several files, with one TLC run for every agent of every
     trace that passes the OCaml checks: each agent an instance of the trace
     spec (its own constants, steps and variables) in one generated module
@@ -54,6 +58,7 @@ val traces : ?keep:string -> string list -> (string * verdict list) list
     and cfg, named after the agent). *)
 
 val check : string -> (unit, int * string) result
-(** Only the OCaml part of {!trace}: the strict reading and {!Trace_check};
+(** Only the OCaml part of {!trace}: the strict reading (a cut last line left
+    out, as by {!trace}) and {!Trace_check};
     [Error (line, message)] as {!Invalid}. No TLC (fast: the fuzz campaign's
     first filter). *)

@@ -8,16 +8,25 @@ type t =
   | Run_rules of int
   | Run_idle
 
+(* The fields each action of a line takes (docs/trace-format.md, "Events
+   files"): the first field of this table the line has is its action. A
+   line with two actions is refused by the match below. *)
+let fields_of = [
+  "notify", [ "agent"; "notify"; "priority" ];
+  "put", [ "agent"; "put" ];
+  "message", [ "agent"; "message"; "performative" ];
+  "run", [ "run" ];
+]
+
 let parse_line env ~agents ~file line : (t option, (int * string) list) result =
   let errors = ref [] in
   let bad col msg = errors := (col, msg) :: !errors; None in
   let line = String.trim line in
   let r =
     if line = "" || line.[0] = '#' then None
-    else match Yojson.Safe.from_string line with
-      | exception Yojson.Json_error m ->
-        bad 1 ("not a JSON object: " ^ String.concat " " (String.split_on_char '\n' m))
-      | `Assoc fields ->
+    else match Json_read.of_string line with
+      | Error e -> bad e.column ("not JSON: " ^ e.message)
+      | Ok (`Assoc fields) ->
         let get f = List.assoc_opt f fields in
         (* the column of a field's name in the line, for an error at that field *)
         let col_of f =
@@ -37,6 +46,17 @@ let parse_line env ~agents ~file line : (t option, (int * string) list) result =
         let value e = match Eval.literal_value env e with
           | v -> Some v
           | exception (Eval.Trap (at, m) | Eval.Link (at, m)) -> bad at.left.column m in
+        (* each action takes its own fields, and no other (a misspelt
+           "priorty" would otherwise be ignored): the table [fields_of] *)
+        let action = List.find_opt (fun (a, _) -> get a <> None) fields_of in
+        (match action with
+         | Some (a, allowed) ->
+           List.iter (fun (f, _) ->
+               if not (List.mem f allowed) && List.exists (fun (b, _) -> b = f) fields_of = false then
+                 ignore (bad (col_of f) (Printf.sprintf "a %S line has no field %S (its fields: %s)" a
+                                          (Json_read.printable f) (String.concat ", " allowed)))) fields
+         | None -> ());
+        if !errors <> [] then None else
         (match get "notify", get "put", get "message", get "run" with
          | Some (`String p), None, None, None ->
            (match agent () with
@@ -83,7 +103,7 @@ let parse_line env ~agents ~file line : (t option, (int * string) list) result =
          | None, None, None, Some (`Assoc _) -> bad 1 "\"run\": {\"rules\": N} takes one field, a natural number"
 
          | _ -> bad 1 "expected one of \"notify\", \"put\", \"message\" (with \"agent\") or \"run\" (a number, \"idle\" or {\"rules\": N})")
-      | _ -> bad 1 "each line is a JSON object" in
+      | Ok _ -> bad 1 "each line is a JSON object" in
   match !errors with
   | [] -> Ok r
   | es -> Error (List.rev es)
@@ -475,72 +495,147 @@ let to_line = function
   | Run_idle -> Yojson.Safe.to_string (`Assoc [ "run", `String "idle" ])
   | Run_rules k -> Yojson.Safe.to_string (`Assoc [ "run", `Assoc [ "rules", `Int k ] ])
 
-(* Every line of the file, one at a time, with its number: the lines
+(* ------------------------------------------------------- reading the file *)
+
+(* The longest line, and the most bytes, an events file may have (README,
+   "Limits"): a line longer than this is an error at it and is never held
+   in memory; a file longer than that is an error, and is not read past it
+   (an endless pipe, /dev/zero). *)
+let max_line = 16 * 1024 * 1024
+let max_bytes = 1024 * 1024 * 1024
+
+(* Every line of the channel, with its number from 1: the lines
    [input_line] reads (split at each newline, the last one with or without
-   its own), found in a buffer the file is read into 64 kB at a time
-   ([input_line] cost a fifth of the reading). Only the line
-   being read is kept: a line longer than the buffer makes it grow. *)
+   its own, a carriage return kept), [None] for one longer than
+   [max_line] (not kept: the rest of it is skipped). The channel is read
+   64 kB at a time and each byte is looked at once: a line held over from
+   one block to the next is added to, never moved (linear in the file).
+   [`Stop] ends the reading; so does [max_bytes] read: then [over] is
+   called with the line number. *)
+let fold_channel ic ~over f init =
+  let chunk = Bytes.create 65536 in
+  let pending = Buffer.create 256 in
+  let long = ref false in   (* the line being read is past max_line *)
+  let total = ref 0 in
+  (* the first newline in [chunk] from [i] to [stop], or -1 *)
+  let rec newline i stop =
+    if i + 8 <= stop then begin
+      let x = Int64.logxor (Bytes.get_int64_ne chunk i) 0x0A0A0A0A0A0A0A0AL in
+      if Int64.logand (Int64.sub x 0x0101010101010101L) (Int64.logand (Int64.lognot x) 0x8080808080808080L) = 0L
+      then newline (i + 8) stop
+      else newline_byte i stop
+    end else newline_byte i stop
+  and newline_byte i stop =
+    if i >= stop then -1 else if Bytes.unsafe_get chunk i = '\n' then i else newline_byte (i + 1) stop in
+  (* the bytes [from, upto) of the chunk join the line being read *)
+  let add from upto =
+    if not !long then begin
+      if Buffer.length pending + (upto - from) > max_line then begin long := true; Buffer.reset pending end
+      else Buffer.add_subbytes pending chunk from (upto - from)
+    end in
+  let line_done () =
+    let l = if !long then None else Some (Buffer.contents pending) in
+    Buffer.clear pending; long := false; l in
+  let rec go acc n =
+    match input ic chunk 0 65536 with
+    | 0 ->
+      if Buffer.length pending > 0 || !long then
+        (match f acc n (line_done ()) with `Continue acc | `Stop acc -> acc)
+      else acc
+    | k ->
+      total := !total + k;
+      if !total > max_bytes then (over n; acc)
+      else lines acc n 0 k
+  and lines acc n from k =
+    match newline from k with
+    | -1 -> add from k; go acc n
+    | i ->
+      let l =
+        if Buffer.length pending = 0 && not !long then
+          (if i - from > max_line then None else Some (Bytes.sub_string chunk from (i - from)))
+        else (add from i; line_done ()) in
+      match f acc n l with
+      | `Continue acc -> lines acc (n + 1) (i + 1) k
+      | `Stop acc -> acc in
+  go init 1
+
 let fold_lines path f init =
   let ic = open_in_bin path in
   Fun.protect ~finally:(fun () -> close_in_noerr ic) (fun () ->
-      let buf = ref (Bytes.create 65536) in
-      (* the bytes not yet handed out: [!buf] from [!pos] to [!len] *)
-      let pos = ref 0 and len = ref 0 and eof = ref false in
-      (* the first newline from [i] on, eight bytes at a time while eight
-         are left (a word with a zero byte once xored with newlines) *)
-      let rec newline b i stop =
-        if i + 8 <= stop then begin
-          let x = Int64.logxor (Bytes.get_int64_ne b i) 0x0A0A0A0A0A0A0A0AL in
-          if Int64.logand (Int64.sub x 0x0101010101010101L) (Int64.logand (Int64.lognot x) 0x8080808080808080L) = 0L
-          then newline b (i + 8) stop
-          else newline_byte b i stop
-        end else newline_byte b i stop
-      and newline_byte b i stop =
-        if i >= stop then -1 else if Bytes.unsafe_get b i = '\n' then i else newline_byte b (i + 1) stop in
-      (* the rest moved to the front, and the buffer filled after it *)
-      let refill () =
-        let rest = !len - !pos in
-        if rest = Bytes.length !buf then begin
-          let bigger = Bytes.create (2 * Bytes.length !buf) in
-          Bytes.blit !buf !pos bigger 0 rest;
-          buf := bigger
-        end else Bytes.blit !buf !pos !buf 0 rest;
-        pos := 0; len := rest;
-        let k = input ic !buf rest (Bytes.length !buf - rest) in
-        if k = 0 then eof := true else len := rest + k in
-      let rec next_line from =
-        match newline !buf from !len with
-        | -1 when !eof ->
-          if !pos < !len then begin
-            let l = Bytes.sub_string !buf !pos (!len - !pos) in
-            pos := !len; Some l
-          end else None
-        | -1 -> let scanned = from - !pos in refill (); next_line (!pos + scanned)
-        | i -> let l = Bytes.sub_string !buf !pos (i - !pos) in pos := i + 1; Some l in
-      let rec go acc n =
-        match next_line !pos with
-        | None -> acc
-        | Some l -> match f acc n l with
-          | `Continue acc -> go acc (n + 1)
-          | `Stop acc -> acc in
-      go init 1)
+      fold_channel ic ~over:(fun _ -> raise (Sys_error (Printf.sprintf "%s: longer than %d bytes" path max_bytes)))
+        f init)
 
-let check env ~agents path ~report =
-  fold_lines path (fun count n line ->
-      match parse_line env ~agents ~file:path line with
-      | Ok _ -> `Continue count
-      | Error es ->
-        List.iter (fun (col, m) -> report ~line:n ~col m) es;
-        `Continue (count + List.length es)) 0
+(* The lines kept for the run: the good event lines' text, each with its
+   newline, in blocks of 1 MB (a longer line in a block of its own), so
+   that memory is about the size of these lines and nothing is copied
+   twice. *)
+type file = {
+  env : Typing.Tenv.t;
+  agents : (string * string) list;
+  name : string;
+  mutable blocks : Bytes.t list;   (* in order; each dropped once applied *)
+  lines : int;
+}
 
-let iter env ~agents path ~report f =
-  fold_lines path (fun ok n line ->
-      match parse_line env ~agents ~file:path line with
-      | Ok None -> `Continue ok
-      | Ok (Some e) -> f e; `Continue ok
-      | Error es ->
-        List.iter (fun (col, m) -> report ~line:n ~col m) es;
-        `Stop false) true
+let block_size = 1 lsl 20
+
+let read env ~agents path ~report =
+  let problems = ref 0 in
+  let blocks = ref [] and current = ref (Bytes.create 0) and used = ref 0 and count = ref 0 in
+  let keep l =
+    let k = String.length l + 1 in
+    if !used + k > Bytes.length !current then begin
+      if !used > 0 then blocks := Bytes.sub !current 0 !used :: !blocks;
+      current := Bytes.create (max block_size k); used := 0
+    end;
+    Bytes.blit_string l 0 !current !used (k - 1);
+    Bytes.set !current (!used + k - 1) '\n';
+    used := !used + k;
+    incr count in
+  let ic = open_in_bin path in
+  Fun.protect ~finally:(fun () -> close_in_noerr ic) (fun () ->
+      fold_channel ic
+        ~over:(fun n ->
+            incr problems;
+            report ~line:n ~col:1
+              (Printf.sprintf "the events file is longer than %d bytes (1 GiB): it is not read further" max_bytes))
+        (fun () n l ->
+           (match l with
+            | None ->
+              incr problems;
+              report ~line:n ~col:1 (Printf.sprintf "a line longer than %d bytes (16 MB)" max_line)
+            | Some l ->
+              match parse_line env ~agents ~file:path l with
+              | Ok None -> ()
+              | Ok (Some _) -> if !problems = 0 then keep l
+              | Error es ->
+                List.iter (fun (col, m) -> report ~line:n ~col m) es;
+                problems := !problems + List.length es);
+           `Continue ()) ());
+  if !problems > 0 then Error !problems
+  else begin
+    if !used > 0 then blocks := Bytes.sub !current 0 !used :: !blocks;
+    Ok { env; agents; name = path; blocks = List.rev !blocks; lines = !count }
+  end
+
+let length f = f.lines
+
+let rec iter f apply =
+  match f.blocks with
+  | [] -> ()
+  | b :: rest ->
+      f.blocks <- rest;
+      let n = Bytes.length b in
+      let rec go i =
+        if i < n then begin
+          let j = Bytes.index_from b i '\n' in
+          (match parse_line f.env ~agents:f.agents ~file:f.name (Bytes.sub_string b i (j - i)) with
+           | Ok (Some e) -> apply e
+           | Ok None | Error _ -> Semantics.Fault.crash "Events.iter: a line checked good reads differently");
+          go (j + 1)
+        end in
+      go 0;
+      iter f apply
 
 (* Writing: the host's actions as written in a file (generators of test
    inputs, the fuzz campaign: fuzz/). *)

@@ -1,8 +1,12 @@
 (** The host's events file of [jadescript-ref run --events] (JSON lines,
     docs/trace-format.md): what the host does, in order. The file is read
-    one line at a time, twice: {!check} reads every line and reports every
-    bad one before anything runs; {!iter} reads it again and hands each
-    event over as it is read. Memory does not grow with the file. *)
+    once, from its start to its end, whatever it is (a file, a pipe, a
+    FIFO, [/dev/stdin]): {!read} checks every line as it is read and keeps
+    the good ones' text in memory (about the size of those lines); if every
+    line is good, {!iter} hands their events over, one at a time, as the
+    run applies them. Nothing runs before every line was checked. The
+    limits: a line of at most {!max_line} bytes, a file of at most
+    {!max_bytes}. *)
 
 type t =
   | Notify of { agent : string; percept : Value.t; default : int; priority : int option }
@@ -16,26 +20,43 @@ type t =
           that the host can act between rules (R3d) *)
   | Run_idle                                           (** until every agent is idle *)
 
-val check :
-  Typing.Tenv.t -> agents:(string * string) list -> string ->
-  report:(line:int -> col:int -> string -> unit) -> int
-(** Reads every line of the file and reports each problem; returns how many
-    there were. @raise Sys_error when the file cannot be read. *)
+val max_line : int
+(** 16 MB (16,777,216 bytes): a longer line is an error at it, and is never
+    held in memory. *)
 
-val iter :
+val max_bytes : int
+(** 1 GiB (1,073,741,824 bytes): a longer file is an error, and is not read
+    past that (an endless pipe ends there). *)
+
+type file
+(** An events file read and checked: the text of its event lines. *)
+
+val read :
   Typing.Tenv.t -> agents:(string * string) list -> string ->
-  report:(line:int -> col:int -> string -> unit) -> (t -> unit) -> bool
-(** Hands each event of the file over in order, as it is read. A line that
-    is bad now (the file changed since {!check}) is reported and ends the
-    reading: [false]. *)
+  report:(line:int -> col:int -> string -> unit) -> (file, int) result
+(** Reads the file once and checks every line as it is read, reporting
+    each problem; [Error n] when there were [n] (then nothing is kept).
+    @raise Sys_error when the file cannot be opened or read. *)
+
+val length : file -> int
+(** How many event lines it holds (blank and [#] lines are not kept). *)
+
+val iter : file -> (t -> unit) -> unit
+(** Hands each event over in order, as it is read from the text kept (the
+    same event {!parse_line} read when it was checked); the text of each
+    block of lines is dropped once its events were handed over, so [iter]
+    goes once over a file. *)
 
 val fold_lines :
-  string -> ('a -> int -> string -> [ `Continue of 'a | `Stop of 'a ]) -> 'a -> 'a
+  string -> ('a -> int -> string option -> [ `Continue of 'a | `Stop of 'a ]) -> 'a -> 'a
 (** Every line of the file in order, with its number from 1, as
     [input_line] reads them (split at each newline, the last line with or
-    without its own; a carriage return is kept), until the function says
-    [`Stop]. Only the line being read is kept in memory.
-    @raise Sys_error when the file cannot be read. *)
+    without its own; a carriage return is kept), [None] for a line longer
+    than {!max_line} (not held in memory), until the function says
+    [`Stop]. Only the line being read is kept in memory, and each byte is
+    looked at once.
+    @raise Sys_error when the file cannot be read, or is longer than
+    {!max_bytes}. *)
 
 (** {1 Reading one line}
 
@@ -54,8 +75,9 @@ val parse_line :
 val parse_line_full :
   Typing.Tenv.t -> agents:(string * string) list -> file:string -> string ->
   (t option, (int * string) list) result
-(** The full path: the line through Yojson, the percept through the
-    program's grammar ([Syntax.Parse.expr]) and [Eval.percept_value]. *)
+(** The full path: the line through the JSON reader ([Json_read]: strict,
+    bounded), each field checked (an action's own fields only, docs/trace-format.md),
+    the percept through the program's grammar ([Syntax.Parse.expr]) and [Eval.percept_value]. *)
 
 val quick_notify : Typing.Tenv.t -> agents:(string * string) list -> string -> t option
 (** The quick path alone: [Some] event only for a line of the two fields

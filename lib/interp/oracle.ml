@@ -13,16 +13,20 @@ let read_file path =
   Fun.protect ~finally:(fun () -> close_in_noerr ic)
     (fun () -> really_input_string ic (in_channel_length ic))
 
+(* A vector.json is a few hundred bytes; a longer one is not read. *)
+let max_vector = 1024 * 1024
+
 let load root =
   Sys.readdir root |> Array.to_list |> List.sort compare
   |> List.filter (fun d -> Sys.is_directory (Filename.concat root d)
                            && Sys.file_exists (Filename.concat (Filename.concat root d) "vector.json"))
   |> List.map (fun d ->
       let dir = Filename.concat root d in
-      let meta = match Yojson.Safe.from_file (Filename.concat dir "vector.json") with
-        | `Assoc f -> f
-        | _ -> failwith (dir ^ "/vector.json: not an object")
-        | exception Yojson.Json_error m -> failwith (dir ^ "/vector.json: " ^ m) in
+      let file = Filename.concat dir "vector.json" in
+      let meta = match Json_read.of_file ~max_bytes:max_vector file with
+        | Ok (`Assoc f) -> f
+        | Ok _ -> failwith (file ^ ":1:1: error: not an object")
+        | Error e -> failwith (Printf.sprintf "%s:%d:%d: error: %s" file e.line e.column e.message) in
       let strs f = match List.assoc_opt f meta with
         | Some (`List l) -> List.filter_map (function `String s -> Some s | _ -> None) l
         | _ -> [] in
@@ -101,9 +105,9 @@ let sorted_fields j =
   norm j
 
 let header_problem ~expected (line : string) =
-  match Yojson.Safe.from_string line with
-  | exception Yojson.Json_error _ -> Some "its first line is not JSON (a header is required, docs/trace-format.md)"
-  | `Assoc _ as got ->
+  match Json_read.of_string line with
+  | Error _ -> Some "its first line is not JSON (a header is required, docs/trace-format.md)"
+  | Ok (`Assoc _ as got) ->
     (match Trace.header_version got with
      | Some (`Int v) when v = Trace.version ->
        if Yojson.Safe.equal (sorted_fields expected) (sorted_fields got) then None
@@ -111,7 +115,7 @@ let header_problem ~expected (line : string) =
      | Some v ->
        Some (Printf.sprintf "its header has version %s; this oracle reads version %d" (show v) Trace.version)
      | None -> Some (Printf.sprintf "its first line is not a header ({\"trace\":\"jadescript-ref\",\"version\":%d,...})" Trace.version))
-  | _ -> Some "its first line is not a header object"
+   | Ok _ -> Some "its first line is not a header object"
 
 let has_error_event evs = List.exists Trace.is_error evs
 
@@ -155,9 +159,9 @@ let compare_stream ~expected_header ~expected got =
               match next () with
               | None -> `Diverge (i, show (strip e), "(the trace ends)")
               | Some l ->
-                match Yojson.Safe.from_string l with
-                | exception Yojson.Json_error _ -> `Diverge (i, show (strip e), "not JSON: " ^ l)
-                | g ->
+                match Json_read.of_string l with
+                | Error m -> `Diverge (i, show (strip e), "not JSON (" ^ m.message ^ "): " ^ Json_read.printable l)
+                | Ok g ->
                   if Yojson.Safe.equal (strip e) (strip g) then go (i + 1) (errors || has_error_event [ g ]) es
                   else `Diverge (i, show (strip e), show (strip g)) in
           go 1 false expected)
@@ -218,11 +222,14 @@ let run_vector ?(spawn = system_under_timeout) ?timeout ?keep ~impl v =
       match
         let path = Filename.concat v.dir "expected.jsonl" in
         let header = match String.split_on_char '\n' (read_file path) with
-          | h :: _ -> Yojson.Safe.from_string h
+          | h :: _ ->
+            (match Json_read.of_string h with
+             | Ok j -> j
+             | Error e -> failwith (Printf.sprintf "%s:1:%d: error: %s" path e.column e.message))
           | [] -> failwith (path ^ ": empty") in
         (header, read_trace path)
       with
-      | exception (Failure m | Sys_error m | Yojson.Json_error m) -> Failed ("the vector is broken: " ^ m)
+      | exception (Failure m | Sys_error m) -> Failed ("the vector is broken: " ^ m)
       | (expected_header, expected) ->
         if code <> 0 && code <> 1 then Failed (because ("the implementation " ^ describe_status ~timeout code))
         else match compare_stream ~expected_header ~expected trace with

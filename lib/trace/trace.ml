@@ -132,7 +132,9 @@ let fields = function
        [ "performative", str performative; "content", str content; "to", strs receivers ]
      | Activate b -> [ "behaviour", str b ]
      | Deactivate id -> [ "instance", int id ]
-     | Error { at; message } -> [ "at", str at; "message", str message ])
+     | Error { at; message } ->
+       (* a file name need not be UTF-8, and JSON text must be *)
+       [ "at", str (Utf8.repair at); "message", str (Utf8.repair message) ])
 
 let line_to_json l =
   `Assoc ([ "step", int l.step; "agent", str l.agent; "event", str (event_name l.event);
@@ -625,7 +627,9 @@ let encode_after o ~step ~agent event =
        put_list o ",\"to\":" (write_string o) receivers
      | Activate beh -> put_str o ",\"behaviour\":" beh
      | Deactivate id -> put_int o ",\"instance\":" id
-     | Error { at; message } -> put_str o ",\"at\":" at; put_str o ",\"message\":" message);
+     | Error { at; message } ->
+       (* a file name need not be UTF-8, and JSON text must be *)
+       put_str o ",\"at\":" (Utf8.repair at); put_str o ",\"message\":" (Utf8.repair message));
     add_char o '}'
   | Create _ | Refused_put _ ->
     (* the tree's line after its step number (which holds no comma) *)
@@ -757,11 +761,10 @@ let fold_file path f init =
         | exception End_of_file -> acc
         | l ->
           if String.trim l = "" then go acc (n + 1)
-          else match Yojson.Safe.from_string l with
-            | j -> go (f acc n j) (n + 1)
-            | exception Yojson.Json_error m ->
-              failwith (Printf.sprintf "%s:%d:1: error: not JSON: %s" path n
-                          (String.concat " " (String.split_on_char '\n' m))) in
+          else match Json_read.of_string l with
+            | Ok j -> go (f acc n j) (n + 1)
+            | Error e ->
+              failwith (Printf.sprintf "%s:%d:%d: error: not JSON: %s" path n e.column e.message) in
       go init 1)
 
 exception Located of int * string
@@ -789,9 +792,8 @@ let bounded_line ic n =
       if Buffer.length b = 0 then None else Some (Buffer.contents b) in
   go ()
 
-(* One printable line: control characters of a message shown as '?'. *)
-let printable m =
-  String.map (fun c -> if c = '\n' || c = '\t' then ' ' else if Char.code c < 0x20 || c = '\127' then '?' else c) m
+(* What the JSON reader said, with its column (a trace line is one line). *)
+let json_error (e : Json_read.error) = Printf.sprintf "%s (column %d)" e.message e.column
 
 let read_located path =
   let located n fmt = Printf.ksprintf (fun m -> raise (Located (n, m))) fmt in
@@ -806,10 +808,9 @@ let read_located path =
             (match Utf8.first_invalid l with
              | Some k -> located n "not JSON: byte %d is not valid UTF-8" (k + 1)
              | None -> ());
-            let j = match Yojson.Safe.from_string l with
-              | j -> j
-              | exception Yojson.Json_error m ->
-                located n "not JSON: %s" (printable m) in
+            let j = match Json_read.of_string l with
+              | Ok j -> j
+              | Error e -> located n "not JSON: %s" (json_error e) in
             match h with
             | None ->
               (match header_of_json j with
@@ -830,8 +831,9 @@ let read_located path =
    then each line, with its number; memory does not grow with the file. A
    last line with no newline that is not JSON (a run killed while it wrote
    it) is not read: [Ok true] says so. *)
-let stream path ~header ~line =
+let stream_cut path ~header ~line =
   let located n fmt = Printf.ksprintf (fun m -> raise (Located (n, m))) fmt in
+  let cut_at = ref 0 in
   match
     let ic = open_in_bin path in
     Fun.protect ~finally:(fun () -> close_in_noerr ic) (fun () ->
@@ -842,11 +844,12 @@ let stream path ~header ~line =
           | Some l ->
             let cut = not !last_had_newline in
             (match Utf8.first_invalid l with
-             | Some k -> if cut then raise Exit else located n "not JSON: byte %d is not valid UTF-8" (k + 1)
+             | Some k -> if cut && seen then (cut_at := n; raise Exit)
+               else located n "not JSON: byte %d is not valid UTF-8" (k + 1)
              | None -> ());
-            let j = match Yojson.Safe.from_string l with
-              | j -> j
-              | exception Yojson.Json_error m -> if cut then raise Exit else located n "not JSON: %s" (printable m) in
+            let j = match Json_read.of_string l with
+              | Ok j -> j
+              | Error e -> if cut && seen then (cut_at := n; raise Exit) else located n "not JSON: %s" (json_error e) in
             if not seen then begin
               match header_of_json j with
               | Ok h -> header h; go true (n + 1)
@@ -858,10 +861,13 @@ let stream path ~header ~line =
             end in
         try go false 1 with Exit -> (true, true))
   with
-  | (true, cut) -> Ok cut
+  | (true, cut) -> Ok (if cut then Some !cut_at else None)
   | (false, _) -> Error (1, "not a jadescript-ref trace (no header line)")
   | exception Located (n, m) -> Error (n, m)
   | exception Sys_error m -> Error (1, m)
+
+let stream path ~header ~line =
+  Result.map Option.is_some (stream_cut path ~header ~line)
 
 let read_file path =
   match read_located path with

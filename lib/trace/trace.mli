@@ -185,6 +185,10 @@ val stream : string -> header:(header -> unit) -> line:(int -> line -> unit) -> 
     wrote that line: the lines before it stand). [Error (line, message)] on
     the first bad line. *)
 
+val stream_cut : string -> header:(header -> unit) -> line:(int -> line -> unit) ->
+  (int option, int * string) result
+(** {!stream}, with [Ok (Some n)] when the last line, line [n], is cut. *)
+
 val read_file : string -> (header * (int * line) list, string) result
 (** A whole trace: its header and its lines with their line numbers.
     [Error "PATH:LINE:COL: error: message"] on the first bad line. *)

@@ -331,7 +331,12 @@ let resolve_schemas st =
       if s.s_kind = Proposition && own <> [] then
         error st s.s_decl.it.sname.at "proposition %s cannot have slots (use a predicate)" s.s_name;
       let seen = Hashtbl.create 8 in
-      let slots = List.fold_left (fun acc (sl : slot) ->
+      (* the parent's slots by name, the overrides of them, and the new
+         slots, last first: linear in the slots (a concept may have many) *)
+      let inherited = Hashtbl.create 8 in
+      List.iter (fun (m, u) -> Hashtbl.replace inherited m u) parent_slots;
+      let overridden = Hashtbl.create 8 in
+      let added = List.fold_left (fun acc (sl : slot) ->
           let n = sl.slot_name in
           let t = ty st ~in_slot:true visible sl.slot_ty in
           if Hashtbl.mem seen n.it then begin
@@ -341,17 +346,20 @@ let resolve_schemas st =
             if percept && n.it = "priority" then begin
               error st n.at "priority is the priority of every percept (R1a) and cannot be a \
                              slot of the percept type %s" s.s_name; acc
-            end else match List.assoc_opt n.it acc with
+            end else match Hashtbl.find_opt inherited n.it with
               | Some t0 ->
                 (* Rule Slot-Override: covariant. *)
                 if not (assignable st t t0) then
                   error st sl.slot_ty.at "slot %s overrides the slot of %s with an incompatible \
                                           type: expected %s (or a subtype), found %s"
                     n.it (Option.value s.s_super ~default:"?") (ts t0) (ts t);
-                List.map (fun (m, u) -> if m = n.it then (m, t) else (m, u)) acc
-              | None -> acc @ [(n.it, t)]
-          end) parent_slots own in
-      s.s_slots <- slots
+                Hashtbl.replace overridden n.it t;
+                acc
+              | None -> (n.it, t) :: acc
+          end) [] own in
+      let parent = List.rev_map (fun (m, u) ->
+          match Hashtbl.find_opt overridden m with Some t -> (m, t) | None -> (m, u)) parent_slots in
+      s.s_slots <- List.rev_append parent (List.rev added)
     end in
   List.iter resolve (Tenv.schemas st.env)
 

@@ -22,3 +22,19 @@ let first_invalid s =
         else 0 in
       if len = 0 then Some i else go (i + len) in
   go 0
+
+let repair s =
+  match first_invalid s with
+  | None -> s
+  | Some _ ->
+    let b = Buffer.create (String.length s + 8) in
+    let rec go from =
+      let rest = String.sub s from (String.length s - from) in
+      match first_invalid rest with
+      | None -> Buffer.add_string b rest
+      | Some k ->
+        Buffer.add_string b (String.sub rest 0 k);
+        Buffer.add_string b "\xef\xbf\xbd";
+        go (from + k + 1) in
+    go 0;
+    Buffer.contents b

@@ -173,6 +173,73 @@ let bad_inputs = [
    "bad.jade:3:9: error: the JADE back end does not support this: total is a local here, but A2");
 ]
 
+(* What javac or the JVM cannot take (docs/jade.md, "What Java can hold"):
+   refused by compile with one located line. *)
+let n_params n = String.concat ", " (List.init n (Printf.sprintf "x%d as integer"))
+let java_limit_inputs =
+  let unsup = "error: the JADE back end does not support this: " in [
+  ("a text literal of 70,000 bytes",
+   "agent A\n    on create do\n        log \"" ^ String.make 70_000 'a' ^ "\"\n", "bad.jade:3:13: " ^ unsup ^ "a text literal of more than 65534");
+  ("a text literal of 22,000 characters beyond U+FFFF (88,000 bytes of UTF-8, 132,000 of Java's)",
+   "agent A\n    on create do\n        log \"" ^ String.concat "" (List.init 22_000 (fun _ -> "\xf0\x9f\x98\x80")) ^ "\"\n",
+   "bad.jade:3:13: " ^ unsup ^ "a text literal");
+  ("a text literal of 65,535 bytes", "agent A\n    on create do\n        log \"" ^ String.make 65_535 'a' ^ "\"\n",
+   "bad.jade:3:13: " ^ unsup ^ "a text literal of more than 65534");
+  ("a body of 8,000 statements",
+   "agent A\n    on create do\n" ^ String.concat "" (List.init 8000 (fun _ -> "        log 1\n")), "bad.jade:2:5: " ^ unsup ^ "this body is too large");
+  ("a behaviour name of 250 characters",
+   "agent A\n    on create do\n        log 1\n\none shot behaviour " ^ String.make 250 'B' ^ " for agent A\n    do\n        log 1\n",
+   "bad.jade:5:20: " ^ unsup ^ "a name longer than 200");
+  ("a log of 250 terms joined by +",
+   "agent A\n    on create do\n        log " ^ String.concat " + " (List.init 250 (fun _ -> "1")) ^ "\n",
+   "bad.jade:3:13: " ^ unsup ^ "an expression nested more than 100 deep");
+  ("a function of 260 parameters",
+   "agent A\n    function f(" ^ n_params 260 ^ ") as integer do\n        return 1\n", "bad.jade:2:5: " ^ unsup ^ "more than 250 parameters");
+  ("a concept of 260 slots",
+   "ontology O\n    concept c(" ^ n_params 260 ^ ")\nagent A uses ontology O\n", "bad.jade:2:13: " ^ unsup ^ "c has 260 slots");
+  ("a concept of 251 slots, 200 of them inherited",
+   "ontology O\n    concept c(" ^ n_params 200 ^ ")\n    concept d(y1 as integer" ^ String.concat "" (List.init 50 (Printf.sprintf ", z%d as integer")) ^ ") extends c\nagent A uses ontology O\n",
+   "bad.jade:3:13: " ^ unsup ^ "d has 251 slots");
+  ("1,001 behaviour types",
+   "agent A\n" ^ String.concat "" (List.init 1001 (Printf.sprintf "\none shot behaviour B%d for agent A\n    do\n        log 1\n")),
+   "bad.jade:3999:20: " ^ unsup ^ "more than 1000 schemas");
+]
+
+(* At each limit: accepted (javac takes these: scripts/jade-compile-check
+   compiles test/backend/programs/). *)
+let at_limit_inputs = [
+  ("a text literal of 65,534 bytes", "agent A\n    on create do\n        log \"" ^ String.make 65_534 'a' ^ "\"\n");
+  ("an expression 100 deep", "agent A\n    on create do\n        log " ^ String.concat " + " (List.init 100 (fun _ -> "1")) ^ "\n");
+  ("250 parameters and 250 slots",
+   "ontology O\n    concept c(" ^ n_params 250 ^ ")\nagent A uses ontology O\n    function f(" ^ n_params 250 ^ ") as integer do\n        return 1\n");
+  ("a name of 200 characters", "agent " ^ String.make 200 'A' ^ "\n    on create do\n        log 1\n");
+]
+
+let at_limit (name, text) =
+  Alcotest.test_case ("accepted: " ^ name) `Quick (fun () ->
+      let dir = temp_dir () in
+      Fun.protect ~finally:(fun () -> rm_rf dir) (fun () ->
+          let oc = open_out_bin (Filename.concat dir "ok.jade") in
+          output_string oc text; close_out oc;
+          let (status, _, err) = S.run_command (Printf.sprintf "cd %s && %s compile ok.jade --out gen" (q dir) (q exe)) in
+          Alcotest.(check int) ("exit status: " ^ err) 0 status))
+
+(* Names JADE's classes already use, and a local named like a property's
+   field: the generated Java refers to the program's classes by their
+   package (jsgen.Interrupted, not Agent.Interrupted) and renames the
+   local. The program is test/backend/programs/jade_names.jade, which
+   scripts/jade-compile-check also compiles with javac. *)
+let jade_names () =
+  let f = Filename.concat root "test/backend/programs/jade_names.jade" in
+  let _, units = generate [ f ] in
+  let a = List.assoc "A.java" units and h = List.assoc "H.java" units in
+  let has t s = if not (contains t s) then Alcotest.failf "expected %S in:\n%s" s t in
+  has a "jsgen.Interrupted.make(";
+  has a "p_count$";
+  has h "instanceof jsgen.RunnableChangedEvent";
+  has h "instanceof jsgen.AP_ACTIVE";
+  if contains a "Object p_count =" then Alcotest.fail "a local p_count hides the property's field"
+
 let bad_case (name, text, prefix) =
   Alcotest.test_case ("refused: " ^ name) `Quick (fun () ->
       let dir = temp_dir () in
@@ -195,8 +262,9 @@ let missing_file () =
   Alcotest.(check string) "message" "/nonexistent/x.jade:1:1: error: cannot read this file: /nonexistent/x.jade: No such file or directory\n" err
 
 let bad_target () =
-  let (status, _, _) = S.run_command (Printf.sprintf "%s compile x.jade --target llvm --out /tmp/jsref-none" (q exe)) in
-  Alcotest.(check int) "a command-line error" 124 status
+  let (status, _, err) = S.run_command (Printf.sprintf "%s compile x.jade --target llvm --out /tmp/jsref-none" (q exe)) in
+  Alcotest.(check int) "a command-line error" 1 status;
+  Alcotest.(check int) ("one line: " ^ err) 1 (List.length (List.filter (( <> ) "") (String.split_on_char '\n' err)))
 
 (* Java text. *)
 let java_strings () =
@@ -252,7 +320,7 @@ let shapes () =
       (* a when condition, its pattern method, fresh fuel before the body *)
       has b (Printf.sprintf "ok$ = Ops.whenCond(%s" (at 15 21));
       has b "agent().freshFuel();";
-      has b "if (!(v$ instanceof pos)) return false;")
+      has b "if (!(v$ instanceof jsgen.pos)) return false;")
 
 let () =
   Alcotest.run "backend"
@@ -261,7 +329,10 @@ let () =
       ("command line", [ Alcotest.test_case "compile writes the classes" `Quick command_writes;
                          Alcotest.test_case "a missing file" `Quick missing_file;
                          Alcotest.test_case "an unknown target" `Quick bad_target ]
-                       @ List.map bad_case bad_inputs);
+                       @ List.map bad_case bad_inputs
+                       @ List.map bad_case java_limit_inputs
+                       @ List.map at_limit at_limit_inputs
+                       @ [ Alcotest.test_case "names JADE's classes use" `Quick jade_names ]);
       ("java", [ Alcotest.test_case "string literals and comments" `Quick java_strings;
                  Alcotest.test_case "deterministic" `Quick deterministic;
                  Alcotest.test_case "what the Java says" `Quick shapes ]) ]

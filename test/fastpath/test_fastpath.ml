@@ -162,7 +162,9 @@ let lines_as_input_line (pieces, last_newline) =
     let r = go [] in close_in ic; r in
   let got = List.rev (Ev.fold_lines file (fun acc n l ->
       if n <> List.length acc + 1 then QCheck.Test.fail_reportf "line %d numbered %d" (List.length acc + 1) n;
-      `Continue (l :: acc)) []) in
+      match l with
+      | Some l -> `Continue (l :: acc)
+      | None -> QCheck.Test.fail_reportf "line %d read as too long" n) []) in
   Sys.remove file;
   if got <> expected then
     QCheck.Test.fail_reportf "%d lines read, %d by input_line (lengths %s)" (List.length got) (List.length expected)
