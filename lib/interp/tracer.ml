@@ -166,7 +166,7 @@ let event_of ~(percept : ?keep:bool -> V.t -> string) ~(name : int -> string) (c
   | Mc.Notify e -> Trace.Notify { entry = entry e; overridden = false }
   | Mc.Notify_with e -> Trace.Notify { entry = entry e; overridden = true }
   | Mc.Put o -> Trace.Put { obj = V.to_literal o; index = c.puts }
-  | Mc.Send (m, seq) -> Trace.Deliver { message = message m; seq }
+  | Mc.Send (m, seq) -> Trace.Deliver { message = message m; seq; in_step = false }
   | Mc.Transfer n -> Trace.Transfer n
   | Mc.Transfer_one e -> Trace.Transfer_one (entry e)
   | Mc.Transfer_spin o -> Trace.Transfer_spin (V.to_literal o)
