@@ -194,7 +194,11 @@ let event_of ~(percept : ?keep:bool -> V.t -> string) ~(name : int -> string) (c
 let label_event t agent (c : config) (l : label) evs : Trace.event =
   event_of ~percept:(fun ?keep v -> percept_text ?keep t v) ~name:(name t agent) c l evs
 
-let host t ~agent (c : config) = Trace.write_with t.w ~agent (fun () -> label_event t agent c c.last [])
+let host ?(in_step = false) t ~agent (c : config) =
+  Trace.write_with t.w ~agent (fun () ->
+      match label_event t agent c c.last [] with
+      | Trace.Deliver d -> Trace.Deliver { d with in_step }
+      | e -> e)
 
 let refused t ~agent v =
   Trace.write t.w ~agent (Trace.Refused { percept = V.to_literal v; reason = "the O2A queue is full (R2d)" })

@@ -26,7 +26,8 @@ module Make (B : Machine.BODIES) : sig
     | Delivered of { sender : string; receiver : string; message : B.message }
     | To_platform of { sender : string; receiver : string; message : B.message }
         (** a message to one of the platform's own agents ({!platform_agents}):
-            the platform answers it (R5e) *)
+            theirs, never answered, since they take only messages of their
+            own ontologies (R5e, D44) *)
     | Undeliverable of { sender : string; receiver : string; message : B.message }
         (** the receiver is not on the platform: the platform answers the
             sender with a failure from [ams] (R5e) *)
@@ -43,7 +44,7 @@ module Make (B : Machine.BODIES) : sig
   val deliver : Machine.params -> t -> sender:string -> receiver:string -> B.message -> t * event
   (** A message from [sender] (an agent, the host or a platform agent) to
       [receiver] (R5e): into its message queue when it is an agent of the
-      run ({!Delivered}); else the platform's to answer ({!To_platform},
+      run ({!Delivered}); else the platform's ({!To_platform},
       {!Undeliverable}), the platform unchanged. *)
 
   val deliver_in_step : Machine.params -> t -> sender:string -> receiver:string -> B.message -> (t * event) option

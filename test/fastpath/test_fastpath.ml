@@ -430,7 +430,7 @@ let percept_text_follows_its_slots () =
   let env, _ = Typing.check [ Parse.string ~file:"m.jade" text ] in
   let file = Filename.temp_file "jsref_text" ".jsonl" in
   let oc = open_out_bin file in
-  let opts = { Interp.Runtime.params = Mc.default_params; engine = Interp.Runtime.Fast; max_memory = None; level = "full"; seed = None; fuel = 500; max_steps = 1000;
+  let opts = { Interp.Runtime.params = Mc.default_params; engine = Interp.Runtime.Fast; max_memory = None; level = "full"; seed = None; interleave = None; fuel = 500; max_steps = 1000;
                trace = Some oc; on_log = (fun _ _ -> ()); on_error = (fun _ _ _ -> ()) } in
   let rt = Interp.Runtime.create env opts [ ("a", "A", []) ] in
   List.iter (fun p ->
@@ -518,7 +518,7 @@ and same_runs mode (prog, seed) =
     let file = Filename.temp_file "jsref_fast" ".jsonl" in
     let oc = if traced then Some (open_out_bin file) else None in
     let opts = { Interp.Runtime.params = { Mc.default_params with variant; budget = 2 };
-                 engine = Interp.Runtime.Fast; max_memory = None; level = "full"; seed = None;
+                 engine = Interp.Runtime.Fast; max_memory = None; level = "full"; seed = None; interleave = None;
                  fuel = 500; max_steps; trace = oc;
                  on_log = (fun a s -> out := Printf.sprintf "log %s: %s" a s :: !out);
                  on_error = (fun _ at m -> out := Printf.sprintf "error %s %s" (Source.string_of_region at) m :: !out) } in
