@@ -396,7 +396,27 @@ let run_until_idle t =
     if t.steps < t.opts.max_steps && release_held t then go () in
   go ()
 
+(* The run is over (D26, D45): every message still in flight arrives, the
+   oldest first for each receiver, receivers in name order (with ams's
+   failures they cause), then the host's messages held for a step that did
+   not come (D42); only then are the agents destroyed, so that a trace that
+   ends with every agent destroyed has delivered every message sent before
+   on destroy. Arrivals are the platform's, not rules: the step limit does
+   not stop them. *)
+let deliver_in_flight t =
+  let rec go () =
+    let receivers = Hashtbl.fold (fun r q acc -> if Queue.is_empty q then acc else r :: acc) t.inflight [] in
+    match List.sort compare receivers with
+    | [] -> ()
+    | r :: _ ->
+      let (sender, m) = Queue.pop (queue t r) in
+      arrive t ~sender ~receiver:r m;
+      go () in
+  go ();
+  ignore (release_held t)
+
 let finish t =
+  deliver_in_flight t;
   Array.iter (fun (ag : P.agent) ->
       let (_, evs) = Eval.take_events (Eval.destroy_agent ag.config.world) in
       Tracer.destroyed t.tr ~agent:ag.name evs) t.platform.agents;

@@ -112,7 +112,10 @@ val run_until_idle : t -> unit
     with no bound on the count). *)
 
 val finish : t -> unit
-(** Runs every agent's [on destroy], in creation order, and closes the trace. *)
+(** Delivers every message still in flight (the finer interleaving, D45)
+    and every host message held for a step that did not come (D42), then
+    runs every agent's [on destroy], in creation order, and closes the
+    trace (D26: what was sent before [on destroy] is delivered). *)
 
 val steps : t -> int
 val platform : t -> P.t
