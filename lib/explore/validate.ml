@@ -116,8 +116,25 @@ let model_of_trace (header : Trace.header) lines ~agent =
           match distinct with
           | [] -> Tla.record [ "accepts", accepts; "effects", Tla.Seq [] ]
           | [ effs ] -> Tla.record [ "accepts", accepts; "effects", Tla.Seq effs ]
-          | _ -> Tla.record [ "accepts", accepts; "effects", Tla.Seq [];
-                              "byValue", Tla.record (List.map (fun (n, effs, _) -> (n, Tla.Seq effs)) uses) ])) in
+          | _ ->
+            (* effects by percept: one list per percept, or the model
+               cannot say it (two instances of the behaviour handled one
+               percept with different effects) *)
+            let by_value = List.sort_uniq compare (List.map (fun (n, effs, _) -> (n, effs)) uses) in
+            let rec twice = function
+              | (n, _) :: ((m, _) :: _) when n = m -> Some n
+              | _ :: rest -> twice rest
+              | [] -> None in
+            (match twice by_value with
+             | Some n ->
+               let (_, _, line) = List.find (fun (m, _, _) -> m = n) (List.rev uses) in
+               raise (Cannot_express (line, Printf.sprintf
+                                        "handler %d of %s had different effects for percept %s in two instances \
+                                         (they depend on the instance); a model gives each handler one list of \
+                                         effects per percept" (i + 1) b n))
+             | None -> ());
+            Tla.record [ "accepts", accepts; "effects", Tla.Seq [];
+                         "byValue", Tla.record (List.map (fun (n, effs) -> (n, Tla.Seq effs)) by_value) ])) in
     (* behaviour names are record fields and strings of the model: a name
        that is not a Jadescript name (docs/syntax.md) cannot be written *)
     List.iter (fun (i : Trace.behaviour_info) ->
@@ -224,7 +241,7 @@ let tlc_one ?keep agent ((_, records) as job) =
    under a name of its own. *)
 let spec_variables =
   [ "o2a"; "pq"; "msgq"; "nextSeq"; "msgSeq"; "puts"; "active"; "ready"; "blocked"; "pos"; "phase";
-    "cur"; "dispatched"; "done"; "waits"; "last" ]
+    "cur"; "dispatched"; "done"; "waits"; "last"; "stepped" ]
 
 (* Several agents (of one trace or of several) in one TLC run, so that one
    JVM checks them all: each agent is an instance [A<i>] of AgentLoopTrace

@@ -97,7 +97,7 @@ let () =
   print_string "]\n\nlet decisions = [\n";
   List.iter (fun l -> match cells l with
       | d :: text :: _ when is_prefix "D" d && String.length d > 1 && d.[1] >= '0' && d.[1] <= '9' ->
-        Printf.printf "  (%S, %S, %S);\n" d (plain text) "rulings.md#the-decisions-d1-d39"
+        Printf.printf "  (%S, %S, %S);\n" d (plain text) "rulings.md#the-projects-decisions"
       | _ -> ()) (section rulings "The decisions");
   print_string "]\n\nlet properties = [\n";
   List.iter (fun l -> match cells l with

@@ -20,7 +20,7 @@ let run_program ?(variant = Mc.Reference) ?(fuel = 10_000) ?(events = fun _ -> (
   let trace = Filename.temp_file "jsref" ".jsonl" in
   let oc = open_out_bin trace in
   let params = { Mc.default_params with variant } in
-  let opts = { Interp.Runtime.params; engine = Interp.Runtime.Fast; max_memory = None; level = "full"; seed = None; fuel; max_steps = 100_000; trace = Some oc;
+  let opts = { Interp.Runtime.params; engine = Interp.Runtime.Fast; max_memory = None; level = "full"; seed = None; interleave = None; fuel; max_steps = 100_000; trace = Some oc;
                on_log = (fun a s -> logs := (a ^ ": " ^ s) :: !logs); on_error = (fun _ _ _ -> ()) } in
   let rt = Interp.Runtime.create env opts agents in
   events rt;

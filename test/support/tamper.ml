@@ -185,6 +185,16 @@ let all = [
             | Some (k, _) when k < i -> Some (i, k)
             | _ -> None) (indexed t.events) in
       Option.map (fun (i, k) -> move_before t.events ~from:i ~to_:k) (pick rng cands));
+  (* R5d revised: a delivery during a step only in the window of that step *)
+  edit "SendInStep: outside the window" (fun t i e ->
+      event e = "deliver" && str "action" e = "Send"
+      && (match List.rev (List.filter (fun (k, x) -> k < i && agent x = agent e) (indexed t.events)) with
+          | (_, x) :: _ -> List.mem (event x) [ "transfer"; "idle"; "next_iteration"; "dequeue"; "end_dispatch"; "discard" ]
+          | [] -> false))
+    (fun _ _ e -> Some (set "action" (`String "SendInStep") e));
+  (* R5e revised, D43: ams's failure names the receiver that was not found *)
+  edit "failure from ams: another content" (fun _ _ e -> event e = "deliver" && str "from" e = "ams")
+    (fun _ _ e -> Some (set "content" (`String "aid(\"someone else\")") e));
   edit "undeliverable: to an agent that exists" (is "undeliverable") (fun rng t e ->
       Option.map (fun (n, _) -> set "to" (`String n) e) (pick rng (header_agents t.header)));
   rearrange "send: dropped" (fun rng t ->
