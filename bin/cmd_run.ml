@@ -54,6 +54,9 @@ let agent_spec env spec =
     if name = "" || ty = "" then fail "expected NAME:TYPE[:ARG,...]";
     (* the sender of host messages (R5e) is host: no agent may be so named *)
     if name = "host" then fail "the name host is reserved: it is the sender of the host's messages (R5e)";
+    (* every platform has its own agents (R5e) *)
+    if name = "ams" || name = "df" then
+      fail (Printf.sprintf "the name %s is the platform's own agent's (R5e): no agent of the program takes it" name);
     if Utf8.first_invalid name <> None then fail "an agent's name is UTF-8 text";
     if Typing.Tenv.agent env ty = None then fail (Printf.sprintf "there is no agent type %s" ty);
     let values = List.map (fun a ->
@@ -82,7 +85,7 @@ let flush_stdout_quietly () = try flush stdout with Sys_error _ -> close_out_noe
 let try_writes : (string -> unit) ref =
   ref (fun m -> prerr_endline ("jadescript-ref: error: " ^ m); raise (Stop 1))
 
-let run files agent_specs events_file trace_file seed max_steps variant fuel capacity max_memory defect reference level =
+let run files agent_specs events_file trace_file seed max_steps variant fuel capacity max_memory defect reference level interleave =
   match
     let engine = if reference then Interp.Runtime.Reference else Interp.Runtime.Fast in
     let hooks = match defect with
@@ -143,7 +146,8 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
     let level = match level with
       | "full" | "observable" -> level
       | l -> usage_error "option --level: %S is not full or observable" l in
-    let opts = { Interp.Runtime.params; engine; seed; fuel; max_steps; max_memory; trace; level;
+    let interleave = number ~opt:"interleave" ~lo:0 ~hi:int_max ~what:"the seed of the finer interleaving" interleave in
+    let opts = { Interp.Runtime.params; engine; seed; interleave; fuel; max_steps; max_memory; trace; level;
                  on_log = (fun a s -> print_string (a ^ ": " ^ s ^ "\n"));
                  on_error } in
     let rt = match Interp.Runtime.create ~hooks env opts specs with
@@ -157,7 +161,8 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
     let apply : Interp.Events.t -> unit = function
       | Notify { agent; percept; default; priority } -> check (Interp.Runtime.notify rt ~agent percept ~default ~priority)
       | Put { agent; obj } -> check (Interp.Runtime.put rt ~agent obj)
-      | Message { agent; perf; content } -> check (Interp.Runtime.message rt ~agent ~perf content)
+      | Message { agent; perf; content; during_step } ->
+        check (Interp.Runtime.message ~during_step rt ~agent ~perf content)
       | Run k -> Interp.Runtime.run_rounds rt k
       | Run_rules k -> Interp.Runtime.run_rules rt k
       | Run_idle -> Interp.Runtime.run_until_idle rt in
@@ -225,6 +230,11 @@ let cmd =
                      ~doc:"The trace's level: full (every rule of the loop), or observable (not the loop's own \
                            steps: transfer, dequeue, skip, end_dispatch, next_iteration, idle; \
                            docs/trace-format.md).") in
+  let interleave = Arg.(value & opt (some string) None & info ["interleave"] ~docv:"SEED"
+                          ~doc:"Run with the finer interleaving of R6 (D45), drawn at random from SEED (0 to \
+                                2147483647): rules of different agents in any order, each message delivered \
+                                after a delay, possibly during its receiver's behaviour step (R5d). Every such \
+                                run is one the rulings allow. Default: the deterministic schedule.") in
   Cmd.v (Cmd.info "run" ~doc:"Run a Jadescript program on the reference semantics."
            ~man:[`S Manpage.s_description;
                  `P "Type-checks the program, creates the agents in order, applies the host \
@@ -239,4 +249,4 @@ let cmd =
                      line at a time: every line is checked first, then the events are applied \
                      as they are read."])
     Term.(const run $ files $ agents $ events $ trace $ seed $ max_steps $ variant $ fuel $ capacity $ max_memory $ defect
-          $ reference $ level)
+          $ reference $ level $ interleave)

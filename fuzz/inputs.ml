@@ -399,7 +399,7 @@ let run_scenario env (sc : EG.scenario) ~events ~trace =
     if String.contains msg '\n' then fail "unlocated error" "a run-time error of several lines: %s" msg in
   let params = { Mc.default_params with variant = sc.variant; tie = sc.tie; budget = sc.budget;
                                         o2a_capacity = sc.capacity } in
-  let opts = { Rt.params; engine = Rt.Fast; seed = sc.seed; fuel = sc.fuel; max_steps = sc.max_steps;
+  let opts = { Rt.params; engine = Rt.Fast; seed = sc.seed; interleave = None; fuel = sc.fuel; max_steps = sc.max_steps;
                max_memory = run_memory (); level = "full"; trace = Some oc; on_log = (fun _ _ -> ()); on_error } in
   let rt = match Rt.create env opts specs with
     | rt -> rt
@@ -407,7 +407,7 @@ let run_scenario env (sc : EG.scenario) ~events ~trace =
   let apply : Ev.t -> unit = function
     | Notify { agent; percept; default; priority } -> ignore (Rt.notify rt ~agent percept ~default ~priority)
     | Put { agent; obj } -> ignore (Rt.put rt ~agent obj)
-    | Message { agent; perf; content } -> ignore (Rt.message rt ~agent ~perf content)
+    | Message { agent; perf; content; during_step } -> ignore (Rt.message ~during_step rt ~agent ~perf content)
     | Run k -> Rt.run_rounds rt k
     | Run_rules k -> Rt.run_rules rt k
     | Run_idle -> Rt.run_until_idle rt in

@@ -150,6 +150,18 @@ let on_event ?before st (pl : P.t) (e : P.event) =
     Interp.Tracer.host st.tr ~agent:receiver pl.agents.(index st receiver).config
   | P.Undeliverable { sender; receiver; message } ->
     Interp.Tracer.undeliverable st.tr ~sender ~receiver message
+  | P.To_platform _ -> ()
+
+(* A message that reaches [receiver] now, as the runtime delivers it
+   (Interp.Runtime): one for ams or df is theirs, never answered; for an
+   agent not on the platform, ams's failure goes back to the sender at once
+   (R5e, D44). *)
+let rec arrive st ~sender ~receiver m =
+  let (pl, ev) = P.deliver st.params st.platform ~sender ~receiver m in
+  on_event st pl ev;
+  match ev with
+  | P.Undeliverable _ -> arrive st ~sender:"ams" ~receiver:sender (Interp.Runtime.failure ~receiver)
+  | P.Delivered _ | P.To_platform _ | P.Step _ -> ()
 
 (* ----------------------------------------------------------- agents *)
 
@@ -197,6 +209,8 @@ let boot (s : setup) : (state, string list) result =
         ignore (List.fold_left (fun seen (n, ty, _) ->
             if n = "host" then
               raise (Bad (Printf.sprintf "--agent %s:%s: error: the name host is reserved: it is the sender of the host's messages (R5e)" n ty));
+            if n = "ams" || n = "df" then
+              raise (Bad (Printf.sprintf "--agent %s:%s: error: the name %s is the platform's own agent's (R5e): no agent of the program takes it" n ty n));
             if List.mem n seen then
               raise (Bad (Printf.sprintf "--agent %s:%s: error: there is already an agent %s (agent names are unique)" n ty n));
             n :: seen) [] specs);
@@ -223,9 +237,7 @@ let boot (s : setup) : (state, string list) result =
             let agents = Array.copy st.platform.agents in
             agents.(i) <- { ag with config = { ag.config with world } };
             st.platform <- { P.agents };
-            List.iter (fun (receiver, m) ->
-                let (pl, ev) = P.deliver st.params st.platform ~sender:ag.name ~receiver m in
-                on_event st pl ev) out) st.platform.agents;
+            List.iter (fun (receiver, m) -> arrive st ~sender:ag.name ~receiver m) out) st.platform.agents;
         st
       with
       | st -> Ok st
@@ -286,9 +298,7 @@ let do_host st (h : host_action) : (unit, string) result =
       parse "message" content (fun e ->
           let v = E.literal_value st.env e in
           let perf = if String.trim perf = "" then "inform" else String.trim perf in
-          let (pl, ev) = P.deliver st.params st.platform ~sender:"host" ~receiver:agent
-              { E.perf; content = v; sender = "host" } in
-          on_event st pl ev;
+          arrive st ~sender:"host" ~receiver:agent { E.perf; content = v; sender = "host" };
           Ok ())
 
 (* ------------------------------------------------------------ rules *)
@@ -332,9 +342,7 @@ let do_rule ?refill ?agent st choice : outcome =
         on_event ~before st st.platform (P.Step (name, l));
         let (w, out) = E.Bodies.take_outbox (world st i) in
         set_config st i { st.platform.agents.(i).config with world = w };
-        List.iter (fun (receiver, m) ->
-            let (pl, ev) = P.deliver st.params st.platform ~sender:name ~receiver m in
-            on_event st pl ev) out;
+        List.iter (fun (receiver, m) -> arrive st ~sender:name ~receiver m) out;
         st.steps <- st.steps + 1;
         if ends_iteration l then st.current <- None;
         Stepped

@@ -57,9 +57,13 @@ CONSTANTS
 (***************************************************************************)
 (* Effects of handler bodies and action blocks.  Only the effects that     *)
 (* change the loop's state are modelled: activating a behaviour and        *)
-(* `deactivate this`.                                                      *)
+(* `deactivate this`; and `send m to r` (R5e), which changes nothing in    *)
+(* the sending agent's loop: the platform of several agents               *)
+(* (spec/Platform.tla) takes it from the effects of the body that ran      *)
+(* (HandleBodyEffects, StepBodyEffects) and delivers it.                   *)
 (***************************************************************************)
 Effect == [op : {"activate"}, b : Behaviours] \cup [op : {"deactivate"}]
+          \cup [op : {"send"}, to : STRING, m : STRING]
 
 \* A handler: the percepts (or messages) it accepts and the effects of its body.
 HandlerSet(Accepted) == [accepts : SUBSET Accepted, effects : Seq(Effect)]
@@ -119,10 +123,17 @@ VARIABLES
     done,       \* seqs that left the system (dispatched or discarded/consumed)
     waits,      \* ghost: <<seq, n>> for every percept still waiting, n = number
                 \*   of dispatches of lower-priority percepts since its notification
-    last        \* the last action and its parameters
+    last,       \* the last action and its parameters
+    stepped     \* R5d revised: is a message that arrives now one that came during
+                \*   the agent's last behaviour step?  NoStep: no, the agent took
+                \*   another rule since (or a Send came after the step);
+                \*   [kind |-> "kept"]: yes, and the step did not block its
+                \*   behaviour; [kind |-> "blocked", bs |-> S]: yes, and the step
+                \*   blocked it; S is the behaviour state just before the block
+                \*   (S2 of BehaviourStep)
 
 vars == <<o2a, pq, msgq, nextSeq, msgSeq, puts, active, ready, blocked, pos,
-          phase, cur, dispatched, done, waits, last>>
+          phase, cur, dispatched, done, waits, last, stepped>>
 
 \* The variables describing the behaviours, changed together by effects.
 behVars == <<active, ready, blocked, pos>>
@@ -159,6 +170,9 @@ NoDispatch == [e |-> [p |-> "", prio |-> 0, seq |-> 0], todo |-> <<>>,
 
 \* The value of last.msg when a behaviour step consumed nothing.
 NoMsg == [kind |-> "none"]
+
+\* The value of stepped outside the window of a behaviour step (R5d).
+NoStep == [kind |-> "none"]
 
 \* Is x a percept entry (of o2a or msgq)?
 IsPercept(x) == x.kind = "percept"
@@ -250,7 +264,8 @@ ApplyEffect(S, this, eff, reserved) ==
          ELSE LET n == NewId(S, reserved)
               IN [S EXCEPT !.active = Append(S.active, [id |-> n, b |-> eff.b]),
                            !.ready = Append(S.ready, n)]
-    ELSE Deactivate(S, this)
+    ELSE IF eff.op = "deactivate" THEN Deactivate(S, this)
+    ELSE S      \* a send: the behaviours do not change
 
 \* Apply the effects effs of instance this to S, in order.
 RECURSIVE ApplyEffects(_, _, _, _)
@@ -322,6 +337,7 @@ Init ==
     /\ done = {}
     /\ waits = {}
     /\ last = [act |-> "Init"]
+    /\ stepped = NoStep
 
 -----------------------------------------------------------------------------
 (***************************************************************************)
@@ -347,7 +363,8 @@ NotifyEffect(p, k, actName) ==
        /\ waits' = IF Flood THEN waits ELSE waits \cup {<<s, 0>>}
        /\ phase' = IF phase = "idle" THEN "transfer" ELSE phase
        /\ last' = [act |-> actName, p |-> p, prio |-> k, seq |-> s]
-       /\ UNCHANGED <<pq, msgq, msgSeq, puts, behVars, cur, dispatched, done>>
+       /\ UNCHANGED <<pq, msgq, msgSeq, puts, behVars, cur, dispatched, done,
+                      stepped>>
 
 \* notifyEvent(p): the percept's default priority (R1a, R2b).
 Notify(p) ==
@@ -367,11 +384,13 @@ Put(o) ==
     /\ puts' = puts + 1
     /\ last' = [act |-> "Put", obj |-> o]
     /\ UNCHANGED <<pq, msgq, nextSeq, msgSeq, behVars, phase, cur, dispatched,
-                   done, waits>>
+                   done, waits, stepped>>
 
 \* A message with content m reaches the agent (R5e).  It wakes every blocked
 \* instance (R5d: they join the end of ready in blocking order) and an idle
-\* agent (R3e).
+\* agent (R3e).  It came after the agent's last behaviour step, if any: a
+\* message that comes later cannot have come during that step (deliveries
+\* to one agent keep their order, R6), so the step's window closes.
 Send(m) ==
     /\ msgSeq < MaxSend
     /\ msgq' = Append(msgq, [kind |-> "message", m |-> m, seq |-> msgSeq + 1])
@@ -380,8 +399,41 @@ Send(m) ==
     /\ blocked' = <<>>
     /\ phase' = IF phase = "idle" THEN "transfer" ELSE phase
     /\ last' = [act |-> "Send", m |-> m, seq |-> msgSeq + 1]
+    /\ stepped' = NoStep
     /\ UNCHANGED <<o2a, pq, nextSeq, puts, active, pos, cur, dispatched, done,
                    waits>>
+
+(***************************************************************************)
+(* A message with content m reaches the agent during its last behaviour    *)
+(* step, after that step's handlers looked for messages (R5d revised,      *)
+(* D42).  Enabled from a BehaviourStep until the agent's next rule: host   *)
+(* notifications and puts, and other messages that came during the step,  *)
+(* may come in between; a Send closes the window (above).  A message that  *)
+(* came during the step before its handlers looked is a Send before the    *)
+(* step.  The effect is Send's, and in addition, if the step blocked its   *)
+(* behaviour, the behaviour stays runnable at its place in the ready list, *)
+(* as JADE's restart counter has it: the behaviour state becomes the one   *)
+(* the step had just before the block (S2 of BehaviourStep), with the      *)
+(* other blocked instances woken to the end of ready.  After it the window *)
+(* stays open, as for a step that blocked nothing: a further message that  *)
+(* came during the step is exactly a Send.  The phase is "transfer" in the *)
+(* window (the step ends the iteration), so an idle agent is not woken.    *)
+(***************************************************************************)
+SendInStep(m) ==
+    /\ stepped.kind # "none"
+    /\ msgSeq < MaxSend
+    /\ msgq' = Append(msgq, [kind |-> "message", m |-> m, seq |-> msgSeq + 1])
+    /\ msgSeq' = msgSeq + 1
+    /\ IF stepped.kind = "blocked"
+       THEN /\ active' = stepped.bs.active
+            /\ ready' = stepped.bs.ready \o stepped.bs.blocked
+            /\ pos' = stepped.bs.pos
+       ELSE /\ ready' = ready \o blocked
+            /\ UNCHANGED <<active, pos>>
+    /\ blocked' = <<>>
+    /\ last' = [act |-> "SendInStep", m |-> m, seq |-> msgSeq + 1]
+    /\ stepped' = [kind |-> "kept"]
+    /\ UNCHANGED <<o2a, pq, nextSeq, puts, phase, cur, dispatched, done, waits>>
 
 \* All host actions.
 HostStep ==
@@ -389,6 +441,7 @@ HostStep ==
     \/ \E p \in Percepts, k \in Overrides : NotifyWith(p, k)
     \/ \E o \in Objects : Put(o)
     \/ \E m \in Messages : Send(m)
+    \/ \E m \in Messages : SendInStep(m)
 
 -----------------------------------------------------------------------------
 (***************************************************************************)
@@ -417,6 +470,7 @@ Transfer ==
           /\ last' = [act |-> "Transfer", moved |-> Len(moving)]
     /\ phase' = "dispatch"
     /\ dispatched' = 0
+    /\ stepped' = NoStep
     /\ UNCHANGED <<nextSeq, msgSeq, puts, active, pos, cur, done, waits>>
 
 \* printed: the head of O2A is a percept: dequeue it into pq; the while loop
@@ -430,6 +484,7 @@ TransferOne ==
     /\ o2a' = Tail(o2a)
     /\ last' = [act |-> "TransferOne", p |-> Head(o2a).p,
                 prio |-> Head(o2a).prio, seq |-> Head(o2a).seq]
+    /\ stepped' = NoStep
     /\ UNCHANGED <<msgq, nextSeq, msgSeq, puts, behVars, phase, cur,
                    dispatched, done, waits>>
 
@@ -441,6 +496,7 @@ TransferSpin ==
     /\ o2a # <<>>
     /\ ~IsPercept(Head(o2a))
     /\ last' = [act |-> "TransferSpin", obj |-> Head(o2a).obj]
+    /\ stepped' = NoStep
     /\ UNCHANGED <<o2a, pq, msgq, nextSeq, msgSeq, puts, behVars, phase, cur,
                    dispatched, done, waits>>
 
@@ -452,6 +508,7 @@ TransferEnd ==
     /\ phase' = "dispatch"
     /\ dispatched' = 0
     /\ last' = [act |-> "TransferEnd"]
+    /\ stepped' = NoStep
     /\ UNCHANGED <<o2a, pq, msgq, nextSeq, msgSeq, puts, behVars, cur, done,
                    waits>>
 
@@ -476,6 +533,7 @@ Dequeue ==
           /\ last' = [act |-> "Dequeue", e |-> e]
     /\ phase' = "handle"
     /\ dispatched' = dispatched + 1
+    /\ stepped' = NoStep
     /\ UNCHANGED <<o2a, msgq, nextSeq, msgSeq, puts, behVars, done>>
 
 \* Is the snapshot entry t applicable to the current percept: its instance
@@ -495,6 +553,7 @@ Handle ==
           /\ last' = [act |-> "Handle", id |-> t.id, h |-> t.h,
                       p |-> cur.e.p, seq |-> cur.e.seq]
     /\ cur' = [cur EXCEPT !.todo = Tail(cur.todo), !.applied = TRUE]
+    /\ stepped' = NoStep
     /\ UNCHANGED <<o2a, pq, msgq, nextSeq, msgSeq, puts, phase, dispatched,
                    done, waits>>
 
@@ -507,6 +566,7 @@ Skip ==
        IN /\ ~Applicable(t)
           /\ last' = [act |-> "Skip", id |-> t.id, h |-> t.h]
     /\ cur' = [cur EXCEPT !.todo = Tail(cur.todo)]
+    /\ stepped' = NoStep
     /\ UNCHANGED <<o2a, pq, msgq, nextSeq, msgSeq, puts, behVars, phase,
                    dispatched, done, waits>>
 
@@ -520,6 +580,7 @@ EndDispatch ==
                 discarded |-> ~cur.applied]
     /\ cur' = NoDispatch
     /\ phase' = "dispatch"
+    /\ stepped' = NoStep
     /\ UNCHANGED <<o2a, pq, msgq, nextSeq, msgSeq, puts, behVars, dispatched,
                    waits>>
 
@@ -561,6 +622,32 @@ FirstEntry(h) ==
     CHOOSE i \in DOMAIN msgq : Matches(h, msgq[i]) /\ \A j \in 1..(i-1) : ~Matches(h, msgq[j])
 
 (***************************************************************************)
+(* What the step of the instance at ready[pos] finds (R5b): the handlers   *)
+(* it tries, the first with a matching entry (0 if none), the index of the *)
+(* entry it takes in msgq (0 if none) and the percept or message taken.    *)
+(* Meaningful only when ready # <<>>.                                      *)
+(***************************************************************************)
+StepId == ready[pos]
+StepHs == StepHandlers(BOf(StepId))
+StepJ == FirstHandler(StepHs)
+StepK == IF StepJ = 0 THEN 0 ELSE FirstEntry(StepHs[StepJ])
+StepX == IF StepK = 0 THEN ""
+         ELSE IF IsPercept(msgq[StepK]) THEN msgq[StepK].p ELSE msgq[StepK].m
+
+\* The effects of the bodies that the step runs, in order: the action block,
+\* then the handler that took an entry (R5b).
+StepBodyEffects ==
+    LET b == BOf(StepId)
+    IN (IF HasAction[b] THEN ActionEffects[b] ELSE <<>>)
+       \o (IF StepJ = 0 THEN <<>> ELSE HandlerEffects(StepHs[StepJ].handler, StepX))
+
+\* The effects of the body that Handle runs: the head of the snapshot, for
+\* the percept being dispatched.
+HandleBodyEffects ==
+    LET t == Head(cur.todo)
+    IN HandlerEffects(PerceptHandlers[BOf(t.id)][t.h], cur.e.p)
+
+(***************************************************************************)
 (* One step of the instance at ready[pos], as JADE schedules it (R5f):     *)
 (* pos advances first; the action block runs (if any); then the first      *)
 (* handler with a matching entry takes the first such entry and runs       *)
@@ -569,25 +656,27 @@ FirstEntry(h) ==
 (* step.  A one-shot instance is deactivated after its step (R5c);         *)
 (* DECISION: this wins over blocking (JADE removes a finished one-shot).   *)
 (* Activations append to active and ready (R5g); `deactivate this` takes   *)
-(* effect at once and the rest of the step still runs (R5h).               *)
+(* effect at once and the rest of the step still runs (R5h).  The step     *)
+(* opens the window of SendInStep (R5d revised): stepped remembers S2, the *)
+(* behaviour state before the block, when the step blocked its instance.   *)
 (***************************************************************************)
 BehaviourStep ==
     /\ phase = "dispatch"
     /\ DispatchOver
     /\ ready # <<>>
-    /\ LET id == ready[pos]
+    /\ LET id == StepId
            b == BOf(id)
            S0 == [BS EXCEPT !.pos = (pos % Len(ready)) + 1]
            S1 == IF HasAction[b] THEN ApplyEffects(S0, id, ActionEffects[b], {id})
                  ELSE S0
-           hs == StepHandlers(b)
-           j == FirstHandler(hs)
-           k == IF j = 0 THEN 0 ELSE FirstEntry(hs[j])
-           x == IF k = 0 THEN "" ELSE IF IsPercept(msgq[k]) THEN msgq[k].p ELSE msgq[k].m
-           S2 == IF j = 0 THEN S1 ELSE ApplyEffects(S1, id, HandlerEffects(hs[j].handler, x), {id})
+           hs == StepHs
+           j == StepJ
+           k == StepK
+           S2 == IF j = 0 THEN S1 ELSE ApplyEffects(S1, id, HandlerEffects(hs[j].handler, StepX), {id})
            stillActive == \E a \in Range(S2.active) : a.id = id
+           blocks == Kind[b] # "oneshot" /\ ~HasAction[b] /\ j = 0 /\ stillActive
            S3 == IF Kind[b] = "oneshot" THEN Deactivate(S2, id)
-                 ELSE IF ~HasAction[b] /\ j = 0 /\ stillActive THEN Block(S2, id)
+                 ELSE IF blocks THEN Block(S2, id)
                  ELSE S2
        IN /\ SetBS(S3)
           /\ msgq' = IF k = 0 THEN msgq ELSE RemoveAt(msgq, k)
@@ -597,6 +686,8 @@ BehaviourStep ==
              ELSE UNCHANGED <<done, waits>>
           /\ last' = [act |-> "BehaviourStep", id |-> id,
                       msg |-> IF k = 0 THEN NoMsg ELSE msgq[k]]
+          /\ stepped' = IF blocks THEN [kind |-> "blocked", bs |-> S2]
+                        ELSE [kind |-> "kept"]
     /\ phase' = "transfer"
     /\ UNCHANGED <<o2a, pq, nextSeq, msgSeq, puts, cur, dispatched>>
 
@@ -615,6 +706,7 @@ NextIteration ==
     /\ (Variant = "printed" \/ ~IdleCondition)
     /\ phase' = "transfer"
     /\ last' = [act |-> "NextIteration"]
+    /\ stepped' = NoStep
     /\ UNCHANGED <<o2a, pq, msgq, nextSeq, msgSeq, puts, behVars, cur,
                    dispatched, done, waits>>
 
@@ -626,6 +718,7 @@ Idle ==
     /\ IdleCondition
     /\ phase' = "idle"
     /\ last' = [act |-> "Idle"]
+    /\ stepped' = NoStep
     /\ UNCHANGED <<o2a, pq, msgq, nextSeq, msgSeq, puts, behVars, cur,
                    dispatched, done, waits>>
 
@@ -647,9 +740,10 @@ Spec == Init /\ [][Next]_vars /\ WF_vars(AgentStep)
 (***************************************************************************)
 
 \* Action names, as in DOT labels and last.act.
-ActNames == {"Init", "Notify", "NotifyWith", "Put", "Send", "Transfer",
-             "TransferOne", "TransferSpin", "TransferEnd", "Dequeue", "Handle",
-             "Skip", "EndDispatch", "BehaviourStep", "NextIteration", "Idle"}
+ActNames == {"Init", "Notify", "NotifyWith", "Put", "Send", "SendInStep",
+             "Transfer", "TransferOne", "TransferSpin", "TransferEnd",
+             "Dequeue", "Handle", "Skip", "EndDispatch", "BehaviourStep",
+             "NextIteration", "Idle"}
 
 \* Seqs a percept may carry.
 SeqRange == IF Flood THEN {0} ELSE 0..MaxNotify
@@ -678,6 +772,13 @@ TypeOK ==
     /\ done \subseteq 1..MaxNotify
     /\ waits \subseteq (1..MaxNotify) \X Nat
     /\ last.act \in ActNames
+    /\ stepped.kind \in {"none", "kept", "blocked"}
+    /\ (stepped.kind # "none" => phase = "transfer")
+    /\ (stepped.kind = "blocked" =>
+            /\ stepped.bs.active = active
+            /\ stepped.bs.ready \in Seq(Ids)
+            /\ stepped.bs.blocked \in Seq(Ids)
+            /\ stepped.bs.pos \in 1..Len(stepped.bs.ready))
 
 \* Every ready or blocked instance is active, none twice, never both.
 ReadyBlockedConsistent ==
@@ -778,6 +879,15 @@ MsgAccepted(s) ==
 \* A message that some active handler accepts is eventually consumed or
 \* stops being accepted.
 MessageProgress == \A s \in 1..MaxSend : MsgAccepted(s) ~> ~MsgAccepted(s)
+
+\* Message s is in the queue.
+MsgWaiting(s) == \E k \in DOMAIN msgq : msgq[k].kind = "message" /\ msgq[k].seq = s
+
+\* Every message that reaches the agent is eventually taken by a behaviour
+\* step, whether or not a handler accepts it.  It fails as soon as a message
+\* that no handler takes can arrive: that message stays in the queue for
+\* good, as in JADE (checked in spec/Platform.tla, for the failures).
+EveryMessageConsumed == \A s \in 1..MaxSend : MsgWaiting(s) ~> ~MsgWaiting(s)
 
 \* There is work: a percept to transfer, a percept to dispatch, or a ready
 \* behaviour.

@@ -82,6 +82,16 @@ IsDeliver(l) ==
     /\ Send(l.m)
     /\ last' = l
 
+\* "deliver" with action SendInStep (R5d revised): a message that reached
+\* the agent during its last behaviour step, after that step's handlers
+\* looked; the behaviour the step blocked is runnable again at its place.
+\* Record: [act, m, seq].
+IsSendInStep(l) ==
+    /\ l.act = "SendInStep"
+    /\ l.m \in Messages
+    /\ SendInStep(l.m)
+    /\ last' = l
+
 (***************************************************************************)
 (* The agent's steps: transfer.                                            *)
 (***************************************************************************)
@@ -182,6 +192,7 @@ TraceStep(l) ==
     \/ IsNotifyWith(l)
     \/ IsPut(l)
     \/ IsDeliver(l)
+    \/ IsSendInStep(l)
     \/ IsTransfer(l)
     \/ IsTransferOne(l)
     \/ IsTransferSpin(l)

@@ -39,14 +39,14 @@ module Make (B : BODIES) = struct
     let objects = List.rev !objects in
     let l = Transfer !n in
     (l, { c with pq; o2a = (if objects = [] then Fqueue.empty else Fqueue.of_list objects);
-                 phase = Dispatch_phase; dispatched = 0; last = l })
+                 phase = Dispatch_phase; dispatched = 0; last = l; stepped = Not_stepped })
 
   (* The same where O2A holds [n] percepts and no object, and [pq] is the
      priority queue they make with [c]'s: as [transfer] on the
      configuration whose O2A holds them, without building that queue. *)
   let transfer_into (c : M.t) pq n : M.lbl * M.t =
     let l = Transfer n in
-    (l, { c with pq; o2a = Fqueue.empty; phase = Dispatch_phase; dispatched = 0; last = l })
+    (l, { c with pq; o2a = Fqueue.empty; phase = Dispatch_phase; dispatched = 0; last = l; stepped = Not_stepped })
 
   (* HandlersOf, remembered for the last [active] list seen (physically):
      the list is immutable and most dequeues share it. Beside each entry,

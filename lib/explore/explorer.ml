@@ -25,8 +25,12 @@ let successors_by agent_steps (m : Model.t) (c : Model.M.t) =
   end;
   if room && c.puts < m.max_put then
     Array.iteri (fun o _ -> let c' = Model.M.put p c o in add c'.last c') m.objects;
-  if c.msg_seq < m.max_send then
+  if c.msg_seq < m.max_send then begin
     Array.iteri (fun x _ -> let c' = Model.M.send p c x in add c'.last c') m.messages;
+    (* SendInStep, in the window of the last behaviour step (R5d revised) *)
+    Array.iteri (fun x _ ->
+        match Model.M.send_in_step p c x with Some c' -> add c'.last c' | None -> ()) m.messages
+  end;
   List.rev_append !host (agent_steps p c)
 
 let successors ?(rules = Model.M.rules) m c = successors_by (Model.M.step_by rules) m c
@@ -112,6 +116,16 @@ let key (c : Model.M.t) =
   Int_set.iter (add_int b) c.done_; sep ();
   List.iter (fun (s, _, n) -> add_int b s; add_int b n) c.waits; sep ();
   add_label b c.last;
+  (match c.stepped with
+   | Not_stepped -> add_int b 0
+   | Stepped_kept -> add_int b 1
+   | Stepped_blocked s ->
+     add_int b 2;
+     List.iter (fun (a : Model.beh instance) -> add_int b a.id; add_int b a.beh.bidx) s.active;
+     sep ();
+     List.iter (add_int b) s.ready; sep ();
+     List.iter (add_int b) s.blocked; sep ();
+     add_int b s.pos);
   Buffer.contents b
 
 (* ------------------------------------------------------------- show *)
@@ -125,7 +139,13 @@ let show (m : Model.t) (c : Model.M.t) =
   let phase = match c.phase with
     | Transfer_phase -> "Transfer_phase" | Dispatch_phase -> "Dispatch_phase"
     | Handle_phase -> "Handle_phase" | Idle_phase -> "Idle_phase" in
-  Printf.sprintf "{phase=%s; o2a=%s; pq=%s; msgq=%s; active=%s; ready=%s; blocked=%s; pos=%d%s; last=%s}"
+  let stepped = match c.stepped with
+    | Not_stepped -> ""
+    | Stepped_kept -> "; stepped=kept"
+    | Stepped_blocked s ->
+      Printf.sprintf "; stepped=blocked(ready=%s; blocked=%s; pos=%d)"
+        (list string_of_int s.ready) (list string_of_int s.blocked) s.pos in
+  Printf.sprintf "{phase=%s; o2a=%s; pq=%s; msgq=%s; active=%s; ready=%s; blocked=%s; pos=%d%s; last=%s%s}"
     phase
     (list (function O_percept x -> e x | O_object o -> "obj " ^ m.objects.(o)) (Semantics.Fqueue.to_list c.o2a))
     (list e (Semantics.Pqueue.to_sorted_list c.pq))
@@ -136,7 +156,7 @@ let show (m : Model.t) (c : Model.M.t) =
      | None -> ""
      | Some d -> Printf.sprintf "; cur=%s todo=%s applied=%b" (e d.e)
                    (list (fun (i, h) -> Printf.sprintf "%d.%d" i h) d.todo) d.applied)
-    (action_name c.last)
+    (Model.M.last_action_name c) stepped
 
 (* ---------------------------------------------------------- explore *)
 
@@ -177,7 +197,8 @@ let explore ?(max_states = default_max_states) ?rules (m : Model.t) =
     if succs = [] then deadlocks := i :: !deadlocks;
     List.iter (fun (l, c') ->
         let j = intern c' in
-        edges := (i, action_name l, j) :: !edges) succs
+        ignore l;
+        edges := (i, Model.M.last_action_name c', j) :: !edges) succs
   done;
   { model = m; states = Array.sub !states 0 !count; initial = [i0];
     edges = Array.of_list (List.rev !edges); deadlocks = List.rev !deadlocks;
@@ -299,6 +320,17 @@ let part_cur = function
 let part_done s = avalanche (Int_set.fold (fun x h -> mix h x) s fp_seed)
 let h_nil = avalanche (acc_ints [])
 
+(* The window of the last behaviour step (R5d revised), mixed into the
+   label's hash: Send and SendInStep have the same label, and differ here. *)
+let part_stepped = function
+  | Not_stepped -> 0
+  | Stepped_kept -> 1
+  | Stepped_blocked s ->
+    let h = mix (mix_active fp_seed s.active) (List.length s.ready) in
+    avalanche (mix (mix_ints (mix (mix_ints h s.ready) (List.length s.blocked)) s.blocked) s.pos)
+let with_stepped l st = mix l (part_stepped st)
+let mix_last (c : Model.M.t) = with_stepped (mix_label fp_seed c.last) c.stepped
+
 let phase_int = function
   | Transfer_phase -> 0 | Dispatch_phase -> 1 | Handle_phase -> 2 | Idle_phase -> 3
 
@@ -339,7 +371,7 @@ let node_of (c : Model.M.t) =
   let h_blocked = avalanche (acc_ints c.blocked) and h_cur = part_cur c.cur in
   let h_done = part_done c.done_ and h_waits = avalanche a_waits in
   let fp = fold_fp h_o2a h_pq h_msgq h_cur h_waits h_active h_ready h_blocked h_done
-      c.next_seq c.msg_seq c.puts c.pos (phase_int c.phase) c.dispatched (mix_label fp_seed c.last) in
+      c.next_seq c.msg_seq c.puts c.pos (phase_int c.phase) c.dispatched (mix_last c) in
   { c; a_o2a; h_o2a; h_pq; a_msgq; h_msgq; h_active; a_ready; h_ready; h_blocked; h_cur;
     h_done; a_waits; h_waits; fp; d = 1; act = -1; act_k = 0 }
 
@@ -363,7 +395,7 @@ let node_after n (c : Model.M.t) =
   let a_waits = if same_waits then n.a_waits else acc_waits c.waits in
   let h_waits = if same_waits then n.h_waits else avalanche a_waits in
   let fp = fold_fp h_o2a h_pq h_msgq h_cur h_waits h_active h_ready h_blocked h_done
-      c.next_seq c.msg_seq c.puts c.pos (phase_int c.phase) c.dispatched (mix_label fp_seed c.last) in
+      c.next_seq c.msg_seq c.puts c.pos (phase_int c.phase) c.dispatched (mix_last c) in
   { c; a_o2a; h_o2a; h_pq; a_msgq; h_msgq; h_active; a_ready; h_ready; h_blocked; h_cur;
     h_done; a_waits; h_waits; fp; d = n.d + 1; act = -1; act_k = 0 }
 
@@ -386,7 +418,7 @@ let notify_node p (n : node) kind i k =
   let ghosts = p.ghosts && not p.flood in
   let a_waits = if ghosts then mix (mix n.a_waits seq) 0 else n.a_waits in
   let h_waits = if ghosts then avalanche a_waits else n.h_waits in
-  let l = mix (mix (mix (mix fp_seed (kind + 1)) i) k) seq in
+  let l = with_stepped (mix (mix (mix (mix fp_seed (kind + 1)) i) k) seq) c.stepped in
   let fp = fold_fp h_o2a n.h_pq n.h_msgq n.h_cur h_waits n.h_active n.h_ready n.h_blocked n.h_done
       seq c.msg_seq c.puts c.pos (wake c) c.dispatched l in
   { n with a_o2a; h_o2a; a_waits; h_waits; fp; d = n.d + 1; act = kind + 4 * i; act_k = k }
@@ -397,7 +429,8 @@ let put_node (n : node) o =
   let a_o2a = mix (mix n.a_o2a 1) o in
   let h_o2a = avalanche a_o2a in
   let fp = fold_fp h_o2a n.h_pq n.h_msgq n.h_cur n.h_waits n.h_active n.h_ready n.h_blocked n.h_done
-      c.next_seq c.msg_seq (c.puts + 1) c.pos (phase_int c.phase) c.dispatched (mix (mix fp_seed 3) o) in
+      c.next_seq c.msg_seq (c.puts + 1) c.pos (phase_int c.phase) c.dispatched
+      (with_stepped (mix (mix fp_seed 3) o) c.stepped) in
   { n with a_o2a; h_o2a; fp; d = n.d + 1; act = 2 + 4 * o; act_k = 0 }
 
 (* Send of message [x]: M_message {x; seq} at the end of the message queue,
@@ -411,7 +444,8 @@ let send_node (n : node) x =
   let a_ready = mix_ints n.a_ready c.blocked in
   let h_ready = avalanche a_ready in
   let fp = fold_fp n.h_o2a n.h_pq h_msgq n.h_cur n.h_waits n.h_active h_ready h_nil n.h_done
-      c.next_seq seq c.puts c.pos (wake c) c.dispatched (mix (mix (mix fp_seed 4) x) seq) in
+      c.next_seq seq c.puts c.pos (wake c) c.dispatched
+      (with_stepped (mix (mix (mix fp_seed 4) x) seq) Not_stepped) in
   { n with a_msgq; h_msgq; a_ready; h_ready; h_blocked = h_nil; fp; d = n.d + 1;
            act = 3 + 4 * x; act_k = 0 }
 
@@ -432,10 +466,21 @@ let rec overridden_nodes p (m : Model.t) n i acc =
 let rec put_nodes n o acc = if o < 0 then acc else put_nodes n (o - 1) (put_node n o :: acc)
 let rec send_nodes n x acc = if x < 0 then acc else send_nodes n (x - 1) (send_node n x :: acc)
 
+(* SendInStep of message [x] (R5d revised), in the window of the last
+   behaviour step: rare (the window lasts until the agent's next rule), so
+   its successor is made at once and hashed as an agent rule's. *)
+let rec send_in_step_nodes p n x acc =
+  if x < 0 then acc
+  else send_in_step_nodes p n (x - 1)
+      (match Model.M.send_in_step p n.c x with Some c' -> node_after n c' :: acc | None -> acc)
+
 let host_nodes (m : Model.t) (n : node) acc =
   let p = m.params and c = n.c in
   let room = Model.M.o2a_has_room p c in
-  let acc = if c.msg_seq < m.max_send then send_nodes n (Array.length m.messages - 1) acc else acc in
+  let acc =
+    if c.msg_seq < m.max_send then
+      send_in_step_nodes p n (Array.length m.messages - 1) (send_nodes n (Array.length m.messages - 1) acc)
+    else acc in
   let acc = if room && c.puts < m.max_put then put_nodes n (Array.length m.objects - 1) acc else acc in
   if room && (p.flood || c.next_seq < m.max_notify) then
     notify_nodes p m n (Array.length m.percepts - 1)

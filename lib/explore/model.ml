@@ -140,21 +140,26 @@ let of_constants ~name ~dir cs =
     let messages = Array.of_list (List.sort compare (names "Messages")) in
     let objects = Array.of_list (List.sort compare (names "Objects")) in
     let per_beh c b = Tla.field b (g c) in
+    (* A send (R5e) changes nothing in the sending agent's loop (ApplyEffect
+       of the spec): the platform of several agents routes it, one agent's
+       model leaves it out. *)
     let effect v = match Tla.to_str (Tla.field "op" v) with
-      | "activate" -> E_activate (index behaviours_names "behaviour" (Tla.to_str (Tla.field "b" v)))
-      | "deactivate" -> E_deactivate
+      | "activate" -> Some (E_activate (index behaviours_names "behaviour" (Tla.to_str (Tla.field "b" v))))
+      | "deactivate" -> Some E_deactivate
+      | "send" -> ignore (Tla.to_str (Tla.field "to" v), Tla.to_str (Tla.field "m" v)); None
       | op -> fail "unknown effect %s" op in
+    let effects l = List.filter_map effect (Tla.to_list l) in
     let handlers names c b =
       Tla.to_list (per_beh c b) |> List.map (fun h ->
           { accepts = List.sort compare (List.map (index names "accepted value") (strings (Tla.field "accepts" h)));
-            effects = List.map effect (Tla.to_list (Tla.field "effects" h)) })
+            effects = effects (Tla.field "effects" h) })
       |> Array.of_list in
     let rec all = lazy (Array.mapi (fun i b ->
         { bidx = i; bname = b;
           cyclic = (match Tla.to_str (per_beh "Kind" b) with
               | "cyclic" -> true | "oneshot" -> false | k -> fail "unknown kind %s" k);
           has_action = Tla.to_bool (per_beh "HasAction" b);
-          action_effects = List.map effect (Tla.to_list (per_beh "ActionEffects" b));
+          action_effects = effects (per_beh "ActionEffects" b);
           percept_handlers = handlers percepts "PerceptHandlers" b;
           message_handlers = handlers messages "MessageHandlers" b;
           all }) behaviours_names) in

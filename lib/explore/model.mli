@@ -5,7 +5,8 @@
     module reads those files, so the explorer and TLC check the very same model
     and nothing is maintained twice. It also builds the abstract bodies of the
     model: handlers and action blocks that accept the percepts and messages of
-    their tables and have the activate/deactivate effects of their lists,
+    their tables and have the activate/deactivate effects of their lists (a
+    [send] effect, which changes nothing in one agent's loop, is left out),
     exactly as AgentLoop.tla interprets the constants. *)
 
 type effect = E_activate of int | E_deactivate

@@ -2,7 +2,8 @@ open Semantics.Machine
 module T = Tla
 
 let variables = [ "o2a"; "pq"; "msgq"; "nextSeq"; "msgSeq"; "puts"; "active"; "ready";
-                  "blocked"; "pos"; "phase"; "cur"; "dispatched"; "done"; "waits"; "last" ]
+                  "blocked"; "pos"; "phase"; "cur"; "dispatched"; "done"; "waits"; "last";
+                  "stepped" ]
 
 let str s = T.Str s
 let int i = T.Int i
@@ -23,8 +24,9 @@ let msg_item (m : Model.t) = function
     T.record [ "kind", str "message"; "m", str m.messages.(x); "seq", int mseq ]
   | M_percept e -> percept_item m e
 
-let label (m : Model.t) (l : (int, int, int) label) =
-  let act = action_name l in
+(* The record of [last]; [in_step]: a Send label that was SendInStep. *)
+let last_record ~in_step (m : Model.t) (l : (int, int, int) label) =
+  let act = match l with Send _ when in_step -> "SendInStep" | _ -> action_name l in
   let r fields = T.record (("act", str act) :: fields) in
   match l with
   | Init | Transfer_end | Next_iteration | Idle -> r []
@@ -40,6 +42,24 @@ let label (m : Model.t) (l : (int, int, int) label) =
   | Behaviour_step { id; msg } ->
     r [ "id", int id;
         "msg", (match msg with None -> T.record [ "kind", str "none" ] | Some x -> msg_item m x) ]
+
+let label m l = last_record ~in_step:false m l
+
+let active_seq (l : Model.beh instance list) =
+  T.Seq (List.map (fun (a : Model.beh instance) ->
+      T.record [ "id", int a.id; "b", str a.beh.bname ]) l)
+
+(* [stepped] (R5d revised): NoStep, [kind |-> "kept"], or
+   [kind |-> "blocked", bs |-> S2] with S2 a behaviour state as BS. *)
+let stepped (c : Model.M.t) =
+  let ints l = T.Seq (List.map int l) in
+  match c.stepped with
+  | Not_stepped -> T.record [ "kind", str "none" ]
+  | Stepped_kept -> T.record [ "kind", str "kept" ]
+  | Stepped_blocked s ->
+    T.record [ "kind", str "blocked";
+               "bs", T.record [ "active", active_seq s.active; "ready", ints s.ready;
+                                "blocked", ints s.blocked; "pos", int s.pos ] ]
 
 let no_dispatch =
   T.record [ "e", T.record [ "p", str ""; "prio", int 0; "seq", int 0 ];
@@ -58,8 +78,7 @@ let state (m : Model.t) (c : Model.M.t) =
     "nextSeq", int c.next_seq;
     "msgSeq", int c.msg_seq;
     "puts", int c.puts;
-    "active", T.Seq (List.map (fun (a : Model.beh instance) ->
-        T.record [ "id", int a.id; "b", str a.beh.bname ]) c.active);
+    "active", active_seq c.active;
     "ready", ints c.ready;
     "blocked", ints c.blocked;
     "pos", int c.pos;
@@ -73,5 +92,6 @@ let state (m : Model.t) (c : Model.M.t) =
     "dispatched", int c.dispatched;
     "done", T.set (List.map int (Int_set.elements c.done_));
     "waits", T.set (List.map (fun (s, _, n) -> T.Seq [ int s; int n ]) c.waits);
-    "last", label m c.last;
+    "last", last_record ~in_step:(Model.M.last_action_name c = "SendInStep") m c.last;
+    "stepped", stepped c;
   ]

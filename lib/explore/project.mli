@@ -13,4 +13,5 @@ val state : Model.t -> Model.M.t -> Tla.t
 (** The state as a canonical TLA+ record from variable names to values. *)
 
 val label : Model.t -> (int, int, int) Semantics.Machine.label -> Tla.t
-(** The value of [last] after a step with this label. *)
+(** The value of [last] after a step with this label ([Send] is taken as
+    Send: {!state} tells SendInStep from the configuration's [stepped]). *)

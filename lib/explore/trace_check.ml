@@ -22,7 +22,16 @@ type agent = {
   mutable msg_seq : int;
   undeliverable : (string * string * string) Queue.t;
       (* sent to agents that do not exist, not yet reported: receiver, performative, content *)
+  failures : string Queue.t;
+      (* ams's failures owed to this agent, not yet delivered: their contents (R5e, D43) *)
+  mutable window : bool;
+      (* its last agent rule was a behaviour step, and no message delivered
+         after that step has come since: a SendInStep may come (R5d) *)
 }
+
+(* The platform's own agents (R5e): never in a header, never answer a
+   program's message (D44); ams sends the failures. *)
+let platform_agents = [ "ams"; "df" ]
 
 let check (h : Trace.header) lines =
   let line_no = ref 1 in
@@ -38,14 +47,15 @@ let check (h : Trace.header) lines =
     List.iter (fun (n, _) ->
         if n = "" then fail "the header names an agent with an empty name";
         (* D25 *)
-        if n = "host" then fail "the header names an agent host: that is the sender of the host's messages (R5e)")
+        if n = "host" then fail "the header names an agent host: that is the sender of the host's messages (R5e)";
+        if List.mem n platform_agents then fail "the header names an agent %s: that is one of the platform's own agents (R5e)" n)
       h.agents;
     let agents = List.map (fun (name, atype) ->
         (name, { name; atype; created = false; destroyed = 0; last_action = "Init";
                  notified = Hashtbl.create 16; taken = Hashtbl.create 16; transferred = Hashtbl.create 16; next_seq = 0; puts = 0;
                  o2a_percepts = 0; o2a_objects = 0; msgq_percepts = 0; dispatch = None;
                  delivered = Hashtbl.create 16; consumed = Hashtbl.create 16; msg_seq = 0;
-                 undeliverable = Queue.create () })) h.agents in
+                 undeliverable = Queue.create (); failures = Queue.create (); window = false })) h.agents in
     let to_create = ref h.agents in
     (* receiver -> the messages sent to it by agents, not yet delivered, in send order (R5e) *)
     let pending = Hashtbl.create 8 in
@@ -114,6 +124,13 @@ let check (h : Trace.header) lines =
          | Trace.Destroy, _ -> a.last_action <- "destroy"
          | _, Some act -> a.last_action <- act
          | _, None -> ());
+        (* The window of SendInStep (R5d): a behaviour step opens it; any
+           other rule of the agent closes it (a delivery after the step, below). *)
+        (match l.event with
+         | Trace.Behaviour_step _ -> a.window <- true
+         | Trace.Deliver _ | Trace.Notify _ | Trace.Put _ | Trace.Refused _ | Trace.Refused_put _
+         | Trace.Undeliverable _ | Trace.Body _ -> ()
+         | _ -> a.window <- false);
         (* A dispatch (Dequeue ... EndDispatch) is not interrupted by another
            loop step (R3b). *)
         (match l.event, a.dispatch with
@@ -145,13 +162,23 @@ let check (h : Trace.header) lines =
           room "put" a;
           a.puts <- index;
           a.o2a_objects <- a.o2a_objects + 1
-        | Trace.Deliver { message = m; seq } ->
+        | Trace.Deliver { message = m; seq; in_step } ->
+          if in_step && not a.window then
+            fail "a delivery during a behaviour step of %s (SendInStep), but its last rule was not a behaviour step, \
+                  or a message that came after that step was delivered since (R5d)" a.name;
+          if not in_step then a.window <- false;
           if seq <> a.msg_seq + 1 then
             fail "deliver with seq %d, but the messages to %s are numbered 1, 2, 3...: %d expected" seq a.name (a.msg_seq + 1);
           a.msg_seq <- seq;
           Hashtbl.replace a.delivered seq m;
-          if m.from <> "host" then begin
-            if not (List.mem_assoc m.from agents) then fail "a message from %s, which is neither an agent of the header nor host" m.from;
+          if m.from = "ams" then begin
+            match Queue.peek_opt a.failures with
+            | Some content when m.performative = "failure" && m.content = content -> ignore (Queue.pop a.failures)
+            | _ -> fail "a message %s %s from ams to %s, but ams owes %s no such failure: it sends one for each message \
+                         reported undeliverable, whose content is the receiver's aid (R5e, D43)" m.performative m.content a.name a.name
+          end
+          else if m.from <> "host" then begin
+            if not (List.mem_assoc m.from agents) then fail "a message from %s, which is neither an agent of the header, nor host, nor ams" m.from;
             let q = Hashtbl.find pending a.name in
             match Queue.peek_opt q with
             | None ->
@@ -166,7 +193,9 @@ let check (h : Trace.header) lines =
           if List.mem_assoc receiver agents then
             fail "a message to %s is undeliverable, but %s is an agent of the header" receiver receiver;
           (match Queue.peek_opt a.undeliverable with
-           | Some (r, p, c) when r = receiver && p = performative && c = content -> ignore (Queue.pop a.undeliverable)
+           | Some (r, p, c) when r = receiver && p = performative && c = content ->
+             ignore (Queue.pop a.undeliverable);
+             Queue.push (Interp_eval.Value.to_literal (Interp_eval.Value.Aid receiver)) a.failures
            | _ -> fail "%s reports undeliverable a message %s %s to %s that it did not send" a.name performative content receiver)
         | Trace.Transfer moved ->
           if printed then fail "a transfer in the printed loop, which moves one percept at a time (TransferOne)";
@@ -231,6 +260,7 @@ let check (h : Trace.header) lines =
             List.iter (fun r ->
                 match Hashtbl.find_opt pending r with
                 | Some q -> Queue.push (a.name, performative, content) q
+                | None when List.mem r platform_agents -> ()
                 | None -> Queue.push (r, performative, content) a.undeliverable) receivers
           | Trace.Send _ | Trace.Log _ | Trace.Invoke _ | Trace.Deactivate _ | Trace.Error _ -> ())
       lines;
@@ -248,6 +278,10 @@ let check (h : Trace.header) lines =
           | Some (r, perf, content) ->
             fail "the run ended, but the message %s %s from %s to %s, which does not exist, was never reported undeliverable"
               perf content a.name r
+          | None -> ()) agents;
+      List.iter (fun (_, a) -> match Queue.peek_opt a.failures with
+          | Some content ->
+            fail "the run ended, but the failure %s that ams owes %s was never delivered (R5e, D43)" content a.name
           | None -> ()) agents
     end;
     Ok ()

@@ -3,7 +3,7 @@
 type t =
   | Notify of { agent : string; percept : Value.t; default : int; priority : int option }
   | Put of { agent : string; obj : Value.t }
-  | Message of { agent : string; perf : string; content : Value.t }
+  | Message of { agent : string; perf : string; content : Value.t; during_step : bool }
   | Run of int
   | Run_rules of int
   | Run_idle
@@ -71,10 +71,16 @@ let parse_line env ~agents ~file line : (t option, (int * string) list) result =
                  ("\"performative\" is one of the FIPA performatives the language knows: "
                   ^ String.concat ", " Typing.performatives) in
            let e = expr "the content" c in
+           (* D42: "during": "step", the message arrives during the agent's
+              next behaviour step (R5d) *)
+           let during = match get "during" with
+             | None -> Some false
+             | Some (`String "step") -> Some true
+             | Some _ -> bad (col_of "during") "\"during\" is \"step\": the message arrives during the agent's next behaviour step (D42)" in
            (match agent (), e with
             | Some (a, _), Some e ->
-              (match value e, perf with
-               | Some v, Some perf -> Some (Message { agent = a; perf; content = v })
+              (match value e, perf, during with
+               | Some v, Some perf, Some during_step -> Some (Message { agent = a; perf; content = v; during_step })
                | _ -> None)
             | _ -> None)
          | None, None, None, Some (`Int k) when k >= 0 -> Some (Run k)
@@ -468,9 +474,10 @@ let to_line = function
     Yojson.Safe.to_string (`Assoc ([ "agent", `String agent; "notify", `String (Value.to_literal percept) ]
                                     @ (match priority with Some k -> [ "priority", `Int k ] | None -> [])))
   | Put { agent; obj } -> Yojson.Safe.to_string (`Assoc [ "agent", `String agent; "put", `String (Value.to_literal obj) ])
-  | Message { agent; perf; content } ->
-    Yojson.Safe.to_string (`Assoc [ "agent", `String agent; "message", `String (Value.to_literal content);
-                                    "performative", `String perf ])
+  | Message { agent; perf; content; during_step } ->
+    Yojson.Safe.to_string (`Assoc ([ "agent", `String agent; "message", `String (Value.to_literal content);
+                                     "performative", `String perf ]
+                                   @ (if during_step then [ "during", `String "step" ] else [])))
   | Run k -> Yojson.Safe.to_string (`Assoc [ "run", `Int k ])
   | Run_idle -> Yojson.Safe.to_string (`Assoc [ "run", `String "idle" ])
   | Run_rules k -> Yojson.Safe.to_string (`Assoc [ "run", `Assoc [ "rules", `Int k ] ])

@@ -9,7 +9,9 @@ type t =
       (** notifyEvent (R2): the percept, its type's default priority (R1a),
           and the override (R2a) *)
   | Put of { agent : string; obj : Value.t }          (** putO2AObject (R2c) *)
-  | Message of { agent : string; perf : string; content : Value.t }   (** from ["host"] (R5e) *)
+  | Message of { agent : string; perf : string; content : Value.t; during_step : bool }
+      (** from ["host"] (R5e); [during_step]: ["during": "step"], it arrives
+          during the agent's next behaviour step (D42, R5d) *)
   | Run of int                                         (** that many rounds (R6) *)
   | Run_rules of int
       (** that many single rules of the first agent that is not idle, so

@@ -110,7 +110,7 @@ let header_problem ~expected (line : string) =
        else Some (Printf.sprintf "its header differs: expected %s, got %s" (show expected) (show got))
      | Some v ->
        Some (Printf.sprintf "its header has version %s; this oracle reads version %d" (show v) Trace.version)
-     | None -> Some "its first line is not a header ({\"trace\":\"jadescript-ref\",\"version\":1,...})")
+     | None -> Some (Printf.sprintf "its first line is not a header ({\"trace\":\"jadescript-ref\",\"version\":%d,...})" Trace.version))
   | _ -> Some "its first line is not a header object"
 
 let has_error_event evs = List.exists Trace.is_error evs

@@ -9,6 +9,7 @@ type options = {
   params : Mc.params;
   engine : engine;
   seed : int option;
+  interleave : int option;
   fuel : int;
   max_steps : int;
   max_memory : int option;
@@ -57,6 +58,13 @@ type t = {
   rand : Random.State.t option;
   tr : Tracer.t;
   sends : bool;                  (* has the program a send statement? (D33) *)
+  fine : Random.State.t option;  (* D45: the finer interleaving, drawn from this *)
+  inflight : (string, (string * Eval.message) Queue.t) Hashtbl.t;
+      (* D45: per receiver (an agent, a platform agent, an absent name), the
+         messages sent to it and not yet delivered, in the order of the sends *)
+  during : (string, Eval.message Queue.t) Hashtbl.t;
+      (* D42: per agent, the host's messages to deliver during its next
+         behaviour step *)
 }
 
 (* D33: does any body of the program hold a send statement? Only a body
@@ -91,8 +99,42 @@ let take_events (c : M.t) =
   | (_, []) -> (c, [])
   | (world, evs) -> ({ c with world }, evs)
 
-(* Deliver what agent [i]'s bodies sent (R5e), in order, each with its
-   trace line. *)
+(* R5e, D43: the failure ams sends the sender of a message to an agent that
+   is not on the platform, its content the receiver's aid. (A message to ams
+   or df themselves is never answered: D44.) *)
+let failure ~receiver = { Eval.perf = "failure"; content = Value.Aid receiver; sender = "ams" }
+
+let queue t r = match Hashtbl.find_opt t.inflight r with
+  | Some q -> q
+  | None -> let q = Queue.create () in Hashtbl.replace t.inflight r q; q
+
+(* A message that reaches [receiver] now (R5e), with its trace line. One for
+   ams or df is theirs and never answered (D44); for an agent not on the
+   platform, ams's failure goes back to the sender: delivered at once in the
+   deterministic schedule (D44), in flight in the finer one (D45).
+   [in_step]: during the receiver's last behaviour step (R5d, D42). *)
+let rec arrive ?(in_step = false) t ~sender ~receiver m =
+  let back answer =
+    if t.fine = None then arrive t ~sender:answer.Eval.sender ~receiver:sender answer
+    else Queue.push (answer.Eval.sender, answer) (queue t sender) in
+  let (pl, ev) =
+    if in_step then
+      match P.deliver_in_step t.opts.params t.platform ~sender ~receiver m with
+      | Some r -> r
+      | None -> P.deliver t.opts.params t.platform ~sender ~receiver m
+    else P.deliver t.opts.params t.platform ~sender ~receiver m in
+  t.platform <- pl;
+  match ev with
+  | P.Delivered _ ->
+    Tracer.host ~in_step t.tr ~agent:receiver pl.agents.(Option.get (find t receiver)).config
+  | P.To_platform _ -> ()
+  | P.Undeliverable { sender; receiver; message } ->
+    Tracer.undeliverable t.tr ~sender ~receiver message;
+    back (failure ~receiver)
+  | P.Step _ -> ()
+
+(* What agent [i]'s bodies sent (R5e), in order: delivered at once (the
+   deterministic schedule), or in flight (D45). *)
 let deliver_outbox t i =
   let ag = t.platform.agents.(i) in
   match Eval.Bodies.take_outbox ag.config.world with
@@ -100,12 +142,8 @@ let deliver_outbox t i =
   | (world, out) ->
     set_config t i { ag.config with world };
     List.iter (fun (receiver, m) ->
-        let (pl, ev) = P.deliver t.opts.params t.platform ~sender:ag.name ~receiver m in
-        t.platform <- pl;
-        match ev with
-        | P.Delivered _ -> Tracer.host t.tr ~agent:receiver pl.agents.(Option.get (find t receiver)).config
-        | P.Undeliverable { sender; receiver; message } -> Tracer.undeliverable t.tr ~sender ~receiver message
-        | P.Step _ -> ()) out
+        if t.fine = None then arrive t ~sender:ag.name ~receiver m
+        else Queue.push (ag.name, m) (queue t receiver)) out
 
 (* ---------------------------------------------------------- create *)
 
@@ -130,7 +168,9 @@ let create ?hooks env opts specs =
   let t = { env; opts; hooks; platform = P.create created;
             rules = Array.of_list (List.map (fun (name, _, _) -> hooks.rules name) specs); steps = 0;
             rand = Option.map (fun s -> Random.State.make [| s |]) opts.seed;
-            tr; sends = program_sends env } in
+            tr; sends = program_sends env;
+            fine = Option.map (fun s -> Random.State.make [| s; 45 |]) opts.interleave;
+            inflight = Hashtbl.create 8; during = Hashtbl.create 4 } in
   (* Messages sent by on create, once every agent exists (D13). *)
   Array.iteri (fun i _ -> deliver_outbox t i) t.platform.agents;
   t
@@ -160,14 +200,16 @@ let put t ~agent v =
         Error (Printf.sprintf "agent %s refused the object %s: the O2A queue is full (R2d)" agent (Value.to_literal v))
       | Ok c -> set_config t i c; Tracer.host t.tr ~agent c; Ok ())
 
-let message t ~agent ~perf content =
+let message ?(during_step = false) t ~agent ~perf content =
   with_agent t agent (fun _ _ ->
-      let (pl, ev) = P.deliver t.opts.params t.platform ~sender:"host" ~receiver:agent
-          { Eval.perf; content; sender = "host" } in
-      t.platform <- pl;
-      (match ev with
-       | P.Delivered _ -> Tracer.host t.tr ~agent pl.agents.(Option.get (find t agent)).config
-       | _ -> ());
+      let m = { Eval.perf; content; sender = "host" } in
+      if during_step then begin
+        (* D42: held until the agent's next behaviour step *)
+        let q = match Hashtbl.find_opt t.during agent with
+          | Some q -> q
+          | None -> let q = Queue.create () in Hashtbl.replace t.during agent q; q in
+        Queue.push m q
+      end else arrive t ~sender:"host" ~receiver:agent m;
       Ok ())
 
 (* ------------------------------------------------------------- run *)
@@ -184,6 +226,12 @@ let rule t i =
     Tracer.step t.tr ~agent:ag.name ~before:ag.config ~after:c l evs;
     deliver_outbox t i;
     t.steps <- t.steps + 1;
+    (* D42: the host's messages held for this behaviour step arrive during it *)
+    (match l, Hashtbl.find_opt t.during ag.name with
+     | Mc.Behaviour_step _, Some q ->
+       Queue.iter (fun m -> arrive ~in_step:true t ~sender:"host" ~receiver:ag.name m) q;
+       Queue.clear q
+     | _ -> ());
     Some l
 
 (* The most rules the derived rule Dispatch can take from [c]: Dequeue, a
@@ -258,36 +306,95 @@ let iterate t i =
       | Some l -> if not (ends_iteration l) then go () in
   go ()
 
+(* ------------------------------------------- the finer interleaving *)
+
+(* D45: rules of different agents in any order, deliveries delayed (R6
+   revised): at each point one of the possible next events is drawn at
+   random: a rule of an agent that may take one ([may_step]) and is not
+   idle, or the arrival of the oldest message in flight to some receiver;
+   a message to an agent whose last rule was a behaviour step may arrive
+   during that step (SendInStep, R5d), drawn at random too. [on_rule i l]
+   sees each rule taken. It ends when nothing can happen, or at the step
+   limit. *)
+let fine_run t rand ~may_step ~on_rule =
+  let rec go () =
+    if t.steps < t.opts.max_steps then begin
+      let agents = List.filter (fun i -> may_step i && not (M.is_idle t.platform.agents.(i).config))
+          (List.init (Array.length t.platform.agents) Fun.id) in
+      let receivers = Hashtbl.fold (fun r q acc -> if Queue.is_empty q then acc else r :: acc) t.inflight []
+                      |> List.sort compare in
+      let choices = List.map (fun i -> `Rule i) agents @ List.map (fun r -> `Arrive r) receivers in
+      match choices with
+      | [] -> ()
+      | _ ->
+        (match List.nth choices (Random.State.int rand (List.length choices)) with
+         | `Rule i -> (match rule t i with Some l -> on_rule i l | None -> ())
+         | `Arrive r ->
+           let (sender, m) = Queue.pop (queue t r) in
+           let in_step = match find t r with
+             | Some i -> t.platform.agents.(i).config.stepped <> Mc.Not_stepped && Random.State.bool rand
+             | None -> false in
+           arrive ~in_step t ~sender ~receiver:r m);
+        go ()
+    end in
+  go ()
+
+(* D42: the messages held for a behaviour step that did not come arrive
+   at the end of the run's rounds, as plain deliveries. *)
+let release_held t =
+  let held = Hashtbl.fold (fun a q acc -> if Queue.is_empty q then acc else (a, q) :: acc) t.during [] in
+  List.iter (fun (a, q) -> Queue.iter (fun m -> arrive t ~sender:"host" ~receiver:a m) q; Queue.clear q)
+    (List.sort compare held);
+  held <> []
+
 (* D20: rounds end as soon as every agent is idle (nothing can change until
    the host acts again: an idle round would only draw a seeded order) or the
    step limit is reached, or a round takes no step (it changed nothing, nor
-   would the next); so [n] may be any count. *)
+   would the next); so [n] may be any count. With the finer interleaving
+   (D45), [n] rounds are up to [n] loop iterations of each agent, in any
+   order with the deliveries. *)
 let run_rounds t n =
-  let rec go n =
-    if n > 0 && t.steps < t.opts.max_steps && not (P.all_idle t.platform) then begin
-      let before = t.steps in
-      List.iter (fun i -> if not (M.is_idle t.platform.agents.(i).config) then iterate t i) (t.hooks.round t.rand t.platform);
-      if t.steps > before then go (n - 1)
-    end in
-  go n
+  match t.fine with
+  | Some rand ->
+    let done_ = Array.make (Array.length t.platform.agents) 0 in
+    fine_run t rand ~may_step:(fun i -> done_.(i) < n)
+      ~on_rule:(fun i l -> if ends_iteration l then done_.(i) <- done_.(i) + 1)
+  | None ->
+    let rec go n =
+      if n > 0 && t.steps < t.opts.max_steps && not (P.all_idle t.platform) then begin
+        let before = t.steps in
+        List.iter (fun i -> if not (M.is_idle t.platform.agents.(i).config) then iterate t i) (t.hooks.round t.rand t.platform);
+        if t.steps > before then go (n - 1)
+      end in
+    go n
 
 (* {"run": {"rules": n}} (D23, docs/trace-format.md): n single rules, each
    taken by the first agent in creation order that is not idle; fewer when
    every agent is idle or the step limit is reached. The messages a rule
    sends are delivered right after it. An agent left in the middle of an
-   iteration goes on from there at its next turn. *)
+   iteration goes on from there at its next turn. With the finer
+   interleaving (D45), n rules of agents drawn at random. *)
 let run_rules t n =
-  let rec go k =
-    if k > 0 && t.steps < t.opts.max_steps then
-      let rec first i =
-        if i >= Array.length t.platform.agents then None
-        else if M.is_idle t.platform.agents.(i).config then first (i + 1) else Some i in
-      match first 0 with
-      | None -> ()
-      | Some i -> (match rule t i with Some _ -> go (k - 1) | None -> ()) in
-  go n
+  match t.fine with
+  | Some rand ->
+    let taken = ref 0 in
+    fine_run t rand ~may_step:(fun _ -> !taken < n) ~on_rule:(fun _ _ -> incr taken)
+  | None ->
+    let rec go k =
+      if k > 0 && t.steps < t.opts.max_steps then
+        let rec first i =
+          if i >= Array.length t.platform.agents then None
+          else if M.is_idle t.platform.agents.(i).config then first (i + 1) else Some i in
+        match first 0 with
+        | None -> ()
+        | Some i -> (match rule t i with Some _ -> go (k - 1) | None -> ()) in
+    go n
 
-let run_until_idle t = run_rounds t max_int
+let run_until_idle t =
+  let rec go () =
+    run_rounds t max_int;
+    if t.steps < t.opts.max_steps && release_held t then go () in
+  go ()
 
 let finish t =
   Array.iter (fun (ag : P.agent) ->

@@ -17,6 +17,10 @@ type options = {
   params : Semantics.Machine.params;
   engine : engine;
   seed : int option;          (** [None]: round-robin (R6); [Some s]: seeded *)
+  interleave : int option;
+      (** D45: [Some s]: the finer interleaving of R6, drawn from [s]:
+          rules of different agents in any order, messages delivered after
+          a delay, possibly during their receiver's behaviour step *)
   fuel : int;                 (** statements per handler or step (R7) *)
   max_steps : int;            (** agent steps in the whole run *)
   max_memory : int option;    (** D22: megabytes of heap the run may take *)
@@ -53,6 +57,10 @@ type hooks = {
   round : Random.State.t option -> P.t -> int list;   (** the order of one round (R6) *)
 }
 
+val failure : receiver:string -> Eval.message
+(** R5e, D43: the [failure] [ams] sends the sender of a message to an agent
+    that is not on the platform; its content is the receiver's aid. *)
+
 val reference_rules : rules
 (** [Machine.step], and no derived rule. *)
 
@@ -81,8 +89,11 @@ val put : t -> agent:string -> Value.t -> (unit, string) result
 (** R2c: [Error] when the agent does not exist or its O2A queue is full
     (R2d); a refused object is recorded as [refused] with its [object]. *)
 
-val message : t -> agent:string -> perf:string -> Value.t -> (unit, string) result
-(** A message from the host (sender ["host"]). *)
+val message : ?during_step:bool -> t -> agent:string -> perf:string -> Value.t -> (unit, string) result
+(** A message from the host (sender ["host"]); [during_step] (D42): held
+    until the agent's next behaviour step, and delivered during it
+    (SendInStep, R5d); if the agent takes none before its rounds end, it
+    arrives then. *)
 
 val run_rounds : t -> int -> unit
 (** [n] rounds: in each, every agent that is not idle runs one loop iteration

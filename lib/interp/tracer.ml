@@ -166,7 +166,7 @@ let event_of ~(percept : ?keep:bool -> V.t -> string) ~(name : int -> string) (c
   | Mc.Notify e -> Trace.Notify { entry = entry e; overridden = false }
   | Mc.Notify_with e -> Trace.Notify { entry = entry e; overridden = true }
   | Mc.Put o -> Trace.Put { obj = V.to_literal o; index = c.puts }
-  | Mc.Send (m, seq) -> Trace.Deliver { message = message m; seq }
+  | Mc.Send (m, seq) -> Trace.Deliver { message = message m; seq; in_step = false }
   | Mc.Transfer n -> Trace.Transfer n
   | Mc.Transfer_one e -> Trace.Transfer_one (entry e)
   | Mc.Transfer_spin o -> Trace.Transfer_spin (V.to_literal o)
@@ -194,7 +194,11 @@ let event_of ~(percept : ?keep:bool -> V.t -> string) ~(name : int -> string) (c
 let label_event t agent (c : config) (l : label) evs : Trace.event =
   event_of ~percept:(fun ?keep v -> percept_text ?keep t v) ~name:(name t agent) c l evs
 
-let host t ~agent (c : config) = Trace.write_with t.w ~agent (fun () -> label_event t agent c c.last [])
+let host ?(in_step = false) t ~agent (c : config) =
+  Trace.write_with t.w ~agent (fun () ->
+      match label_event t agent c c.last [] with
+      | Trace.Deliver d -> Trace.Deliver { d with in_step }
+      | e -> e)
 
 let refused t ~agent v =
   Trace.write t.w ~agent (Trace.Refused { percept = V.to_literal v; reason = "the O2A queue is full (R2d)" })

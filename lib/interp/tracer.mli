@@ -41,9 +41,10 @@ val event_of :
 val body : Eval.event -> Trace.body option
 (** The line of a body's event; [None] for [Ran], which is no line. *)
 
-val host : t -> agent:string -> config -> unit
+val host : ?in_step:bool -> t -> agent:string -> config -> unit
 (** The line of a host rule (Notify, NotifyWith, Put, Send), from the
-    configuration it reached. *)
+    configuration it reached; [in_step]: a message that reached the agent
+    during its last behaviour step (its action SendInStep, R5d). *)
 
 val refused : t -> agent:string -> Value.t -> unit
 (** A notification refused (R2d). *)

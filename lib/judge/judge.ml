@@ -75,8 +75,12 @@ type st = {
   bound : int;
   agents : agent array;
   inflight : (string, (string * E.message) Queue.t) Hashtbl.t;
-      (* per receiver, the messages sent to it and not yet delivered, in
-         the order of the sends (R5e) *)
+      (* per receiver, the messages agents sent to it and not yet
+         delivered, in the order of the sends (R5e) *)
+  answers : (string, (string * E.message) Queue.t) Hashtbl.t;
+      (* per receiver, the platform's answers to it not yet delivered (its
+         agents answer when they get to it: in their order, not in the
+         order of the agents' sends) *)
   mutable ncreated : int;
   mutable lines : int;
 }
@@ -88,9 +92,12 @@ let find_agent st name =
     else if String.equal st.agents.(i).name name then Some st.agents.(i) else go (i + 1) in
   go 0
 
-let queue st r = match Hashtbl.find_opt st.inflight r with
+let queue_in tbl r = match Hashtbl.find_opt tbl r with
   | Some q -> q
-  | None -> let q = Queue.create () in Hashtbl.replace st.inflight r q; q
+  | None -> let q = Queue.create () in Hashtbl.replace tbl r q; q
+
+let queue st r = queue_in st.inflight r
+let answers st r = queue_in st.answers r
 
 (* ------------------------------------------------- what a rule writes *)
 
@@ -214,12 +221,11 @@ let receivers_known st r = find_agent st r <> None || List.mem r platform_agents
 
 (* The messages a matched send line posts: in flight to its receivers; to
    an absent one, owed as undeliverable by the sender; to a platform agent,
-   answered (R5e): not_understood, carrying what it could not read. *)
+   theirs, never answered (R5e, D44). *)
 let post st ag (msgs : E.message list) receivers =
   List.iter2 (fun r (m : E.message) ->
       if find_agent st r <> None then Queue.push (ag.name, m) (queue st r)
-      else if List.mem r platform_agents then
-        Queue.push (r, { E.perf = "not_understood"; content = m.content; sender = r }) (queue st ag.name)
+      else if List.mem r platform_agents then ()
       else ag.undeliverable <- ag.undeliverable @ [ (r, m) ]) receivers msgs
 
 let agent_line st n ag (ev : Trace.event) =
@@ -326,9 +332,15 @@ let put st n ag text index =
 
 (* A delivery (R5e): from the host (what the events file sent), or the
    oldest message in flight to the agent, which must be this one. *)
-let deliver st n ag (m : Trace.message) seq =
+let deliver st n ag (m : Trace.message) seq in_step =
   let msg =
     if m.from = "host" then { E.perf = m.performative; content = literal_of st n m.content; sender = "host" }
+    else if List.mem m.from platform_agents then
+      match Queue.peek_opt (answers st ag.name) with
+      | Some (sender, msg) when sender = m.from && msg.perf = m.performative && V.to_literal msg.content = m.content ->
+        ignore (Queue.pop (answers st ag.name)); msg
+      | _ ->
+        reject n "agent %s: the platform owes it no %s %s from %s (R5e)" ag.name m.performative m.content m.from
     else match Queue.peek_opt (queue st ag.name) with
       | Some (sender, msg) when sender = m.from && msg.perf = m.performative && V.to_literal msg.content = m.content ->
         ignore (Queue.pop (queue st ag.name)); msg
@@ -337,9 +349,13 @@ let deliver st n ag (m : Trace.message) seq =
           ag.name msg.perf (V.to_literal msg.content) sender m.performative m.content m.from
       | None ->
         reject n "agent %s: no message sent to it waits for delivery (%s %s from %s)" ag.name m.performative m.content m.from in
-  host st n ag (Printf.sprintf "the delivery of seq %d cannot be here" seq) (fun c ->
-      let c' = M.send st.params c msg in
-      if c'.msg_seq = seq then Some c' else None)
+  host st n ag (Printf.sprintf "the delivery of seq %d cannot be here%s" seq
+                  (if in_step then " (during the agent's last behaviour step: it took another rule since, R5d)" else ""))
+    (fun c ->
+       let c' = if in_step then M.send_in_step st.params c msg else Some (M.send st.params c msg) in
+       match c' with
+       | Some c' when c'.msg_seq = seq -> Some c'
+       | _ -> None)
 
 let undeliverable st n ag receiver perf content =
   match ag.undeliverable with
@@ -347,7 +363,7 @@ let undeliverable st n ag receiver perf content =
     ag.undeliverable <- rest;
     (* R5e: the platform answers the sender with a failure from ams, which
        reaches it like any message *)
-    Queue.push ("ams", { E.perf = "failure"; content = V.Aid receiver; sender = "ams" }) (queue st ag.name)
+    Queue.push ("ams", Interp.Runtime.failure ~receiver) (answers st ag.name)
   | _ ->
     reject n "agent %s: no message of it to %s waits to be reported undeliverable (%s %s)" ag.name receiver perf content
 
@@ -414,7 +430,7 @@ let line st n (l : Trace.line) =
   | Trace.Refused { percept; _ } -> refused st n ag percept
   | Trace.Refused_put { obj; _ } -> refused_put st n ag obj
   | Trace.Put { obj; index } -> put st n ag obj index
-  | Trace.Deliver { message; seq } -> deliver st n ag message seq
+  | Trace.Deliver { message; seq; in_step } -> deliver st n ag message seq in_step
   | Trace.Undeliverable { receiver; performative; content } -> undeliverable st n ag receiver performative content
   | Trace.Destroy -> destroy st n ag
   | ev -> agent_line st n ag ev
@@ -448,7 +464,7 @@ let judge env ~agents ?(options = default_options) path =
                  agents = Array.of_list (List.map (fun (name, atype, args) ->
                      { name; atype; args; cands = []; created = false; destroyed = false;
                        names = Hashtbl.create 8; undeliverable = [] }) agents);
-                 inflight = Hashtbl.create 8; ncreated = 0; lines = 1 };
+                 inflight = Hashtbl.create 8; answers = Hashtbl.create 8; ncreated = 0; lines = 1 };
     () in
   let on_line n l = match !st with Some s -> line s n l | None -> () in
   match Trace.stream path ~header ~line:on_line with

@@ -12,6 +12,7 @@
                           notify_event        [Host rules]
      Put(o) ............. put                 [Host rules]
      Send(m) ............ send                [Host rules]
+     SendInStep(m) ...... send_in_step        [Host rules]
      Transfer ........... transfer            [Agent rules]
      TransferOne ........ transfer_one        [Agent rules]
      TransferSpin ....... transfer_spin       [Agent rules]
@@ -101,6 +102,11 @@ let action_name = function
 
 module Int_set = Set.Make (Int)
 
+type 'b stepped =
+  | Not_stepped
+  | Stepped_kept
+  | Stepped_blocked of { active : 'b instance list; ready : int list; blocked : int list; pos : int }
+
 type ('p, 'm, 'o, 'b, 'w) config = {
   o2a : ('p, 'o) o2a_item Fqueue.t;
   pq : 'p Pqueue.t;
@@ -118,6 +124,7 @@ type ('p, 'm, 'o, 'b, 'w) config = {
   done_ : Int_set.t;
   waits : (int * int * int) list;
   last : ('p, 'm, 'o) label;
+  stepped : 'b stepped;
   world : 'w;
 }
 
@@ -294,7 +301,7 @@ module Make (B : BODIES) = struct
       next_seq = 0; msg_seq = 0; puts = 0;
       active; ready = List.map (fun (a : B.beh instance) -> a.id) active;
       blocked = []; pos = 1; phase = Transfer_phase; cur = None; dispatched = 0;
-      done_ = Int_set.empty; waits = []; last = Init; world }
+      done_ = Int_set.empty; waits = []; last = Init; stepped = Not_stepped; world }
 
   (* ================================================================ *)
   (* Host actions                                                      *)
@@ -338,12 +345,34 @@ module Make (B : BODIES) = struct
   let put _p (c : t) o : t =
     { c with o2a = Fqueue.push (O_object o) c.o2a; puts = c.puts + 1; last = Put o }
 
-  (* Send(m) (R5e, R5d, R3e). *)
+  (* Send(m) (R5e, R5d, R3e); it closes the window of the last behaviour
+     step (R6: deliveries to one agent keep their order). *)
   let send _p (c : t) m : t =
     let seq = c.msg_seq + 1 in
     { c with msgq = Fqueue.push (M_message { m; mseq = seq }) c.msgq; msg_seq = seq;
              ready = c.ready @ c.blocked; blocked = []; phase = wake_idle c;
-             last = Send (m, seq) }
+             last = Send (m, seq); stepped = Not_stepped }
+
+  (* SendInStep(m) (R5d revised, D42): enabled in the window of the last
+     behaviour step; as Send, and a behaviour that step blocked is runnable
+     again at its place (the behaviour state S2 the step had before the
+     block, the other blocked ones woken to the end of ready). The window
+     stays open. The phase is Transfer in the window: nothing to wake. *)
+  let send_in_step _p (c : t) m : t option =
+    let seq = c.msg_seq + 1 in
+    let msgq = Fqueue.push (M_message { m; mseq = seq }) c.msgq in
+    let after c = { c with msgq; msg_seq = seq; blocked = []; last = Send (m, seq);
+                           stepped = Stepped_kept } in
+    match c.stepped with
+    | Not_stepped -> None
+    | Stepped_kept -> Some (after { c with ready = c.ready @ c.blocked })
+    | Stepped_blocked s2 ->
+      Some (after { c with active = s2.active; ready = s2.ready @ s2.blocked; pos = s2.pos })
+
+  let last_action_name (c : t) =
+    match c.last, c.stepped with
+    | Send _, (Stepped_kept | Stepped_blocked _) -> "SendInStep"
+    | l, _ -> action_name l
 
   (* ================================================================ *)
   (* Agent actions. Each is [params -> t -> (lbl * t) list]: the empty *)
@@ -370,7 +399,8 @@ module Make (B : BODIES) = struct
         let add q e = if p.flood && Pqueue.mem e q then q else Pqueue.insert e q in
         { c with pq = List.fold_left add c.pq entries } in
     let l = Transfer n in
-    [ (l, { c' with o2a = rest; phase = Dispatch_phase; dispatched = 0; last = l }) ]
+    [ (l, { c' with o2a = rest; phase = Dispatch_phase; dispatched = 0; last = l;
+                    stepped = Not_stepped }) ]
 
   (* TransferOne (printed): the head of O2A is a percept. *)
   let transfer_one p (c : t) : (lbl * t) list =
@@ -379,20 +409,22 @@ module Make (B : BODIES) = struct
     | Some (O_percept e, rest) ->
       let pq = if p.flood && Pqueue.mem e c.pq then c.pq else Pqueue.insert e c.pq in
       let l = Transfer_one e in
-      [ (l, { c with pq; o2a = rest; last = l }) ]
+      [ (l, { c with pq; o2a = rest; last = l; stepped = Not_stepped }) ]
     | Some (O_object _, _) | None -> []
 
   (* TransferSpin (printed): the head is an object; only last changes. *)
   let transfer_spin p (c : t) : (lbl * t) list =
     if not (p.variant = Printed && c.phase = Transfer_phase) then [] else
     match Fqueue.peek c.o2a with
-    | Some (O_object o) -> let l = Transfer_spin o in [ (l, { c with last = l }) ]
+    | Some (O_object o) ->
+      let l = Transfer_spin o in [ (l, { c with last = l; stepped = Not_stepped }) ]
     | Some (O_percept _) | None -> []
 
   (* TransferEnd (printed): O2A is empty. *)
   let transfer_end p (c : t) : (lbl * t) list =
     if not (p.variant = Printed && c.phase = Transfer_phase && Fqueue.is_empty c.o2a) then [] else
-    [ (Transfer_end, { c with phase = Dispatch_phase; dispatched = 0; last = Transfer_end }) ]
+    [ (Transfer_end, { c with phase = Dispatch_phase; dispatched = 0; last = Transfer_end;
+                              stepped = Not_stepped }) ]
 
   (* Dequeue (R3b, R4a, R4b): one result per candidate. *)
   let dequeue p (c : t) : (lbl * t) list =
@@ -402,7 +434,7 @@ module Make (B : BODIES) = struct
         let l = Dequeue e in
         (l, { c with pq = Pqueue.remove e c.pq; cur = Some { e; todo = handlers_of c; applied = false };
                      waits = bump_waits p c e; phase = Handle_phase;
-                     dispatched = c.dispatched + 1; last = l }))
+                     dispatched = c.dispatched + 1; last = l; stepped = Not_stepped }))
       (Pqueue.candidates ~stable:(p.tie = Stable) c.pq)
 
   (* The number of active instances, which the bodies see (D19). *)
@@ -414,13 +446,14 @@ module Make (B : BODIES) = struct
   let handle p (c : t) d (id, h) (b, bindings) world : lbl * t =
     let (world, effs) = B.run_percept_handler world ~id ~active:(active_count c) b h d.e.p bindings in
     let l = Handle { id; h; p = d.e.p; seq = d.e.seq } in
-    let c' = { c with world; cur = Some { d with todo = List.tl d.todo; applied = true }; last = l } in
+    let c' = { c with world; cur = Some { d with todo = List.tl d.todo; applied = true }; last = l;
+                      stepped = Not_stepped } in
     (l, with_bs c' (apply_effects p (bs_of c) id effs (todo_ids d.todo)))
 
   (* Skip, once Applicable(t) failed for the head [t] of the snapshot. *)
   let skip (c : t) d (id, h) world : lbl * t =
     let l = Skip { id; h } in
-    (l, { c with world; cur = Some { d with todo = List.tl d.todo }; last = l })
+    (l, { c with world; cur = Some { d with todo = List.tl d.todo }; last = l; stepped = Not_stepped })
 
   (* Handle \/ Skip: phase = "handle" /\ cur.todo # <<>>; Applicable(Head(cur.todo))
      is evaluated once and decides which of the two is enabled. *)
@@ -438,7 +471,8 @@ module Make (B : BODIES) = struct
     match c.phase, c.cur with
     | Handle_phase, Some ({ todo = []; _ } as d) ->
       let l = End_dispatch { seq = d.e.seq; discarded = not d.applied } in
-      [ (l, { c with done_ = add_done p c d.e.seq; cur = None; phase = Dispatch_phase; last = l }) ]
+      [ (l, { c with done_ = add_done p c d.e.seq; cur = None; phase = Dispatch_phase; last = l;
+                     stepped = Not_stepped }) ]
     | _ -> []
 
   (* What a behaviour step took from the message queue: a percept (native)
@@ -495,7 +529,7 @@ module Make (B : BODIES) = struct
     go c.world handlers
 
   (* BehaviourStep (R5a-R5d, R5f): one step of ready[pos]. S0..S3 as in the
-     spec's LET. *)
+     spec's LET; it opens the window of SendInStep ([stepped]). *)
   let behaviour_step p (c : t) : (lbl * t) list =
     if not (c.phase = Dispatch_phase && dispatch_over p c && c.ready <> []) then [] else
     let id = List.nth c.ready (c.pos - 1) in
@@ -516,27 +550,32 @@ module Make (B : BODIES) = struct
       | Some (Took_message (h, m, mseq, bd), msgq) ->
         let (w, effs) = B.run_message_handler world ~id ~active b h m bd in
         (w, apply_effects p s1 id effs [id], msgq, Some (M_message { m; mseq })) in
+    let blocks = B.cyclic b && not (B.has_action b) && taken = None && is_active_in s2 id in
     let s3 =
       if not (B.cyclic b) then deactivate s2 id
-      else if not (B.has_action b) && taken = None && is_active_in s2 id then block s2 id
+      else if blocks then block s2 id
       else s2 in
+    (* the window of SendInStep (R5d revised): S2 when the step blocked *)
+    let stepped =
+      if blocks then Stepped_blocked { active = s2.active; ready = s2.ready; blocked = s2.blocked; pos = s2.pos }
+      else Stepped_kept in
     let (done_, waits) = match taken with
       | Some (M_percept e) -> (add_done p c e.seq, bump_waits p c e)
       | _ -> (c.done_, c.waits) in
     let l = Behaviour_step { id; msg = taken } in
-    [ (l, with_bs { c with world; msgq; done_; waits; phase = Transfer_phase; last = l } s3) ]
+    [ (l, with_bs { c with world; msgq; done_; waits; phase = Transfer_phase; last = l; stepped } s3) ]
 
   (* NextIteration (D5): nothing to step; start the next iteration. *)
   let next_iteration p (c : t) : (lbl * t) list =
     if not (c.phase = Dispatch_phase && dispatch_over p c && c.ready = []
             && (p.variant = Printed || not (idle_condition c))) then [] else
-    [ (Next_iteration, { c with phase = Transfer_phase; last = Next_iteration }) ]
+    [ (Next_iteration, { c with phase = Transfer_phase; last = Next_iteration; stepped = Not_stepped }) ]
 
   (* Idle (R3e). *)
   let idle p (c : t) : (lbl * t) list =
     if not (p.variant <> Printed && c.phase = Dispatch_phase && dispatch_over p c
             && idle_condition c) then [] else
-    [ (Idle, { c with phase = Idle_phase; last = Idle }) ]
+    [ (Idle, { c with phase = Idle_phase; last = Idle; stepped = Not_stepped }) ]
 
   (* ================================================================ *)
   (* AgentStep: the disjunction of the agent actions.                  *)

@@ -8,7 +8,8 @@
     last action) plus [world], the agent's own state, which the spec abstracts
     away. Each transition is a rule named as the TLA+ action it implements and as
     the rule of docs/semantics.md; {!step} lists the enabled agent rules, the
-    host functions ({!notify}, {!put}, {!send}) are the host rules.
+    host functions ({!notify}, {!put}, {!send}, {!send_in_step}) are the host
+    rules.
 
     The machine is parameterised by what handlers and behaviour steps do
     ({!BODIES}): the explorer plugs in the abstract bodies of a TLA+ model
@@ -106,6 +107,22 @@ val action_name : ('p, 'm, 'o) label -> string
 
 module Int_set : Set.S with type elt = int
 
+(** The window of a message that reaches the agent during its last behaviour
+    step (R5d revised, D42): the spec's variable [stepped]. *)
+type 'b stepped =
+  | Not_stepped
+      (** closed: the agent took another rule since its last behaviour step,
+          or a message came after that step ({!Make.send}); the spec's
+          [NoStep] *)
+  | Stepped_kept
+      (** open, and the step did not block its behaviour (it took a message,
+          has an action block, is a one-shot or left), or a message that came
+          during the step was already delivered; [[kind |-> "kept"]] *)
+  | Stepped_blocked of { active : 'b instance list; ready : int list; blocked : int list; pos : int }
+      (** open, and the step blocked its behaviour: the behaviour state just
+          before the block (S2 of the spec's BehaviourStep), which a message
+          that came during the step restores; [[kind |-> "blocked", bs |-> S2]] *)
+
 type ('p, 'm, 'o, 'b, 'w) config = {
   o2a : ('p, 'o) o2a_item Fqueue.t;
   pq : 'p Pqueue.t;
@@ -124,6 +141,11 @@ type ('p, 'm, 'o, 'b, 'w) config = {
   waits : (int * int * int) list;
       (** ghost: (seq, priority, inversions) of every waiting percept, by seq *)
   last : ('p, 'm, 'o) label;
+      (** the last rule; SendInStep is labelled [Send] as Send is: the two
+          differ in [stepped] ({!Make.last_action_name}) *)
+  stepped : 'b stepped;       (** R5d revised: set by BehaviourStep, closed by
+                                  every other agent rule and by Send; Notify,
+                                  NotifyWith and Put leave it *)
   world : 'w;                 (** the agent's own state (unit in the explorer) *)
 }
 
@@ -213,11 +235,30 @@ module Make (B : BODIES) : sig
   (** [Put] (R2c). *)
 
   val send : params -> t -> B.message -> t
-  (** [Send]: a message reaches the agent (R5e); blocked behaviours wake (R5d). *)
+  (** [Send]: a message reaches the agent (R5e); blocked behaviours wake (R5d).
+      It closes the window of the last behaviour step ([stepped]). *)
+
+  val send_in_step : params -> t -> B.message -> t option
+  (** [SendInStep]: the message reaches the agent during its last behaviour
+      step, after that step's handlers looked for messages (R5d revised,
+      D42). [None] when the window is closed ([stepped = Not_stepped]: the
+      agent took a rule since its last behaviour step, or a message came
+      after it). Otherwise as {!send}, and a behaviour that the step
+      blocked is runnable again at its place in the ready list (JADE's
+      restart counter); the window stays open ([Stepped_kept]), so a
+      further message that came during the same step is exactly a {!send}.
+      Its label is [Send (m, seq)], as Send's. The caller bounds the
+      messages, as for {!send}. *)
+
+  val last_action_name : t -> string
+  (** The TLA+ name of the action that made this configuration: [action_name
+      c.last], except ["SendInStep"] for a [Send] label with the window
+      still open (Send closes it, SendInStep leaves it open). *)
 
   (** {2 Agent rules}
 
-      Each rule is one action of the spec: [rule p c] is the empty list when
+      Each rule is one action of the spec (each closes the window of
+      {!send_in_step} but BehaviourStep, which opens it): [rule p c] is the empty list when
       the action's enabling condition does not hold in [c], else its results
       (several only for Dequeue's candidates under the [Unstable] policy or
       the flood abstraction). *)
@@ -249,7 +290,7 @@ module Make (B : BODIES) : sig
   (** EndDispatch (R3b). *)
 
   val behaviour_step : rule
-  (** BehaviourStep (R5a-R5d, R5f). *)
+  (** BehaviourStep (R5a-R5d, R5f); it opens the window of {!send_in_step}. *)
 
   val next_iteration : rule
   (** NextIteration (D5). *)

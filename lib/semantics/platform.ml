@@ -7,7 +7,10 @@ module Make (B : Machine.BODIES) = struct
   type event =
     | Step of string * M.lbl
     | Delivered of { sender : string; receiver : string; message : B.message }
+    | To_platform of { sender : string; receiver : string; message : B.message }
     | Undeliverable of { sender : string; receiver : string; message : B.message }
+
+  let platform_agents = [ "ams"; "df" ]
 
   let create l = { agents = Array.of_list (List.map (fun (name, config) -> { name; config }) l) }
 
@@ -25,8 +28,16 @@ module Make (B : Machine.BODIES) = struct
 
   let deliver p t ~sender ~receiver message =
     match find t receiver with
-    | None -> (t, Undeliverable { sender; receiver; message })
     | Some i -> (set t i (M.send p t.agents.(i).config message), Delivered { sender; receiver; message })
+    | None when List.mem receiver platform_agents -> (t, To_platform { sender; receiver; message })
+    | None -> (t, Undeliverable { sender; receiver; message })
+
+  let deliver_in_step p t ~sender ~receiver message =
+    match find t receiver with
+    | Some i ->
+      Option.map (fun c -> (set t i c, Delivered { sender; receiver; message }))
+        (M.send_in_step p t.agents.(i).config message)
+    | None -> None
 
   (* Deliver what agent i's bodies sent during its last step, in order; each
      delivery is reported with the platform right after it. *)

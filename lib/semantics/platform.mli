@@ -24,7 +24,17 @@ module Make (B : Machine.BODIES) : sig
   type event =
     | Step of string * M.lbl                   (** an agent took a rule *)
     | Delivered of { sender : string; receiver : string; message : B.message }
+    | To_platform of { sender : string; receiver : string; message : B.message }
+        (** a message to one of the platform's own agents ({!platform_agents}):
+            theirs, never answered, since they take only messages of their
+            own ontologies (R5e, D44) *)
     | Undeliverable of { sender : string; receiver : string; message : B.message }
+        (** the receiver is not on the platform: the platform answers the
+            sender with a failure from [ams] (R5e) *)
+
+  val platform_agents : string list
+  (** [["ams"; "df"]]: the agents every JADE platform has (R5e). No agent of
+      a program takes their names. *)
 
   val create : (string * M.t) list -> t
   (** Agents in creation order, each already created ([on create] run). *)
@@ -32,7 +42,15 @@ module Make (B : Machine.BODIES) : sig
   val find : t -> string -> int option
 
   val deliver : Machine.params -> t -> sender:string -> receiver:string -> B.message -> t * event
-  (** A message from [sender] (an agent, or the host) to [receiver] (R5e). *)
+  (** A message from [sender] (an agent, the host or a platform agent) to
+      [receiver] (R5e): into its message queue when it is an agent of the
+      run ({!Delivered}); else the platform's ({!To_platform},
+      {!Undeliverable}), the platform unchanged. *)
+
+  val deliver_in_step : Machine.params -> t -> sender:string -> receiver:string -> B.message -> (t * event) option
+  (** {!deliver} to an agent of the run whose last rule was a behaviour
+      step, during that step (the machine's SendInStep, R5d revised);
+      [None] when the receiver is not such an agent. *)
 
   val iteration :
     ?max_steps:int -> ?on_event:(t -> event -> unit) ->

@@ -20,7 +20,7 @@ type event =
   | Refused of { percept : string; reason : string }
   | Refused_put of { obj : string; reason : string }
   | Put of { obj : string; index : int }
-  | Deliver of { message : message; seq : int }
+  | Deliver of { message : message; seq : int; in_step : bool }
   | Undeliverable of { receiver : string; performative : string; content : string }
   | Transfer of int
   | Transfer_one of entry
@@ -63,7 +63,8 @@ let action = function
   | Create _ -> Some "Init"
   | Notify { overridden; _ } -> Some (if overridden then "NotifyWith" else "Notify")
   | Refused _ | Refused_put _ | Undeliverable _ | Destroy -> None
-  | Put _ -> Some "Put" | Deliver _ -> Some "Send" | Transfer _ -> Some "Transfer"
+  | Put _ -> Some "Put" | Deliver { in_step; _ } -> Some (if in_step then "SendInStep" else "Send")
+  | Transfer _ -> Some "Transfer"
   | Transfer_one _ -> Some "TransferOne" | Transfer_spin _ -> Some "TransferSpin"
   | Transfer_end -> Some "TransferEnd" | Dequeue _ -> Some "Dequeue" | Handle _ -> Some "Handle"
   | Skip _ -> Some "Skip" | End_dispatch _ -> Some "EndDispatch"
@@ -103,7 +104,7 @@ let fields = function
   | Refused { percept; reason } -> [ "percept", str percept; "reason", str reason ]
   | Refused_put { obj; reason } -> [ "object", str obj; "reason", str reason ]
   | Put { obj; index } -> [ "object", str obj; "index", int index ]
-  | Deliver { message; seq } -> message_fields message @ [ "seq", int seq ]
+  | Deliver { message; seq; _ } -> message_fields message @ [ "seq", int seq ]
   | Undeliverable { receiver; performative; content } ->
     [ "to", str receiver; "performative", str performative; "content", str content ]
   | Transfer n -> [ "moved", int n ]
@@ -229,7 +230,7 @@ let message_of fs = { performative = get_str "performative" fs; content = get_st
 
 (* The actions a body event may name: the spec's actions, and "destroy". *)
 let body_actions =
-  [ "Init"; "Notify"; "NotifyWith"; "Put"; "Send"; "Transfer"; "TransferOne"; "TransferSpin"; "TransferEnd";
+  [ "Init"; "Notify"; "NotifyWith"; "Put"; "Send"; "SendInStep"; "Transfer"; "TransferOne"; "TransferSpin"; "TransferEnd";
     "Dequeue"; "Handle"; "Skip"; "EndDispatch"; "BehaviourStep"; "NextIteration"; "Idle"; "destroy" ]
 
 let event_of name fs =
@@ -249,7 +250,7 @@ let event_of name fs =
     Refused_put { obj = get_str "object" fs; reason = get_str "reason" fs }
   | "refused" -> Refused { percept = get_str "percept" fs; reason = get_str "reason" fs }
   | "put" -> Put { obj = get_str "object" fs; index = get_pos "index" fs }
-  | "deliver" -> Deliver { message = message_of fs; seq = get_pos "seq" fs }
+  | "deliver" -> Deliver { message = message_of fs; seq = get_pos "seq" fs; in_step = action = "SendInStep" }
   | "undeliverable" -> Undeliverable { receiver = get_str "to" fs; performative = get_str "performative" fs;
                                        content = get_str "content" fs }
   | "transfer" -> Transfer (get_nat "moved" fs)
@@ -576,7 +577,7 @@ let encode_after o ~step ~agent event =
     head (); put_str o ",\"percept\":" percept; put_str o ",\"reason\":" reason; add_char o '}'
   | Put { obj; index } ->
     head (); put_str o ",\"object\":" obj; put_int o ",\"index\":" index; add_char o '}'
-  | Deliver { message; seq } ->
+  | Deliver { message; seq; _ } ->
     head (); put_message o "," message; put_int o ",\"seq\":" seq; add_char o '}'
   | Undeliverable { receiver; performative; content } ->
     head (); put_str o ",\"to\":" receiver; put_str o ",\"performative\":" performative;

@@ -41,7 +41,10 @@ type event =
   | Refused_put of { obj : string; reason : string }
       (** a put refused: the O2A queue is full (R2d); ["refused"] with ["object"] *)
   | Put of { obj : string; index : int }
-  | Deliver of { message : message; seq : int }
+  | Deliver of { message : message; seq : int; in_step : bool }
+      (** a message reached the agent ([Send]); [in_step]: during its last
+          behaviour step, after the step's handlers looked ([SendInStep],
+          R5d) *)
   | Undeliverable of { receiver : string; performative : string; content : string }
       (** on the sender's line *)
   | Transfer of int

@@ -260,7 +260,7 @@ let gen_trace_line =
       map2 (fun entry overridden -> Trace.Notify { entry; overridden }) entry bool;
       map2 (fun percept reason -> Trace.Refused { percept; reason }) str str;
       map2 (fun obj index -> Trace.Put { obj; index }) str int;
-      map2 (fun message seq -> Trace.Deliver { message; seq }) message int;
+      map3 (fun message seq in_step -> Trace.Deliver { message; seq; in_step }) message int bool;
       map3 (fun receiver performative content -> Trace.Undeliverable { receiver; performative; content }) str str str;
       map (fun n -> Trace.Transfer n) int;
       map (fun e -> Trace.Transfer_one e) entry;
@@ -337,7 +337,7 @@ let every_event () =
     Trace.Create { agent_type = "A"; args = [ "1"; "\"t\"" ]; behaviours = [ "B" ] };
     Notify { entry = e; overridden = false }; Notify { entry = e; overridden = true };
     Refused { percept = "p"; reason = "full" }; Put { obj = "o"; index = 3 };
-    Deliver { message = m; seq = 4 };
+    Deliver { message = m; seq = 4; in_step = false }; Deliver { message = m; seq = 5; in_step = true };
     Undeliverable { receiver = "z"; performative = "inform"; content = "c" };
     Transfer 5; Transfer_one e; Transfer_spin "o"; Transfer_end; Dequeue e;
     Handle { instance = 1; behaviour = "B"; handler = 2; percept = "p"; seq = 3; effects = [ Activated "C"; Deactivated ] };
@@ -430,7 +430,7 @@ let percept_text_follows_its_slots () =
   let env, _ = Typing.check [ Parse.string ~file:"m.jade" text ] in
   let file = Filename.temp_file "jsref_text" ".jsonl" in
   let oc = open_out_bin file in
-  let opts = { Interp.Runtime.params = Mc.default_params; engine = Interp.Runtime.Fast; max_memory = None; level = "full"; seed = None; fuel = 500; max_steps = 1000;
+  let opts = { Interp.Runtime.params = Mc.default_params; engine = Interp.Runtime.Fast; max_memory = None; level = "full"; seed = None; interleave = None; fuel = 500; max_steps = 1000;
                trace = Some oc; on_log = (fun _ _ -> ()); on_error = (fun _ _ _ -> ()) } in
   let rt = Interp.Runtime.create env opts [ ("a", "A", []) ] in
   List.iter (fun p ->
@@ -518,7 +518,7 @@ and same_runs mode (prog, seed) =
     let file = Filename.temp_file "jsref_fast" ".jsonl" in
     let oc = if traced then Some (open_out_bin file) else None in
     let opts = { Interp.Runtime.params = { Mc.default_params with variant; budget = 2 };
-                 engine = Interp.Runtime.Fast; max_memory = None; level = "full"; seed = None;
+                 engine = Interp.Runtime.Fast; max_memory = None; level = "full"; seed = None; interleave = None;
                  fuel = 500; max_steps; trace = oc;
                  on_log = (fun a s -> out := Printf.sprintf "log %s: %s" a s :: !out);
                  on_error = (fun _ at m -> out := Printf.sprintf "error %s %s" (Source.string_of_region at) m :: !out) } in

@@ -361,6 +361,78 @@ let random_runs_checked (prog, seed) =
        (String.concat "\n" events));
   true
 
+(* R6 revised, D45: runs with the finer interleaving (run --interleave SEED)
+   of generated programs, each with its own seed: two agents named as the
+   generated programs address them (Bob and provider), so that their sends
+   reach each other, and sends to others are undeliverable (ams's failure,
+   R5e); the host notifies, puts, and sends messages, some during a
+   behaviour step (D42, SendInStep). validate accepts every trace: the
+   OCaml checks, then TLC on every agent of every trace in one run. *)
+let interleaved_runs =
+  match Option.bind (Sys.getenv_opt "JSREF_INTERLEAVED_RUNS") int_of_string_opt with
+  | Some n when n > 0 -> n
+  | _ -> if long then 3000 else 1000
+
+let interleaved_run dir i =
+  let rand = Random.State.make [| i |] in
+  let prog = QCheck.Gen.generate1 ~rand Typed_gen.program in
+  let text = Syntax.Print.program prog in
+  let env, _ = Typing.check [ Syntax.Parse.string ~file:"gen.jade" text ] in
+  let percepts = List.filter (fun (s : Typing.Tenv.schema) -> s.s_percept) (Typing.Tenv.schemas env) in
+  let percept () =
+    let s = List.nth percepts (Random.State.int rand (List.length percepts)) in
+    let args = List.map (fun (_, ty) -> literal_of rand ty) s.s_slots in
+    if args = [] then s.s_name else s.s_name ^ "(" ^ String.concat ", " args ^ ")" in
+  let agent () = if Random.State.bool rand then "Bob" else "provider" in
+  let events = List.init (2 + Random.State.int rand 10) (fun _ ->
+      match Random.State.int rand 9 with
+      | 0 | 1 -> Printf.sprintf {|{"run": %d}|} (1 + Random.State.int rand 3)
+      | 2 -> Printf.sprintf {|{"agent": "%s", "put": "%d"}|} (agent ()) (Random.State.int rand 9)
+      | 3 -> Printf.sprintf {|{"agent": "%s", "message": "%d"}|} (agent ()) (Random.State.int rand 9)
+      | 4 -> Printf.sprintf {|{"agent": "%s", "message": "%d", "during": "step"}|} (agent ()) (Random.State.int rand 9)
+      | 5 -> Printf.sprintf {|{"agent": "%s", "notify": %s, "priority": %d}|} (agent ())
+               (Yojson.Safe.to_string (`String (percept ()))) (Random.State.int rand 9)
+      | _ -> Printf.sprintf {|{"agent": "%s", "notify": %s}|} (agent ()) (Yojson.Safe.to_string (`String (percept ())))) in
+  let params = match Typing.Tenv.agent_create env "Ag" with Some r -> r.r_params | None -> [] in
+  let spec name = let args = List.map (fun (_, ty) -> literal_of rand ty) params in
+    Filename.quote (name ^ ":Ag" ^ (if args = [] then "" else ":" ^ String.concat "," args)) in
+  let p = Filename.concat dir (Printf.sprintf "i%d.jade" i) and ev = Filename.concat dir (Printf.sprintf "i%d.events" i)
+  and tr = Filename.concat dir (Printf.sprintf "i%d.jsonl" i) in
+  write_lines p [ text ]; write_lines ev events;
+  let (status, _, err) = run_command (Printf.sprintf "%s run %s --agent %s --agent %s --events %s --trace %s --max-steps 400 --interleave %d"
+                                        exe p (spec "Bob") (spec "provider") ev tr i) in
+  if status > 1 then Alcotest.failf "seed %d: run failed (%d): %s" i status err;
+  (tr, (i, text, events))
+
+let interleaved_runs_validated () =
+  let dir = Filename.concat (Filename.get_temp_dir_name ()) (Printf.sprintf "jsref-interleave-%d" (Unix.getpid ())) in
+  Unix.mkdir dir 0o700;
+  let runs = List.init interleaved_runs (fun i -> interleaved_run dir (i + 1)) in
+  let show (i, text, events) = Printf.sprintf "seed %d\nprogram:\n%s\nevents:\n%s" i text (String.concat "\n" events) in
+  let in_step = ref 0 and failures = ref 0 in
+  List.iter (fun (tr, _) ->
+      let s = read_file tr in
+      if (match Explore.Str_find.find s {|"SendInStep"|} with _ -> true | exception Not_found -> false) then incr in_step;
+      if (match Explore.Str_find.find s {|"from":"ams"|} with _ -> true | exception Not_found -> false) then incr failures) runs;
+  let results =
+    try Explore.Validate.traces (List.map fst runs)
+    with e -> Alcotest.failf "validate fails on the runs kept in %s: %s" dir (Printexc.to_string e) in
+  Alcotest.(check int) "a result per trace" interleaved_runs (List.length results);
+  List.iter (fun (tr, vs) ->
+      let run = List.assoc tr runs in
+      List.iter (function
+          | Explore.Validate.Accepted _ -> ()
+          | Explore.Validate.Rejected { line; step; _ } -> Alcotest.failf "TLC rejects line %d: %s\n%s" line step (show run)
+          | Explore.Validate.Cannot { line; reason; _ } -> Alcotest.failf "cannot validate line %d: %s\n%s" line reason (show run)
+          | Explore.Validate.Invalid { line; message } -> Alcotest.failf "line %d: %s\n%s" line message (show run)) vs) results;
+  List.iter (fun (tr, _) -> List.iter (fun f -> try Sys.remove f with Sys_error _ -> ())
+                [ tr; Filename.chop_suffix tr ".jsonl" ^ ".jade"; Filename.chop_suffix tr ".jsonl" ^ ".events" ]) runs;
+  (try Unix.rmdir dir with Unix.Unix_error _ -> ());
+  (* the runs exercise what the revised rulings add, or the test proves little *)
+  Printf.printf "%d runs: %d with a delivery during a step, %d with ams's failure\n" interleaved_runs !in_step !failures;
+  Alcotest.(check bool) "some runs deliver during a step (SendInStep)" true (!in_step >= interleaved_runs / 20);
+  Alcotest.(check bool) "some runs get ams's failure" true (!failures >= interleaved_runs / 20)
+
 let () =
   Alcotest.run "validate" [
     "untampered", [
@@ -369,6 +441,7 @@ let () =
       Alcotest.test_case "one TLC run for several traces tells which is rejected" `Slow shared_run_rejects;
       Alcotest.test_case "an agent without behaviours validates" `Quick no_behaviours;
       Alcotest.test_case "TLC takes a step with 3,000 effects" `Slow many_effects;
+      Alcotest.test_case "R6 1,000 interleaved runs of generated programs validated" `Slow interleaved_runs_validated;
       qcheck ~count:100 "random programs' runs pass the OCaml checks"
         (QCheck.pair Typed_gen.arb_program QCheck.small_nat) random_runs_checked;
     ];

@@ -73,7 +73,7 @@ let samples =
     Trace.Create { agent_type = "A"; args = [ "1" ]; behaviours = [ "W" ] };
     Trace.Notify { entry = e; overridden = false }; Trace.Notify { entry = e; overridden = true };
     Trace.Refused { percept = "p"; reason = "full" }; Trace.Refused_put { obj = "o"; reason = "full" };
-    Trace.Put { obj = "o"; index = 1 }; Trace.Deliver { message = m; seq = 1 };
+    Trace.Put { obj = "o"; index = 1 }; Trace.Deliver { message = m; seq = 1; in_step = false };
     Trace.Undeliverable { receiver = "z"; performative = "inform"; content = "c" };
     Trace.Transfer 1; Trace.Transfer_one e; Trace.Transfer_spin "o"; Trace.Transfer_end; Trace.Dequeue e;
     Trace.Handle { instance = 1; behaviour = "W"; handler = 1; percept = "p"; seq = 1;
