@@ -190,7 +190,7 @@ public final class JadePlatformAnswers {
     check(perfs.length + " performatives", perfs.length == 22);
     check("no answer from ams or df to a message they cannot read, of any performative", answers == 0);
     for (String to : List.of("ams", "df")) {
-      List<Got> l = waitFor("probe", m -> ("conv-" + to + "-fipa").equals(m.getConversationId()), 1, 0);
+      List<Got> l = waitFor("probe", m -> ("conv-" + to + "-fipa").equals(m.getConversationId()), 1, 10000);
       for (Got g : l) System.out.println("  REQUEST in FIPA-Agent-Management to " + to + ": " + describe(g.m()));
       check(to + " answers a REQUEST in its ontology that it cannot parse with NOT_UNDERSTOOD",
           l.size() == 1 && l.get(0).m().getPerformative() == ACLMessage.NOT_UNDERSTOOD
