@@ -129,10 +129,7 @@ public final class Main {
     if (specs.isEmpty()) throw new Stop("error: no agent: give at least one --agent NAME:TYPE");
     java.util.Set<String> names = new java.util.HashSet<>();
     for (Spec s : specs) {
-      // JADE: agent names are unique in a platform, and ams and df are its own
-      if (s.name().equalsIgnoreCase("ams") || s.name().equalsIgnoreCase("df"))
-        throw new Stop("--agent " + s.name() + ":" + s.type() + ": error: the name " + s.name()
-            + " is JADE's own agent's (ams, df) in every platform");
+      // JADE: agent names are unique in a platform
       if (!names.add(s.name()))
         throw new Stop("--agent " + s.name() + ":" + s.type() + ": error: there is already an agent "
             + s.name() + " (JADE's agent names are unique)");
@@ -447,6 +444,14 @@ public final class Main {
     String ty = j < 0 ? rest : rest.substring(0, j);
     String args = j < 0 ? "" : rest.substring(j + 1);
     if (name.isEmpty() || ty.isEmpty()) throw new Stop("--agent " + spec + ": error: expected NAME:TYPE[:ARG,...]");
+    // the sender of the host's messages, and the platform's own agents (R5e),
+    // in the reference's words; JADE's names ignore case (AID.equals), so
+    // AMS and Df are JADE's agents too
+    if (name.equals(Messaging.HOST))
+      throw new Stop("--agent " + spec + ": error: the name host is reserved: it is the sender of the host's messages (R5e)");
+    if (name.equalsIgnoreCase(Messaging.AMS) || name.equalsIgnoreCase(Messaging.DF))
+      throw new Stop("--agent " + spec + ": error: the name " + name
+          + " is the platform's own agent's (R5e): no agent of the program takes it");
     if (program.agentClass(ty) == null) throw new Stop("--agent " + spec + ": error: there is no agent type " + ty);
     List<Object> values = new ArrayList<>();
     for (String a : Literals.split(args)) {

@@ -65,7 +65,7 @@ final class Messaging {
   /** An events line's message for the agent's next behaviour step (D42). */
   private static final String P_DURING = "jsref-during-step";
   /** The sender of the host's messages (R5e). */
-  private static final String HOST = "host";
+  static final String HOST = "host";
   /** The platform's own agents (R5e), on every JADE platform. */
   static final String AMS = "ams";
   static final String DF = "df";
