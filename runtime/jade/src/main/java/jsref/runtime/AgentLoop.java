@@ -115,15 +115,13 @@ final class AgentLoop {
 
   /** The end of a rule whose bodies may have changed the active behaviours
       or sent messages: its line ({@code line}, null for none), its bodies'
-      events, then JADE's lists (the effects, {@link Body#applyJade}) and,
-      running freely, the messages sent, all at once with respect to a
-      message's arrival (which holds the message queue's monitor): the
-      arrival's line and its wake-up of the blocked behaviours are both
-      before the rule's or both after. Running freely the send lines and
-      JADE's sends are made holding {@link Messaging#SENDS}, so that messages
-      enter JADE's delivery queue in the order of their lines. A rule with
-      neither writes its lines with no monitor. @param action the rule's action
-      @param line writes the rule's line */
+      events, then JADE's lists (the effects, {@link Body#applyJade}), all at
+      once with respect to a message's arrival (which holds the message
+      queue's monitor): the arrival's line and its wake-up of the blocked
+      behaviours are both before the rule's or both after. Running freely,
+      the messages the bodies sent then go to JADE ({@link #finish}). A rule
+      with neither writes its lines with no monitor. @param action the
+      rule's action @param line writes the rule's line */
   private void commit(String action, Runnable line) {
     boolean sends = !agent.cfg.lockStep && agent.messaging.hasSent();
     if (!sends && !agent.body.hasJadeEffects()) {
@@ -131,24 +129,41 @@ final class AgentLoop {
       ruleWritten(action);
       return;
     }
-    synchronized (agent.hooks.queue) {
-      synchronized (agent.hooks.sched) {
-        writeAndSend(action, line, sends);
-        agent.body.applyJade();
-      }
+    finish(action, line, sends, null);
+  }
+
+  /** A rule's end, at once with respect to arrivals (the message queue's
+      and the scheduler's monitors): its line, its bodies' events, the
+      {@code undeliverable} lines of its sends (R5e), JADE's lists, then
+      {@code then}. Running freely with sends, all of it holding
+      {@link Messaging#SENDS}, and then JADE's sends, still holding it (so
+      that messages enter JADE's delivery queues in the order of their send
+      lines) but no longer the agent's monitors: JADE's {@code send} takes
+      the sender's entry in the container's table of agents, which a
+      delivery to the sender holds while it waits for the sender's message
+      queue (holding the queue there deadlocks with the AMS's failure for an
+      earlier send of the same step). Lock order: SENDS, the message queue,
+      the scheduler. @param action the rule's action @param line writes the
+      rule's line @param sends running freely, the bodies sent messages
+      @param then runs last under the monitors, or null */
+  private void finish(String action, Runnable line, boolean sends, Runnable then) {
+    if (!sends) { atOnce(action, line, null, then); return; }
+    synchronized (Messaging.SENDS) {
+      List<Messaging.Prepared> out = new ArrayList<>();
+      atOnce(action, line, out, then);
+      agent.messaging.post(out);
     }
   }
 
-  private void writeAndSend(String action, Runnable line, boolean sends) {
-    if (!sends) {
-      if (line != null) line.run();
-      ruleWritten(action);
-      return;
-    }
-    synchronized (Messaging.SENDS) {
-      if (line != null) line.run();
-      ruleWritten(action);
-      agent.messaging.sendSent();
+  private void atOnce(String action, Runnable line, List<Messaging.Prepared> out, Runnable then) {
+    synchronized (agent.hooks.queue) {
+      synchronized (agent.hooks.sched) {
+        if (line != null) line.run();
+        ruleWritten(action);
+        if (out != null) out.addAll(agent.messaging.prepareSent());
+        agent.body.applyJade();
+        if (then != null) then.run();
+      }
     }
   }
 
@@ -401,13 +416,9 @@ final class AgentLoop {
     Runnable line = () -> cfg.trace.behaviourStep(agent.getLocalName(), id, shown,
         t == null ? null : t.msg(), t == null ? 0 : t.seq(), t == null ? null : t.percept(), ae, hd, he);
     boolean sends = !cfg.lockStep && agent.messaging.hasSent();
-    synchronized (hooks.queue) {
-      synchronized (hooks.sched) {
-        writeAndSend(Action.BEHAVIOUR_STEP, line, sends);
-        body.applyJade();
-        if (cfg.lockStep) agent.inStep.commitLockStep(hooks.sched, b, blocks, agent.messaging.holds());
-        else agent.inStep.commitFree(hooks.sched, blocks);
-      }
-    }
+    finish(Action.BEHAVIOUR_STEP, line, sends, () -> {
+      if (cfg.lockStep) agent.inStep.commitLockStep(hooks.sched, b, blocks, agent.messaging.holds());
+      else agent.inStep.commitFree(hooks.sched, blocks);
+    });
   }
 }

@@ -137,12 +137,29 @@ final class Messaging {
       (outside the agent's monitors: the message may be for the agent itself). */
   void deliverSent() { deliver(outbox); }
 
-  /** Running freely, send what the rule's body sent, now: the caller holds
-      {@link #SENDS} and has just written the rule's lines. */
-  void sendSent() {
-    List<Outgoing> l = new ArrayList<>(outbox);
+  /** A message made ready for JADE's {@code send}. */
+  record Prepared(Outgoing out, ACLMessage acl) {}
+
+  /** Running freely, the first half of sending what the rule's body sent:
+      each message encoded and registered, and the {@code undeliverable}
+      line of one to an agent not on the platform written. The caller holds
+      {@link #SENDS} and the agent's monitors, and has just written the
+      rule's lines. @return the messages, for {@link #post} */
+  List<Prepared> prepareSent() {
+    List<Prepared> l = new ArrayList<>();
+    for (Outgoing o : outbox) l.add(prepare(o));
     outbox.clear();
-    for (Outgoing o : l) sendOne(o);
+    return l;
+  }
+
+  /** Running freely, the second half: the messages go to JADE's
+      {@code send}, in order. The caller holds {@link #SENDS} but none of
+      the agent's monitors: JADE's {@code send} takes the sender's entry in
+      the container's table of agents, which a delivery to the sender holds
+      while it waits for the sender's message queue.
+      @param l the messages, from {@link #prepareSent} */
+  void post(List<Prepared> l) {
+    for (Prepared p : l) post(p);
   }
 
   /** Forget what the body sent (the run is over). */
@@ -156,7 +173,7 @@ final class Messaging {
     synchronized (SENDS) {
       List<Outgoing> l = new ArrayList<>(createOutbox);
       createOutbox.clear();
-      for (Outgoing o : l) sendOne(o);
+      for (Outgoing o : l) post(prepare(o));
     }
   }
 
@@ -215,13 +232,14 @@ final class Messaging {
     return To.ABSENT;
   }
 
-  /** Send one message through JADE. To an agent that is not on the
-      platform, the sender's {@code undeliverable} line comes first, then
-      JADE's {@code send} with {@link ACLMessage#SYNCH_DELIVERY}: JADE finds
-      the receiver missing inside {@code send} and puts the AMS's FAILURE into
-      its delivery queue for the sender there, so that the FAILURE's place
-      among the messages to the sender is the place of that line. */
-  private void sendOne(Outgoing o) {
+  /** Make one message ready for JADE ({@link #post} sends it). To an agent
+      that is not on the platform, the sender's {@code undeliverable} line is
+      written here, before JADE's {@code send}, which goes with
+      {@link ACLMessage#SYNCH_DELIVERY}: JADE finds the receiver missing
+      inside {@code send} and puts the AMS's FAILURE into its delivery queue
+      for the sender there, so that the FAILURE's place among the messages
+      to the sender is the place of that line. */
+  private Prepared prepare(Outgoing o) {
     RunConfig cfg = agent.cfg;
     o.to = to(o.receiver);
     if (o.to == To.PLATFORM) TO_PLATFORM.put(o.id, o); else PENDING.put(o.id, o);
@@ -240,8 +258,12 @@ final class Messaging {
       acl.addUserDefinedParameter(ACLMessage.SYNCH_DELIVERY, "true");
       cfg.trace.undeliverable(o.sender, o.receiver, o.message.performative(), o.message.content());
     }
-    cfg.trace.sync();   // two containers: every event before the send is written first
-    agent.send(acl);
+    return new Prepared(o, acl);
+  }
+
+  private void post(Prepared p) {
+    agent.cfg.trace.sync();   // two containers: every event before the send is written first
+    agent.send(p.acl());
   }
 
   /** Send each message through JADE, in order; in lock step, wait for each
@@ -252,7 +274,7 @@ final class Messaging {
     List<Outgoing> l = new ArrayList<>(out);
     out.clear();
     for (Outgoing o : l) {
-      sendOne(o);
+      post(prepare(o));
       if (o.to == To.PLATFORM || !agent.cfg.lockStep) continue;
       try {
         if (!o.done.await(20, TimeUnit.SECONDS))
