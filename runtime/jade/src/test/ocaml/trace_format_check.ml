@@ -74,6 +74,7 @@ let samples =
     Trace.Notify { entry = e; overridden = false }; Trace.Notify { entry = e; overridden = true };
     Trace.Refused { percept = "p"; reason = "full" }; Trace.Refused_put { obj = "o"; reason = "full" };
     Trace.Put { obj = "o"; index = 1 }; Trace.Deliver { message = m; seq = 1; in_step = false };
+    Trace.Deliver { message = m; seq = 2; in_step = true };
     Trace.Undeliverable { receiver = "z"; performative = "inform"; content = "c" };
     Trace.Transfer 1; Trace.Transfer_one e; Trace.Transfer_spin "o"; Trace.Transfer_end; Trace.Dequeue e;
     Trace.Handle { instance = 1; behaviour = "W"; handler = 1; percept = "p"; seq = 1;

@@ -17,7 +17,18 @@ import jsref.runtime.JadeHooks;
     the percept phase (Transfer, then Dequeue, Handle/Skip, EndDispatch per
     percept), and then asks JADE's own round robin for the behaviour to step
     ({@link #pick()}), or takes NextIteration or Idle when no behaviour is
-    ready (R3e) and waits. */
+    ready (R3e) and waits. And {@link #restartAll()}, JADE's wake-up of the
+    blocked behaviours when a message arrives, asks the runtime first
+    ({@link JadeHooks#restartAll}): during a behaviour step it waits for the
+    end of the step (R5d revised: the message reached the agent during the
+    step, after the step's handlers looked).
+
+    <p>The runtime blocks a behaviour itself, at the end of its step
+    ({@link #block(Behaviour)}, JADE's own), and {@link #wakeBlocked()}
+    restarts only the blocked behaviours: JADE's {@code restartAll} restarts
+    the ready ones too, which bumps the running behaviour's restart counter
+    and keeps it runnable whatever the runtime decided (docs/jade.md,
+    "Running freely"). */
 public class JsrefScheduler extends Scheduler {
   private static final long serialVersionUID = 1L;
   private final transient Agent agent;
@@ -45,6 +56,26 @@ public class JsrefScheduler extends Scheduler {
       interrupted (JADE's deletion) */
   public Behaviour pick() throws InterruptedException {
     return super.schedule();
+  }
+
+  /** JADE's wake-up of every behaviour (a message arrived, JADE's
+      {@code Agent.doWake}): the runtime decides when ({@link JadeHooks#restartAll}). */
+  @Override
+  public synchronized void restartAll() {
+    hooks.restartAll(this);
+  }
+
+  /** Restart every blocked behaviour, in the order they blocked: each joins
+      the end of the ready list (R5d: ready @ blocked), through JADE's
+      {@code Behaviour.restart} and {@code Scheduler.restart}. */
+  public synchronized void wakeBlocked() {
+    Object[] bs = blockedBehaviours.toArray();
+    for (Object b : bs) ((Behaviour) b).restart();
+  }
+
+  /** Is this behaviour in JADE's ready list? @param b a behaviour @return true if it is */
+  public synchronized boolean isReady(Behaviour b) {
+    return readyBehaviours.contains(b);
   }
 
   /** How many behaviours are ready. @return the size of JADE's ready list */

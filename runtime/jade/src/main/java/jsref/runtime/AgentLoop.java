@@ -27,9 +27,12 @@ final class AgentLoop {
   private int dispatched;
   /** Percepts dequeued by this agent so far (the bench's windows). */
   final AtomicLong dequeued = new AtomicLong();
-  /** The behaviour step JADE is about to run, or ran: its sends go when the
-      next iteration starts (R5e: after JADE has blocked or removed it). */
+  /** The behaviour step JADE is about to run, or ran: in lock step its
+      sends go when the next iteration starts (R5e: at the end of the step,
+      outside the agent's monitors). */
   private boolean stepInProgress;
+  /** Running freely, the first iteration has waited for every agent to exist (D13). */
+  private boolean started;
   /** The types of the instances the trace has seen, by id: a skip or a step
       of an instance deactivated since still names its type. */
   private final HashMap<Integer, String> known = new HashMap<>();
@@ -46,12 +49,22 @@ final class AgentLoop {
       @throws InterruptedException on JADE's deletion */
   Behaviour iteration(JsrefScheduler s) throws InterruptedException {
     RunConfig cfg = agent.cfg;
+    SchedulerHooks hooks = agent.hooks;
     if (stepInProgress) {
       stepInProgress = false;
-      agent.messaging.deliverSent();
+      if (cfg.lockStep) {
+        // as the reference: the step's sends delivered, each awaited (R5e,
+        // D44), then the events lines' messages held for this step (D42),
+        // then the window of R5d revised closes
+        agent.messaging.deliverSent();
+        agent.messaging.postHeld(true);
+        synchronized (hooks.queue) { agent.inStep.close(); }
+      }
     }
-    if (!cfg.lockStep) agent.messaging.deliverCreateMessagesWhenAllExist();   // D13
-    SchedulerHooks hooks = agent.hooks;
+    if (!cfg.lockStep && !started) {   // D13: the host sends on create's messages first
+      started = true;
+      cfg.awaitAllCreated();
+    }
     while (true) {
       agent.lockStep.awaitTurn();
       try {
@@ -73,7 +86,10 @@ final class AgentLoop {
         synchronized (s) {
           if (s.readyCount() > 0) {
             stepInProgress = true;
-            return s.pick();
+            JadescriptBehaviour b = (JadescriptBehaviour) s.pick();
+            agent.messaging.pickedNow();
+            agent.inStep.start(b);
+            return b;
           }
           synchronized (hooks.o2a) {   // and no notify half done (its line and its put)
             if (cfg.variant != Variant.PRINTED && idleCondition(s)) {
@@ -95,6 +111,60 @@ final class AgentLoop {
   private void ruleWritten(String action) {
     if (agent.cfg.trace.writes()) for (JadescriptBehaviour b : agent.active) known.put(b.id(), b.typeName());
     agent.body.flush(action);
+  }
+
+  /** The end of a rule whose bodies may have changed the active behaviours
+      or sent messages: its line ({@code line}, null for none), its bodies'
+      events, then JADE's lists (the effects, {@link Body#applyJade}), all at
+      once with respect to a message's arrival (which holds the message
+      queue's monitor): the arrival's line and its wake-up of the blocked
+      behaviours are both before the rule's or both after. Running freely,
+      the messages the bodies sent then go to JADE ({@link #finish}). A rule
+      with neither writes its lines with no monitor. @param action the
+      rule's action @param line writes the rule's line */
+  private void commit(String action, Runnable line) {
+    boolean sends = !agent.cfg.lockStep && agent.messaging.hasSent();
+    if (!sends && !agent.body.hasJadeEffects()) {
+      if (line != null) line.run();
+      ruleWritten(action);
+      return;
+    }
+    finish(action, line, sends, null);
+  }
+
+  /** A rule's end, at once with respect to arrivals (the message queue's
+      and the scheduler's monitors): its line, its bodies' events, the
+      {@code undeliverable} lines of its sends (R5e), JADE's lists, then
+      {@code then}. Running freely with sends, all of it holding
+      {@link Messaging#SENDS}, and then JADE's sends, still holding it (so
+      that messages enter JADE's delivery queues in the order of their send
+      lines) but no longer the agent's monitors: JADE's {@code send} takes
+      the sender's entry in the container's table of agents, which a
+      delivery to the sender holds while it waits for the sender's message
+      queue (holding the queue there deadlocks with the AMS's failure for an
+      earlier send of the same step). Lock order: SENDS, the message queue,
+      the scheduler. @param action the rule's action @param line writes the
+      rule's line @param sends running freely, the bodies sent messages
+      @param then runs last under the monitors, or null */
+  private void finish(String action, Runnable line, boolean sends, Runnable then) {
+    if (!sends) { atOnce(action, line, null, then); return; }
+    synchronized (Messaging.SENDS) {
+      List<Messaging.Prepared> out = new ArrayList<>();
+      atOnce(action, line, out, then);
+      agent.messaging.post(out);
+    }
+  }
+
+  private void atOnce(String action, Runnable line, List<Messaging.Prepared> out, Runnable then) {
+    synchronized (agent.hooks.queue) {
+      synchronized (agent.hooks.sched) {
+        if (line != null) line.run();
+        ruleWritten(action);
+        if (out != null) out.addAll(agent.messaging.prepareSent());
+        agent.body.applyJade();
+        if (then != null) then.run();
+      }
+    }
   }
 
   /** IdleCondition (R3e): nothing ready, no percept to transfer or dispatch. */
@@ -231,14 +301,14 @@ final class AgentLoop {
         }
         if (ran) {
           applied = true;
-          if (trace.writes())
-            trace.handle(name, b.id(), b.typeName(), h, e.percept(), e.seq(), body.describeEffects());
-          ruleWritten(Action.HANDLE);
+          final int hh = h;
+          commit(Action.HANDLE, !trace.writes() ? null
+              : () -> trace.handle(name, b.id(), b.typeName(), hh, e.percept(), e.seq(), body.describeEffects()));
         } else {
           skip(b, h);
         }
         body.clearEffects();
-        agent.messaging.deliverSent();
+        if (cfg.lockStep) agent.messaging.deliverSent();
       }
       agent.lockStep.rule();
       trace.endDispatch(name, e.seq(), !applied);
@@ -268,18 +338,20 @@ final class AgentLoop {
   // ------------------------------------------------------------ the behaviour step
 
   /** BehaviourStep (R5a-R5d): run by JADE's agent thread in the behaviour's
-      {@code action()}. @param b the behaviour JADE picked */
+      {@code action()}. The step holds no monitor while its bodies run: a
+      message may arrive meanwhile, as on JADE; it is not seen by the step's
+      handlers, which look at the messages that had arrived when JADE's
+      scheduler picked the behaviour, and it comes after the step
+      ({@link InStep}: R5d revised, SendInStep). The look of the handlers is
+      atomic (under the message queue's monitor), and so is the end of the
+      step ({@link #commit}'s monitors): its line, its bodies' events, JADE's
+      lists, and its behaviour blocked (R5d) unless a message came during the
+      step. @param b the behaviour JADE picked */
   void step(JadescriptBehaviour b) {
-    // the step is atomic with respect to arrivals (R6): JADE's postMessage
-    // holds the queue's monitor, so a message arrives wholly before the step
-    // (and may be taken by it) or after it. (Plain JADE lets a message
-    // arrive during a step; see JadeRestartDuringStep.)
-    synchronized (agent.hooks.queue) { stepAtomically(b); }
-  }
-
-  private void stepAtomically(JadescriptBehaviour b) {
     RunConfig cfg = agent.cfg;
     Body body = agent.body;
+    SchedulerHooks hooks = agent.hooks;
+    if (!cfg.lockStep) agent.messaging.postHeld(true);   // D42: they arrive during this step
     int id = b.id();
     body.reserved = List.of(id);
     body.running = b;
@@ -297,41 +369,56 @@ final class AgentLoop {
         actionEffects = body.describeEffects();
         body.clearEffects();
       }
-      if (cfg.variant == Variant.NATIVE) {
-        for (int h = 1; h <= b.perceptHandlerCount() && taken == null; h++) {
-          body.clearEffects();
-          Messaging.Arrived a = agent.messaging.take(b, h, true);   // its handler has run
-          if (a != null) {
-            agent.host.nativePercepts.decrementAndGet();
-            taken = a;
-            lastBehaviour = b.typeName();
-            handler = h;
-            handlerEffects = body.describeEffects();
+      Messaging.Arrived found = null;
+      int foundBy = 0;
+      synchronized (hooks.queue) {   // the handlers look (R5b), at once
+        if (cfg.variant == Variant.NATIVE) {
+          for (int h = 1; h <= b.perceptHandlerCount() && taken == null; h++) {
+            body.clearEffects();
+            Messaging.Arrived a = agent.messaging.take(b, h, true);   // its handler has run
+            if (a != null) {
+              agent.host.nativePercepts.decrementAndGet();
+              taken = a;
+              lastBehaviour = b.typeName();
+              handler = h;
+              handlerEffects = body.describeEffects();
+            }
           }
         }
-      }
-      for (int h = 1; h <= b.messageHandlerCount() && taken == null; h++) {
-        Messaging.Arrived a = agent.messaging.take(b, h, false);
-        if (a != null) {
-          taken = a;
-          lastBehaviour = b.typeName();
-          body.clearEffects();
-          body.freshFuel();
-          b.messageHandler(h, a.msg());
-          handler = h;
-          handlerEffects = body.describeEffects();
+        for (int h = 1; h <= b.messageHandlerCount() && taken == null && found == null; h++) {
+          found = agent.messaging.take(b, h, false);
+          foundBy = h;
         }
+      }
+      if (found != null) {
+        taken = found;
+        lastBehaviour = b.typeName();
+        body.clearEffects();
+        body.freshFuel();
+        b.messageHandler(foundBy, found.msg());
+        handler = foundBy;
+        handlerEffects = body.describeEffects();
       }
     } finally {
       body.running = null;
       body.reserved = List.of();
       body.clearEffects();
     }
+    // R5d: a cyclic step that took nothing, in a behaviour without a do
+    // block that is still active, blocks it (unless a message came during it)
+    boolean blocks = b.isCyclic() && !b.hasAction() && taken == null && b.jsActive;
     if (!b.isCyclic()) { agent.active.remove(b); b.jsActive = false; }   // JADE removes it: done() (R5c, D1)
-    else if (!b.hasAction() && taken == null && b.jsActive) b.block();   // JADE blocks it (R5d)
-    cfg.trace.behaviourStep(agent.getLocalName(), id, lastBehaviour.isEmpty() ? known.getOrDefault(id, "?") : lastBehaviour,
-        taken == null ? null : taken.msg(), taken == null ? 0 : taken.seq(), taken == null ? null : taken.percept(),
-        actionEffects, handler, handlerEffects);
-    ruleWritten(Action.BEHAVIOUR_STEP);
+    final Messaging.Arrived t = taken;
+    final String shown = lastBehaviour.isEmpty() ? known.getOrDefault(id, "?") : lastBehaviour;
+    final List<String> ae = actionEffects;
+    final Integer hd = handler;
+    final List<String> he = handlerEffects;
+    Runnable line = () -> cfg.trace.behaviourStep(agent.getLocalName(), id, shown,
+        t == null ? null : t.msg(), t == null ? 0 : t.seq(), t == null ? null : t.percept(), ae, hd, he);
+    boolean sends = !cfg.lockStep && agent.messaging.hasSent();
+    finish(Action.BEHAVIOUR_STEP, line, sends, () -> {
+      if (cfg.lockStep) agent.inStep.commitLockStep(hooks.sched, b, blocks, agent.messaging.holds());
+      else agent.inStep.commitFree(hooks.sched, blocks);
+    });
   }
 }

@@ -14,7 +14,11 @@ import jsref.values.Text;
     (CONTRACT.md, "jsref.runtime"): its fuel and call depth (R7), what it did
     in order (its events, written after the line of the rule that ran it,
     R8), its effects on behaviours (activate, R5g; deactivate, R5h) and the
-    new instance ids (D2). The agent's public services
+    new instance ids (D2). An effect changes the runtime's list of active
+    instances at once, and JADE's ready and blocked lists when the rule is
+    over ({@link #applyJade}, with the rule's line): so that a message
+    arriving meanwhile wakes the blocked behaviours wholly before the rule's
+    effects or wholly after them, as its line is before or after the rule's. The agent's public services
     ({@link JadescriptAgent#log} and the others) call these. Only the agent's
     thread runs bodies. */
 final class Body {
@@ -29,6 +33,10 @@ final class Body {
   private final ArrayList<Event> events = new ArrayList<>();
   /** Its effects: a {@link JadescriptBehaviour} activated, or {@link #DEACTIVATE}. */
   private final ArrayList<Object> effects = new ArrayList<>();
+  /** JADE's side of the effects of the rule's bodies, in order, until the
+      rule is over: a behaviour to add (activated) or to remove (deactivated). */
+  private final ArrayList<JadescriptBehaviour> jadeOps = new ArrayList<>();
+  private final ArrayList<Boolean> jadeAdds = new ArrayList<>();
   /** The instance whose handler or step runs (null: none, or the agent's own body). */
   JadescriptBehaviour running;
   /** Ids a new instance may not take besides the active ones (D2). */
@@ -145,7 +153,8 @@ final class Body {
     b.setId(newId());
     agent.active.add(b);
     b.jsActive = true;
-    agent.addBehaviour(b);
+    jadeOps.add(b);
+    jadeAdds.add(true);
   }
 
   void deactivate(JadescriptBehaviour self) {
@@ -154,7 +163,28 @@ final class Body {
     events.add(new Deactivate(self.id()));
     if (initPhase) return;   // create_agent keeps only the activations
     JadescriptBehaviour target = running;
-    if (target != null && agent.active.remove(target)) { target.jsActive = false; agent.removeBehaviour(target); }
+    if (target != null && agent.active.remove(target)) {
+      target.jsActive = false;
+      jadeOps.add(target);
+      jadeAdds.add(false);
+    }
+  }
+
+  /** Has the rule's body changed the active behaviours (JADE's lists still
+      to change)? @return true if so */
+  boolean hasJadeEffects() { return !jadeOps.isEmpty(); }
+
+  /** The rule is over: JADE's lists follow its bodies' effects, in order
+      ({@code addBehaviour}: the end of the ready list, R5g;
+      {@code removeBehaviour}: JADE's {@code Scheduler.remove}, R5f). The
+      caller holds the message queue's and the scheduler's monitors. */
+  void applyJade() {
+    for (int i = 0; i < jadeOps.size(); i++) {
+      if (jadeAdds.get(i)) agent.addBehaviour(jadeOps.get(i));
+      else agent.removeBehaviour(jadeOps.get(i));
+    }
+    jadeOps.clear();
+    jadeAdds.clear();
   }
 
   void recordError(JadescriptError e) { events.add(new RunError(e.at(), e.message())); }

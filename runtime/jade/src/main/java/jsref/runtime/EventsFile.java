@@ -27,6 +27,9 @@ final class EventsFile {
   static final String MESSAGE = "message";
   static final String PERFORMATIVE = "performative";
   static final String RUN = "run";
+  /** D42: {@code "during": "step"}, a message for the agent's next behaviour step. */
+  static final String DURING = "during";
+  static final String STEP = "step";
   static final String RULES = "rules";
   static final String IDLE = "idle";
 
@@ -36,8 +39,9 @@ final class EventsFile {
   record Notify(String agent, Schema percept, Integer priority) implements HostEvent {}
   /** A non-percept object into the O2A queue (R2c). */
   record Put(String agent, Object value) implements HostEvent {}
-  /** A message from the host (R5e). */
-  record Msg(String agent, String performative, Object content) implements HostEvent {}
+  /** A message from the host (R5e); {@code duringStep}: it arrives during
+      the agent's next behaviour step (D42). */
+  record Msg(String agent, String performative, Object content, boolean duringStep) implements HostEvent {}
   /** {@code {"run": n}}: n rounds (D20). */
   record Run(long rounds) implements HostEvent {}
   /** {@code {"run": "idle"}}: rounds until every agent is idle. */
@@ -114,8 +118,15 @@ final class EventsFile {
         Object v = null;
         try { v = Literals.parse(c, program, file); }
         catch (LiteralError e) { bad.accept(e.column(), e.message()); ok = false; }
+        // D42: "during": "step", the message arrives during the agent's next behaviour step (R5d)
+        Object during = m.get(DURING);
+        if (during != null && !STEP.equals(during)) {
+          bad.accept(columnOf(line, DURING),
+              "\"during\" is \"step\": the message arrives during the agent's next behaviour step (D42)");
+          ok = false;
+        }
         String ag = eventAgent(m, agents, bad);
-        if (ag != null && ok) evs.add(new Msg(ag, perf, v));
+        if (ag != null && ok) evs.add(new Msg(ag, perf, v, during != null));
       } else if (notify == null && put == null && msg == null && run instanceof Long k2 && k2 >= 0) {
         evs.add(new Run(k2));
       } else if (notify == null && put == null && msg == null && IDLE.equals(run)) {

@@ -40,16 +40,17 @@ final class HostRules {
     SchedulerHooks hooks = agent.hooks;
     Trace trace = agent.cfg.trace;
     synchronized (hostLock) {
-      if (!o2aHasRoom()) {
-        trace.refused(agent.getLocalName(), p);
-        return false;
-      }
-      int seq = ++nextSeq;
-      PerceptEntry e = new PerceptEntry(p, prio, seq);
-      // the line, the put and the wake-up at once (R2b, R3e): a loop running
-      // meanwhile sees all of the notify or none of it
+      // the check, the line, the put and the wake-up at once (R2b, R2d,
+      // R3e): a loop running meanwhile sees all of the notify or none of
+      // it, and a refusal is written while the queue is full
       synchronized (hooks.sched) {
         synchronized (hooks.o2a) {
+          if (!o2aHasRoom()) {
+            trace.refused(agent.getLocalName(), p);
+            return false;
+          }
+          int seq = ++nextSeq;
+          PerceptEntry e = new PerceptEntry(p, prio, seq);
           trace.notify(agent.getLocalName(), e, with);
           try {
             agent.putO2AObject(e, false);
@@ -69,13 +70,13 @@ final class HostRules {
     jade.util.leap.List o2a = agent.hooks.o2a;
     Trace trace = agent.cfg.trace;
     synchronized (hostLock) {
-      if (!o2aHasRoom()) {
-        // R2d, D24: a refused put is in the trace, with its object
-        trace.refusedPut(agent.getLocalName(), o);
-        return false;
-      }
-      int k = ++puts;
       synchronized (o2a) {
+        if (!o2aHasRoom()) {
+          // R2d, D24: a refused put is in the trace, with its object
+          trace.refusedPut(agent.getLocalName(), o);
+          return false;
+        }
+        int k = ++puts;
         trace.put(agent.getLocalName(), o, k);
         try {
           agent.putO2AObject(new PutObject(o, k), false);

@@ -32,6 +32,14 @@ public interface HostedAgent {
   /** A message from the host (R5e). @param performative as written @param content the content */
   void hostMessage(String performative, Object content);
 
+  /** An events line's message for the agent's next behaviour step (D42).
+      @param performative as written @param content the content */
+  void hostMessageDuringStep(String performative, Object content);
+
+  /** The messages held for a step that did not come arrive now (D42).
+      @return were there any */
+  boolean releaseHeld();
+
   /** Deliver what {@code on create} sent (D13). */
   void deliverCreateMessages();
 

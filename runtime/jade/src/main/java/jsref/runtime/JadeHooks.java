@@ -19,4 +19,10 @@ public interface JadeHooks {
 
   /** A message joined the queue. @param m the message */
   void arrived(ACLMessage m);
+
+  /** JADE would restart every behaviour now (a message arrived): the
+      runtime restarts the blocked ones now, or at the end of the behaviour
+      step in progress ({@link JsrefScheduler#wakeBlocked}). Called holding
+      the scheduler's monitor. @param s the scheduler */
+  void restartAll(JsrefScheduler s);
 }

@@ -24,6 +24,8 @@ import jsref.values.Type;
     <li>{@link HostRules}: Notify, NotifyWith and Put on JADE's O2A queue (R2);</li>
     <li>{@link Messaging}: sends, deliveries and the handlers' templates (R5b, R5e);</li>
     <li>{@link LockStep}: the host's grants of one iteration at a time (R6);</li>
+    <li>{@link InStep}: the messages that reach the agent during a behaviour
+    step (R5d revised);</li>
     <li>{@link Body}: the body being run and the services it calls (R5g, R5h, R7);</li>
     <li>{@link Trace}: the trace writer, one method per event, with the names of
     {@link TraceFormat}.</li>
@@ -54,6 +56,7 @@ public abstract class JadescriptAgent extends jade.core.Agent implements HostedA
   final transient HostRules host = new HostRules(this);
   final transient Messaging messaging = new Messaging(this);
   final transient LockStep lockStep = new LockStep(this);
+  final transient InStep inStep = new InStep(this);
   final transient Body body = new Body(this);
 
   private volatile boolean setUp;
@@ -215,6 +218,7 @@ public abstract class JadescriptAgent extends jade.core.Agent implements HostedA
     body.clearEffects();
     cfg.trace.create(getLocalName(), typeName(), given, behs);
     body.flush(Action.INIT);
+    body.applyJade();   // the behaviours it activated join JADE's ready list
     setUp = true;
     cfg.register(this);
   }
@@ -243,6 +247,7 @@ public abstract class JadescriptAgent extends jade.core.Agent implements HostedA
     body.clearEffects();
     cfg.trace.destroy(getLocalName());
     body.flush(Action.DESTROY);
+    body.applyJade();
     messaging.dropSent();
   }
 
@@ -270,6 +275,17 @@ public abstract class JadescriptAgent extends jade.core.Agent implements HostedA
   /** Deliver the messages sent by {@code on create} (D13); the host calls it
       for every agent, in creation order, once all exist. */
   public final void deliverCreateMessages() { messaging.deliverCreateMessages(); }
+
+  /** An events line's message for the agent's next behaviour step (D42):
+      held until then. @param performative as written @param content the content */
+  public final void hostMessageDuringStep(String performative, Object content) {
+    messaging.holdForStep(performative, content);
+  }
+
+  /** The messages held for a behaviour step that did not come reach the
+      agent now, as plain messages (D42: at the end of the run's rounds).
+      @return were there any */
+  public final boolean releaseHeld() { return messaging.postHeld(false); }
 
   /** Run one loop iteration (lock step): the agent takes rules until its
       iteration ends (BehaviourStep, NextIteration or Idle) or it has taken

@@ -31,8 +31,11 @@ final class Link {
     static final String ITERATE = "iterate";          // one iteration, at most MAX rules
     static final String NOTIFY = "notify";            // PERCEPT [PRIORITY]
     static final String PUT = "put";                  // OBJECT
-    static final String MESSAGE = "message";          // PERFORMATIVE, CONTENT
+    static final String MESSAGE = "message";          // PERFORMATIVE, CONTENT [DURING]
+    static final String RELEASE = "release";          // the held messages arrive now (D42)
+    static final String QUIET = "quiet";              // running freely: is it quiet?
     static final String CREATE_MESSAGES = "create_messages";
+    static final String START = "start";              // running freely: every agent exists, the loops go (D13)
     static final String FINISH = "finish";
     static final String QUIT = "quit";
     static final String DELIVERED = "delivered";      // a send of the other JVM arrived: ID
@@ -59,6 +62,10 @@ final class Link {
     static final String OBJECT = "object";
     static final String PERFORMATIVE = "performative";
     static final String CONTENT = "content";
+    /** A message held for the agent's next behaviour step (D42). */
+    static final String DURING = "during";
+    /** The answer to QUIET, or to RELEASE (were there any). */
+    static final String QUIET = "quiet";
     /** A notice of the peripheral JVM: a trace event, for the harness to number and write. */
     static final String EVENT = "t";
     /** A notice of the peripheral JVM: a send of the harness's JVM arrived (its id). */

@@ -85,7 +85,7 @@ public final class Main {
   static int run(String[] argv, PrintStream out) throws Exception {
     String programClass = null;
     List<String> agentSpecs = new ArrayList<>();
-    String events = null, tracePath = null, variantName = "reference";
+    String events = null, tracePath = null, variantName = "reference", level = "full";
     Integer seed = null, capacity = null;
     int maxSteps = 1_000_000, fuel = 100_000, budget = 1;
     boolean free = false, split = false;
@@ -113,6 +113,7 @@ public final class Main {
         case "--free" -> free = true;
         case "--split" -> split = true;
         case "--peripheral" -> peripheral.add(v);
+        case "--level" -> level = v;
         default -> throw new Stop("error: unknown option " + a);
       }
     }
@@ -128,10 +129,7 @@ public final class Main {
     if (specs.isEmpty()) throw new Stop("error: no agent: give at least one --agent NAME:TYPE");
     java.util.Set<String> names = new java.util.HashSet<>();
     for (Spec s : specs) {
-      // JADE: agent names are unique in a platform, and ams and df are its own
-      if (s.name().equalsIgnoreCase("ams") || s.name().equalsIgnoreCase("df"))
-        throw new Stop("--agent " + s.name() + ":" + s.type() + ": error: the name " + s.name()
-            + " is JADE's own agent's (ams, df) in every platform");
+      // JADE: agent names are unique in a platform
       if (!names.add(s.name()))
         throw new Stop("--agent " + s.name() + ":" + s.type() + ": error: there is already an agent "
             + s.name() + " (JADE's agent names are unique)");
@@ -148,9 +146,13 @@ public final class Main {
       try { traceOut = new FileOutputStream(tracePath); }
       catch (IOException e) { throw new Stop(tracePath + ":1:1: error: cannot write the trace: " + e.getMessage()); }
     }
+    if (!level.equals(TraceFormat.Value.FULL) && !level.equals(TraceFormat.Value.OBSERVABLE))
+      throw new Stop("error: option --level: invalid value '" + level + "', expected one of 'full' or 'observable'");
     Trace trace = new Trace(traceOut);
+    trace.observable(level.equals(TraceFormat.Value.OBSERVABLE));
     trace.header(variant.traceName(), budget, capacity, seed, agentTypes, program.behaviours(), program.percepts());
     RunConfig cfg = new RunConfig(program, variant, budget, capacity, fuel, trace, !free, out, System.err);
+    cfg.runAgents(names);
 
     if (free) { cfg.holdCreateMessages(); cfg.limitFreeSteps(maxSteps); }
     ContainerController cc = boot();
@@ -160,10 +162,8 @@ public final class Main {
     if (split) for (int i = 1; i < specs.size(); i += 2) peripheral.add(specs.get(i).name());
     for (String n : peripheral)
       if (!names.contains(n)) throw new Stop("--peripheral " + n + ": error: there is no agent " + n);
-    if (!peripheral.isEmpty() && free)
-      throw new Stop("error: --split and --peripheral run in lock step (not with --free)");
     Link link = peripheral.isEmpty() ? null
-        : startPeripheral(programClass, variant, budget, capacity, fuel, trace);
+        : startPeripheral(programClass, variant, budget, capacity, fuel, trace, names, free, maxSteps);
     List<HostedAgent> agents = new ArrayList<>();
     for (Spec s : specs) {
       if (link != null && peripheral.contains(s.name())) {
@@ -195,8 +195,13 @@ public final class Main {
       agents.add(ag);
     }
     Host h = new Host(agents, seed, maxSteps, !free);
-    if (!free) for (HostedAgent ag : agents) ag.deliverCreateMessages();   // D13
-    else cfg.allCreated();
+    // D13: what on create sent, once every agent exists, in creation order;
+    // running freely, before any agent's loop goes
+    for (HostedAgent ag : agents) ag.deliverCreateMessages();
+    if (free) {
+      cfg.allCreated();
+      if (link != null) link.call(new Json.Obj().put(Link.Key.OP, Link.Op.START));
+    }
     for (EventsFile.HostEvent e : evs) {
       if (e instanceof EventsFile.Notify n) {
         HostedAgent ag = h.agent(n.agent());
@@ -214,7 +219,8 @@ public final class Main {
               + ": the O2A queue is full (R2d)");
         }
       } else if (e instanceof EventsFile.Msg m) {
-        h.agent(m.agent()).hostMessage(m.performative(), m.content());
+        if (m.duringStep()) h.agent(m.agent()).hostMessageDuringStep(m.performative(), m.content());   // D42
+        else h.agent(m.agent()).hostMessage(m.performative(), m.content());
       } else if (e instanceof EventsFile.Run r) {
         h.runRounds(r.rounds());
       } else if (e instanceof EventsFile.RunRules r) {
@@ -245,14 +251,17 @@ public final class Main {
       numbered and written here, in the order they come, and deliveries and
       syncs between the two JVMs go over it (docs/jade.md, "Two containers"). */
   private static Link startPeripheral(String programClass, Variant variant, int budget, Integer capacity,
-                                      int fuel, Trace trace) throws Exception {
+                                      int fuel, Trace trace, java.util.Collection<String> runAgents,
+                                      boolean free, int maxSteps) throws Exception {
     ServerSocket server = new ServerSocket(0, 1, java.net.InetAddress.getLoopbackAddress());
     List<String> cmd = new ArrayList<>(List.of(
         Path.of(System.getProperty("java.home"), "bin", "java").toString(),
         "-cp", System.getProperty("java.class.path"), "jsref.runtime.Peripheral",
         "--control", Integer.toString(server.getLocalPort()), "--main-port", Integer.toString(mainPort),
         "--program", programClass, "--variant", variant.traceName(),
-        "--budget", Integer.toString(budget), "--fuel", Integer.toString(fuel)));
+        "--budget", Integer.toString(budget), "--fuel", Integer.toString(fuel),
+        "--run-agents", String.join(",", runAgents), "--free", free ? "1" : "0",
+        "--max-steps", Integer.toString(maxSteps)));
     if (capacity != null) { cmd.add("--o2a-capacity"); cmd.add(Integer.toString(capacity)); }
     Process proc = new ProcessBuilder(cmd).inheritIO().start();
     server.setSoTimeout(60_000);
@@ -350,9 +359,19 @@ public final class Main {
       }
     }
 
+    /** Rounds until every agent is idle (or {@code --max-steps}); then the
+        messages held for a behaviour step that did not come arrive, agents in
+        the order of their names (D42), and the rounds go on. */
     void runUntilIdle() throws InterruptedException {
-      if (!lockStep) { awaitIdle(); return; }
-      runRounds(Long.MAX_VALUE);
+      while (true) {
+        if (!lockStep) awaitIdle(); else runRounds(Long.MAX_VALUE);
+        if (lockStep && steps >= maxSteps) return;
+        List<HostedAgent> byName = new ArrayList<>(agents);
+        byName.sort(java.util.Comparator.comparing(HostedAgent::getLocalName));
+        boolean any = false;
+        for (HostedAgent a : byName) any |= a.releaseHeld();
+        if (!any) return;
+      }
     }
 
     /** Free running: wait until every agent is asleep with nothing ready
@@ -425,6 +444,14 @@ public final class Main {
     String ty = j < 0 ? rest : rest.substring(0, j);
     String args = j < 0 ? "" : rest.substring(j + 1);
     if (name.isEmpty() || ty.isEmpty()) throw new Stop("--agent " + spec + ": error: expected NAME:TYPE[:ARG,...]");
+    // the sender of the host's messages, and the platform's own agents (R5e),
+    // in the reference's words; JADE's names ignore case (AID.equals), so
+    // AMS and Df are JADE's agents too
+    if (name.equals(Messaging.HOST))
+      throw new Stop("--agent " + spec + ": error: the name host is reserved: it is the sender of the host's messages (R5e)");
+    if (name.equalsIgnoreCase(Messaging.AMS) || name.equalsIgnoreCase(Messaging.DF))
+      throw new Stop("--agent " + spec + ": error: the name " + name
+          + " is the platform's own agent's (R5e): no agent of the program takes it");
     if (program.agentClass(ty) == null) throw new Stop("--agent " + spec + ": error: there is no agent type " + ty);
     List<Object> values = new ArrayList<>();
     for (String a : Literals.split(args)) {

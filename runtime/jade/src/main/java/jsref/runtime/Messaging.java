@@ -12,20 +12,29 @@ import java.util.concurrent.ConcurrentHashMap;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
 import java.util.concurrent.atomic.AtomicLong;
+import jsref.values.Aid;
 import jsref.values.Nothing;
 import jsref.values.Text;
 
 /** Messages between agents on JADE (R5b, R5e, docs/jade.md): a body's
     sends, held until its rule is over and then sent as ACL messages with
-    JADE's {@code send} (in lock step, each delivery awaited); their arrival
-    in JADE's message queue of the receiver (its per-receiver seq and the
-    {@code deliver} line), the AMS's FAILURE answer to a send to an unknown
-    agent ({@code undeliverable}); the host's messages; a handler's pattern
-    as JADE's {@link MessageTemplate}, so that JADE's {@code receive} takes the
-    first match in arrival order; and, in {@code native}, the percepts moved
-    into the message queue. Contents are shared by reference within the JVM
-    (a table by message id); the ACL content is the literal, for people
-    reading sniffer output, and crosses JVMs (two containers) serialized. */
+    JADE's {@code send} (in lock step, each delivery awaited; running freely,
+    at once, in the order of their lines: {@link #SENDS}); their arrival in
+    JADE's message queue of the receiver (its per-receiver seq and the
+    {@code deliver} line, or {@code SendInStep} during a behaviour step:
+    {@link InStep}); a send to an agent that is not on the platform
+    ({@code undeliverable}, and the AMS's FAILURE, which reaches the sender as
+    the Jadescript message {@code failure} from {@code ams} with content
+    {@code aid("RECEIVER")}, D43); a send to the platform's own {@code ams}
+    and {@code df}, which JADE delivers to them (they answer nothing to a
+    Jadescript message: docs/jade.md, "What the platform answers"); the
+    host's messages, and those held for an agent's next behaviour step
+    (D42); a handler's pattern as JADE's {@link MessageTemplate}, so that
+    JADE's {@code receive} takes the first match in arrival order; and, in
+    {@code native}, the percepts moved into the message queue. Contents are
+    shared by reference within the JVM (a table by message id); the ACL
+    content is the literal, for people reading sniffer output, and crosses
+    JVMs (two containers) serialized. */
 final class Messaging {
   /** Ids of the runtime's own messages. */
   private static final AtomicLong MESSAGE_IDS = new AtomicLong();
@@ -36,8 +45,16 @@ final class Messaging {
   private static final Map<Long, Object> CONTENTS = new ConcurrentHashMap<>();
   /** Percepts moved to the message queue (native), by message id. */
   private static final Map<Long, PerceptEntry> PERCEPTS = new ConcurrentHashMap<>();
-  /** Sends not yet delivered nor refused, by message id. */
+  /** Sends not yet delivered, nor answered by the AMS's FAILURE, by message id. */
   private static final Map<Long, Outgoing> PENDING = new ConcurrentHashMap<>();
+  /** Sends to the platform's own agents, by message id: what an answer of
+      theirs answers. */
+  private static final Map<Long, Outgoing> TO_PLATFORM = new ConcurrentHashMap<>();
+  /** Running freely, a body's send lines and JADE's {@code send} of its
+      messages happen holding this, in one JVM: so the messages to one
+      receiver enter JADE's delivery queue (one box per receiver, first in
+      first out: docs/jade.md) in the order of their lines. */
+  static final Object SENDS = new Object();
 
   // the runtime's own parameters of an ACL message
   private static final String P_ID = "jsref-id";
@@ -45,24 +62,46 @@ final class Messaging {
   private static final String P_FROM = "jsref-from";
   private static final String P_PERCEPT = "jsref-percept";
   private static final String P_SERIAL = "jsref-serialized";
+  /** An events line's message for the agent's next behaviour step (D42). */
+  private static final String P_DURING = "jsref-during-step";
   /** The sender of the host's messages (R5e). */
-  private static final String HOST = "host";
+  static final String HOST = "host";
+  /** The platform's own agents (R5e), on every JADE platform. */
+  static final String AMS = "ams";
+  static final String DF = "df";
+  /** The performative of the AMS's answer to a message to an agent that
+      is not on the platform, as a Jadescript message (D43). */
+  private static final String FAILURE = "failure";
 
   private final JadescriptAgent agent;
   /** The last seq given to a message that arrived (under the message queue's lock). */
   private int msgSeq;
+  /** How many messages and percepts have arrived (under the message queue's lock). */
+  private long arrivalCount;
+  /** The handlers of a behaviour step look at the arrivals numbered up to
+      this: those that had arrived when JADE's scheduler picked the
+      behaviour ({@link InStep}). */
+  private long visible = Long.MAX_VALUE;
+  /** The send whose delivery (or FAILURE) is arriving: its sender may go on. */
+  private Outgoing arriving;
+  /** The host's messages held for the agent's next behaviour step (D42):
+      performative and content. */
+  private final java.util.concurrent.ConcurrentLinkedQueue<Object[]> held = new java.util.concurrent.ConcurrentLinkedQueue<>();
   /** The messages in JADE's queue, as the runtime knows them. */
   final Map<ACLMessage, Arrived> arrivals = Collections.synchronizedMap(new IdentityHashMap<>());
   /** The sends of the running body, and those of {@code on create} (D13). */
   private final ArrayList<Outgoing> outbox = new ArrayList<>();
   private final ArrayList<Outgoing> createOutbox = new ArrayList<>();
-  private boolean createDelivered;
 
   Messaging(JadescriptAgent agent) { this.agent = agent; }
 
   /** A message that arrived in JADE's queue: a Jadescript message with its
-      seq, or a percept moved there (native). */
-  record Arrived(Message msg, int seq, PerceptEntry percept) {}
+      seq, or a percept moved there (native); numbered in arrival order. */
+  record Arrived(Message msg, int seq, PerceptEntry percept, long number) {}
+
+  /** Where a message goes: an agent of the run, one of the platform's own
+      agents, or nowhere (not on the platform). */
+  enum To { RUN, PLATFORM, ABSENT }
 
   /** A send waiting for its delivery. */
   static final class Outgoing {
@@ -72,6 +111,7 @@ final class Messaging {
     final Message message;
     final CountDownLatch done = new CountDownLatch(1);
     volatile Object barrier;
+    To to;
     Outgoing(long id, String sender, String receiver, Message message) {
       this.id = id; this.sender = sender; this.receiver = receiver; this.message = message;
     }
@@ -90,35 +130,83 @@ final class Messaging {
           new Outgoing(MESSAGE_IDS.incrementAndGet(), me, r, new Message(performative, content, me)));
   }
 
-  /** Send what the rule's body sent. */
+  /** Has the running rule's body sent something? @return true if so */
+  boolean hasSent() { return !outbox.isEmpty(); }
+
+  /** In lock step, send what the rule's body sent, each delivery awaited
+      (outside the agent's monitors: the message may be for the agent itself). */
   void deliverSent() { deliver(outbox); }
+
+  /** A message made ready for JADE's {@code send}. */
+  record Prepared(Outgoing out, ACLMessage acl) {}
+
+  /** Running freely, the first half of sending what the rule's body sent:
+      each message encoded and registered, and the {@code undeliverable}
+      line of one to an agent not on the platform written. The caller holds
+      {@link #SENDS} and the agent's monitors, and has just written the
+      rule's lines. @return the messages, for {@link #post} */
+  List<Prepared> prepareSent() {
+    List<Prepared> l = new ArrayList<>();
+    for (Outgoing o : outbox) l.add(prepare(o));
+    outbox.clear();
+    return l;
+  }
+
+  /** Running freely, the second half: the messages go to JADE's
+      {@code send}, in order. The caller holds {@link #SENDS} but none of
+      the agent's monitors: JADE's {@code send} takes the sender's entry in
+      the container's table of agents, which a delivery to the sender holds
+      while it waits for the sender's message queue.
+      @param l the messages, from {@link #prepareSent} */
+  void post(List<Prepared> l) {
+    for (Prepared p : l) post(p);
+  }
 
   /** Forget what the body sent (the run is over). */
   void dropSent() { outbox.clear(); }
 
-  /** Send what {@code on create} sent (D13), once. */
+  /** Send what {@code on create} sent (D13), once: the host calls it for
+      every agent in creation order once all exist (in lock step each
+      delivery awaited; running freely before any agent's loop starts). */
   void deliverCreateMessages() {
-    createDelivered = true;
-    deliver(createOutbox);
-  }
-
-  /** Running freely: the first iteration sends what {@code on create} sent,
-      once every agent of the run exists (D13).
-      @throws InterruptedException if interrupted while waiting */
-  void deliverCreateMessagesWhenAllExist() throws InterruptedException {
-    if (createDelivered) return;
-    createDelivered = true;
-    agent.cfg.awaitAllCreated();
-    deliver(createOutbox);
+    if (agent.cfg.lockStep) { deliver(createOutbox); return; }
+    synchronized (SENDS) {
+      List<Outgoing> l = new ArrayList<>(createOutbox);
+      createOutbox.clear();
+      for (Outgoing o : l) post(prepare(o));
+    }
   }
 
   /** A message from the host (sender {@code host}, R5e), posted into JADE's
       message queue of this agent. @param performative as written @param content the content */
-  void hostMessage(String performative, Object content) {
+  void hostMessage(String performative, Object content) { hostMessage(performative, content, false); }
+
+  private void hostMessage(String performative, Object content, boolean duringStep) {
     Outgoing o = new Outgoing(MESSAGE_IDS.incrementAndGet(), HOST, agent.getLocalName(),
         new Message(performative, content, HOST));
     ACLMessage acl = encode(o, new AID(HOST, AID.ISLOCALNAME));
+    if (duringStep) acl.addUserDefinedParameter(P_DURING, "1");
     agent.postMessage(acl);
+  }
+
+  /** An events line's message for the agent's next behaviour step (D42):
+      held until then. @param performative as written @param content the content */
+  void holdForStep(String performative, Object content) { held.add(new Object[] { performative, content }); }
+
+  /** @return does a message wait for the agent's next behaviour step (D42)? */
+  boolean holds() { return !held.isEmpty(); }
+
+  /** The held messages reach the agent now: during its behaviour step
+      (D42; the agent's own thread), or, when it will not step again, as
+      plain messages at the end of the run's rounds (the host's thread).
+      @param duringStep during the step @return were there any */
+  boolean postHeld(boolean duringStep) {
+    boolean any = false;
+    for (Object[] m; (m = held.poll()) != null; ) {
+      hostMessage((String) m[0], m[1], duringStep);
+      any = true;
+    }
+    return any;
   }
 
   private ACLMessage encode(Outgoing o, AID sender) {
@@ -137,104 +225,145 @@ final class Messaging {
     return acl;
   }
 
+  /** Where a message to this receiver goes (R5e). @param receiver a name @return where */
+  private To to(String receiver) {
+    if (agent.cfg.isRunAgent(receiver)) return To.RUN;
+    if (AMS.equalsIgnoreCase(receiver) || DF.equalsIgnoreCase(receiver)) return To.PLATFORM;
+    return To.ABSENT;
+  }
+
+  /** Make one message ready for JADE ({@link #post} sends it). To an agent
+      that is not on the platform, the sender's {@code undeliverable} line is
+      written here, before JADE's {@code send}, which goes with
+      {@link ACLMessage#SYNCH_DELIVERY}: JADE finds the receiver missing
+      inside {@code send} and puts the AMS's FAILURE into its delivery queue
+      for the sender there, so that the FAILURE's place among the messages
+      to the sender is the place of that line. */
+  private Prepared prepare(Outgoing o) {
+    RunConfig cfg = agent.cfg;
+    o.to = to(o.receiver);
+    if (o.to == To.PLATFORM) TO_PLATFORM.put(o.id, o); else PENDING.put(o.id, o);
+    ACLMessage acl = encode(o, agent.getAID());
+    if (o.to == To.RUN && !cfg.hasAgent(o.receiver) && o.message.content() instanceof java.io.Serializable ser) {
+      // to another JVM (two containers): the content travels serialized
+      try {
+        acl.setContentObject(ser);
+        acl.addUserDefinedParameter(P_SERIAL, "1");
+      } catch (java.io.IOException e) {
+        // not serializable after all: the receiver reads the literal
+      }
+    }
+    if (o.to != To.RUN) CONTENTS.remove(o.id);
+    if (o.to == To.ABSENT) {
+      acl.addUserDefinedParameter(ACLMessage.SYNCH_DELIVERY, "true");
+      cfg.trace.undeliverable(o.sender, o.receiver, o.message.performative(), o.message.content());
+    }
+    return new Prepared(o, acl);
+  }
+
+  private void post(Prepared p) {
+    agent.cfg.trace.sync();   // two containers: every event before the send is written first
+    agent.send(p.acl());
+  }
+
   /** Send each message through JADE, in order; in lock step, wait for each
-      to arrive (or for the AMS to refuse it) before the next (R5e, R6). */
+      to arrive (or for the AMS's FAILURE to arrive) before the next (R5e,
+      R6, D44). */
   private void deliver(List<Outgoing> out) {
     if (out.isEmpty()) return;
-    RunConfig cfg = agent.cfg;
     List<Outgoing> l = new ArrayList<>(out);
     out.clear();
     for (Outgoing o : l) {
-      boolean platformAgent = !cfg.isRunAgent(o.receiver)
-          && ("ams".equalsIgnoreCase(o.receiver) || "df".equalsIgnoreCase(o.receiver));
-      if (!platformAgent) PENDING.put(o.id, o);
-      ACLMessage acl = encode(o, agent.getAID());
-      if (!cfg.hasAgent(o.receiver) && o.message.content() instanceof java.io.Serializable ser) {
-        // to another JVM (two containers): the content travels serialized
-        try {
-          acl.setContentObject(ser);
-          acl.addUserDefinedParameter(P_SERIAL, "1");
-        } catch (java.io.IOException e) {
-          // not serializable after all: the receiver reads the literal
-        }
+      post(prepare(o));
+      if (o.to == To.PLATFORM || !agent.cfg.lockStep) continue;
+      try {
+        if (!o.done.await(20, TimeUnit.SECONDS))
+          System.err.println("jsref: no delivery of a message to " + o.receiver + " after 20 s");
+      } catch (InterruptedException e) {
+        Thread.currentThread().interrupt();
+        return;
       }
-      cfg.trace.sync();   // two containers: every event before the send is written first
-      agent.send(acl);
-      if (platformAgent) {
-        // JADE's own AMS or DF: delivered, but not to a Jadescript agent (no
-        // deliver event); the reference has no such agents (undeliverable)
-        CONTENTS.remove(o.id);
-        continue;
-      }
-      if (cfg.lockStep) {
-        try {
-          if (!o.done.await(20, TimeUnit.SECONDS))
-            System.err.println("jsref: no delivery of a message to " + o.receiver + " after 20 s");
-        } catch (InterruptedException e) {
-          Thread.currentThread().interrupt();
-          return;
-        }
-        Object barrier = o.barrier;
-        if (barrier != null) synchronized (barrier) { /* JADE's postMessage is over */ }
-      }
+      Object barrier = o.barrier;
+      if (barrier != null) synchronized (barrier) { /* JADE's postMessage is over */ }
     }
   }
 
   // ------------------------------------------------------------ arriving
 
   /** A message is about to join JADE's queue of this agent (JADE's thread of
-      the sender, holding the queue's monitor): a message of the run gets its
-      seq and its {@code deliver} line; the AMS's FAILURE answer to a send of
-      the runtime is its {@code undeliverable} line and is kept out.
-      @param m the message @return false to keep it out of the queue */
+      the sender, holding the queue's monitor): a Jadescript message, the
+      AMS's FAILURE for a message of this agent to an agent that is not on the
+      platform (the Jadescript message {@code failure} from {@code ams}, D43),
+      or an answer of {@code ams} or {@code df} to a message of this agent,
+      gets its seq and its {@code deliver} line ({@link InStep}: now, or at the
+      end of the behaviour step in progress); a percept moved to the message
+      queue ({@code native}) its number. Any other message JADE keeps, and no
+      handler takes it. @param m the message @return false to keep it out of
+      the queue (never) */
   boolean arriving(ACLMessage m) {
     RunConfig cfg = agent.cfg;
-    if (m.getPerformative() == ACLMessage.FAILURE && m.getSender() != null
-        && "ams".equalsIgnoreCase(m.getSender().getLocalName())) {
-      Long id = idOf(m.getInReplyTo());
-      if (id == null) id = idOf(m.getConversationId());
-      Outgoing o = id == null ? null : PENDING.remove(id);
-      if (o != null) {
-        CONTENTS.remove(o.id);
-        cfg.trace.undeliverable(o.sender, o.receiver, o.message.performative(), o.message.content());
-        o.barrier = agent.hooks.queue;
-        o.done.countDown();
-        return false;
-      }
-      return true;
-    }
+    arriving = null;
     String pid = m.getUserDefinedParameter(P_PERCEPT);
     if (pid != null) {
       PerceptEntry e = PERCEPTS.remove(Long.parseLong(pid));
       if (e == null) return false;
-      arrivals.put(m, new Arrived(null, 0, e));
+      arrivals.put(m, new Arrived(null, 0, e, ++arrivalCount));
       return true;
     }
+    Message msg;
+    boolean duringStep = false;
     String sid = m.getUserDefinedParameter(P_ID);
-    if (sid == null) return true;   // not a Jadescript message: JADE keeps it; no handler takes it
-    long id = Long.parseLong(sid);
-    Object content = CONTENTS.remove(id);
-    if (content == null) content = remoteContent(m);
-    Message msg = new Message(m.getUserDefinedParameter(P_PERF), content, m.getUserDefinedParameter(P_FROM));
+    if (sid != null) {
+      long id = Long.parseLong(sid);
+      Object content = CONTENTS.remove(id);
+      if (content == null) content = remoteContent(m);
+      msg = new Message(m.getUserDefinedParameter(P_PERF), content, m.getUserDefinedParameter(P_FROM));
+      duringStep = m.getUserDefinedParameter(P_DURING) != null;
+      arriving = PENDING.get(id);
+    } else {
+      String from = m.getSender() == null ? null : m.getSender().getLocalName();
+      Long re = idOf(m.getInReplyTo());
+      if (re == null) re = idOf(m.getConversationId());
+      if (from == null || re == null) return true;
+      Outgoing o;
+      if (AMS.equalsIgnoreCase(from) && m.getPerformative() == ACLMessage.FAILURE
+          && (o = PENDING.get(re)) != null && o.to == To.ABSENT) {
+        // JADE's MessagingService: the receiver is not on the platform (R5e, D43)
+        msg = new Message(FAILURE, new Aid(o.receiver), AMS);
+        arriving = o;
+      } else if ((o = TO_PLATFORM.get(re)) != null && from.equalsIgnoreCase(o.receiver)) {
+        // an answer of the platform's own agent to a message of this agent
+        msg = new Message(ACLMessage.getPerformative(m.getPerformative()).toLowerCase(java.util.Locale.ROOT).replace('-', '_'),
+            o.message.content(), o.receiver);
+      } else {
+        return true;
+      }
+    }
     int seq = ++msgSeq;
-    arrivals.put(m, new Arrived(msg, seq, null));
-    cfg.trace.deliver(agent.getLocalName(), msg, seq);
+    Arrived a = new Arrived(msg, seq, null, ++arrivalCount);
+    arrivals.put(m, a);
+    switch (agent.inStep.arriving(a, duringStep)) {
+      case SEND -> cfg.trace.deliver(agent.getLocalName(), msg, seq, false);
+      case SEND_IN_STEP -> cfg.trace.deliver(agent.getLocalName(), msg, seq, true);
+      case LATER -> { }
+    }
     return true;
   }
 
   /** A message joined the queue: an idle agent wakes (R3e); the sender, in
       lock step, may go on. @param m the message */
   void arrived(ACLMessage m) {
-    if (m.getUserDefinedParameter(P_PERCEPT) != null) return;
-    String sid = m.getUserDefinedParameter(P_ID);
-    if (sid == null) return;
+    Arrived a = arrivals.get(m);
+    if (a == null || a.msg() == null) return;
     agent.hooks.wakeUp();
-    Outgoing o = PENDING.remove(Long.parseLong(sid));
-    if (o != null) {
+    Outgoing o = arriving;
+    arriving = null;
+    if (o != null && PENDING.remove(o.id) != null) {
       o.barrier = agent.hooks.queue;
       o.done.countDown();
-    } else if (remoteArrival != null && !HOST.equals(m.getUserDefinedParameter(P_FROM))) {
-      remoteArrival.accept(Long.parseLong(sid));
+    } else if (o == null && remoteArrival != null && m.getUserDefinedParameter(P_ID) != null
+               && !HOST.equals(m.getUserDefinedParameter(P_FROM))) {
+      remoteArrival.accept(Long.parseLong(m.getUserDefinedParameter(P_ID)));
     }
   }
 
@@ -290,6 +419,11 @@ final class Messaging {
     return m == null ? null : arrivals.remove(m);
   }
 
+  /** JADE's scheduler picked a behaviour: its handlers will look at what has
+      arrived until now ({@link InStep}). The caller holds the message queue's
+      monitor. */
+  void pickedNow() { visible = arrivalCount; }
+
   /** A handler as a JADE message template. A percept handler (native): the
       percept messages in arrival order; the first whose handler applies is
       taken, and its body has run. A message handler: its performative,
@@ -306,7 +440,7 @@ final class Messaging {
     }
     @Override public boolean match(ACLMessage m) {
       Arrived a = messaging.arrivals.get(m);
-      if (a == null) return false;
+      if (a == null || a.number() > messaging.visible) return false;
       if (percept) {
         if (a.percept() == null) return false;
         messaging.agent.body.freshFuel();

@@ -26,6 +26,7 @@ import jsref.values.Literals;
     <pre>
     java -cp ... jsref.runtime.Peripheral --control PORT --main-port PORT
          --program CLASS --variant V --budget N --fuel N [--o2a-capacity N]
+         --run-agents A,B,... --free 0|1 --max-steps N
     </pre>
 
     Started by {@link Main}; not meant to be started by hand. */
@@ -86,8 +87,11 @@ public final class Peripheral {
     });
     Messaging.messageIdBase(MESSAGE_ID_BASE);
     Messaging.onRemoteArrival(id -> link.send(new Json.Obj().put(Link.Key.DELIVERED, id)));
+    boolean free = "1".equals(o.get("--free"));
     RunConfig cfg = new RunConfig(program, variant, Integer.parseInt(o.get("--budget")), capacity,
-        Integer.parseInt(o.get("--fuel")), trace, true, out, System.err);
+        Integer.parseInt(o.get("--fuel")), trace, !free, out, System.err);
+    cfg.runAgents(List.of(o.get("--run-agents").split(",", -1)));
+    if (free) { cfg.holdCreateMessages(); cfg.limitFreeSteps(Long.parseLong(o.get("--max-steps"))); }
 
     ContainerController cc = boot(Integer.parseInt(o.get("--main-port")));
     Map<String, JadescriptAgent> agents = new HashMap<>();
@@ -125,8 +129,16 @@ public final class Peripheral {
           reply.put(Link.Key.OK, k == null ? a.notifyEvent(p) : a.notifyEvent(p, ((Long) k).intValue()));
         }
         case Link.Op.PUT -> reply.put(Link.Key.OK, a.put(literal(r.get(Link.Key.OBJECT), program)));
-        case Link.Op.MESSAGE -> a.hostMessage((String) r.get(Link.Key.PERFORMATIVE), literal(r.get(Link.Key.CONTENT), program));
+        case Link.Op.MESSAGE -> {
+          String perf = (String) r.get(Link.Key.PERFORMATIVE);
+          Object content = literal(r.get(Link.Key.CONTENT), program);
+          if (Boolean.TRUE.equals(r.get(Link.Key.DURING))) a.hostMessageDuringStep(perf, content);
+          else a.hostMessage(perf, content);
+        }
+        case Link.Op.RELEASE -> reply.put(Link.Key.QUIET, a.releaseHeld());
+        case Link.Op.QUIET -> reply.put(Link.Key.QUIET, a.isQuiet());
         case Link.Op.CREATE_MESSAGES -> a.deliverCreateMessages();
+        case Link.Op.START -> cfg.allCreated();
         case Link.Op.FINISH -> a.finishRun();
         case Link.Op.QUIT -> {
           trace.flush();

@@ -27,7 +27,9 @@ final class RemoteAgent implements HostedAgent {
 
   @Override public boolean isIdle() { return Boolean.TRUE.equals(call(new Json.Obj().put(Link.Key.OP, Link.Op.IDLE)).get(Link.Key.IDLE)); }
 
-  @Override public boolean isQuiet() { return isIdle(); }
+  @Override public boolean isQuiet() {
+    return Boolean.TRUE.equals(call(new Json.Obj().put(Link.Key.OP, Link.Op.QUIET)).get(Link.Key.QUIET));
+  }
 
   @Override public int runIteration(int maxRules) throws InterruptedException {
     Map<?, ?> r = link.call(new Json.Obj().put(Link.Key.OP, Link.Op.ITERATE).put(Link.Key.MAX, maxRules)
@@ -53,6 +55,15 @@ final class RemoteAgent implements HostedAgent {
   @Override public void hostMessage(String performative, Object content) {
     call(new Json.Obj().put(Link.Key.OP, Link.Op.MESSAGE).put(Link.Key.PERFORMATIVE, performative)
         .put(Link.Key.CONTENT, Text.literal(content)));
+  }
+
+  @Override public void hostMessageDuringStep(String performative, Object content) {
+    call(new Json.Obj().put(Link.Key.OP, Link.Op.MESSAGE).put(Link.Key.PERFORMATIVE, performative)
+        .put(Link.Key.CONTENT, Text.literal(content)).put(Link.Key.DURING, true));
+  }
+
+  @Override public boolean releaseHeld() {
+    return Boolean.TRUE.equals(call(new Json.Obj().put(Link.Key.OP, Link.Op.RELEASE)).get(Link.Key.QUIET));
   }
 
   @Override public void deliverCreateMessages() { call(new Json.Obj().put(Link.Key.OP, Link.Op.CREATE_MESSAGES)); }

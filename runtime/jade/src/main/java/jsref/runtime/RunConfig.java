@@ -69,16 +69,26 @@ public final class RunConfig {
     notifyAll();
   }
 
-  /** Is this the name of an agent of the run (set up already)?
+  /** The names of every agent of the run, in this JVM or another (null:
+      those set up in this JVM). */
+  private java.util.Set<String> runAgents;
+
+  /** The names of every agent of the run (two containers: in either JVM).
+      @param names the names */
+  public synchronized void runAgents(java.util.Collection<String> names) { runAgents = new java.util.HashSet<>(names); }
+
+  /** Is this the name of an agent of the run (R5e: on the platform)?
       @param name a local name @return true if so */
-  public synchronized boolean isRunAgent(String name) { return agents.containsKey(name); }
+  public synchronized boolean isRunAgent(String name) {
+    return runAgents != null ? runAgents.contains(name) : agents.containsKey(name);
+  }
+
+  /** Is an agent of this name in this JVM? @param name the name @return true if it is */
+  public synchronized boolean hasAgent(String name) { return agents.containsKey(name); }
 
   /** The agent of this name, once it is set up (waits at most the time given).
       @param name the agent's local name @param millis how long to wait
       @return the agent, or null @throws InterruptedException if interrupted */
-  /** Is an agent of this name in this JVM? @param name the name @return true if it is */
-  public synchronized boolean hasAgent(String name) { return agents.containsKey(name); }
-
   public synchronized JadescriptAgent awaitAgent(String name, long millis) throws InterruptedException {
     long end = System.currentTimeMillis() + millis;
     while (!agents.containsKey(name)) {

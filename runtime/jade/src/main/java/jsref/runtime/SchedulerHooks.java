@@ -88,6 +88,12 @@ final class SchedulerHooks implements JadeHooks {
   @Override
   public void arrived(ACLMessage m) { agent.messaging.arrived(m); }
 
+  /** {@inheritDoc} */
+  @Override
+  public void restartAll(JsrefScheduler s) {
+    if (agent.inStep.restartNow(s)) s.wakeBlocked();
+  }
+
   // ------------------------------------------------------------ sleeping and waking (R3e)
 
   /** Running freely, the start of an iteration: asleep while idle and

@@ -14,13 +14,20 @@ import jsref.runtime.TraceFormat.Header;
 import jsref.runtime.TraceFormat.Value;
 import jsref.values.Text;
 
-/** The trace writer (docs/trace-format.md, version 1): one method per event,
+/** The trace writer (docs/trace-format.md, version 2): one method per event,
     each writing one line with the fields of its event in the order of the
     OCaml owner of the format ({@code lib/trace/trace.ml}), the names taken
     from {@link TraceFormat}; values are written as Jadescript literals
     ({@link Text#literal}). The header comes first; every event gets its
     {@code step} number (its position in the trace, from 1) in front of its
     other fields.
+
+    <p>At the level {@code observable} (docs/trace-format.md, "Observable
+    traces"; {@link #observable}) the loop's own steps write nothing:
+    transfer, transfer_one, transfer_spin, transfer_end, dequeue, skip,
+    end_dispatch (a discard is written), next_iteration and idle, as
+    {@code Trace.observable} of {@code lib/trace} says; the events of the
+    bodies they ran are written all the same.
 
     <p>Shared by every agent of a run; each line is written under the
     writer's lock. A trace that writes nowhere ({@link #writes()} false)
@@ -32,6 +39,8 @@ public final class Trace {
   private final java.util.function.Consumer<Json.Obj> sink;
   private volatile Runnable syncHook;
   private int events;
+  /** The level {@code observable}: the loop's own steps are not written. */
+  private volatile boolean observable;
 
   /** A trace to a stream, or to nowhere. @param out the stream, or null */
   public Trace(OutputStream out) {
@@ -65,9 +74,17 @@ public final class Trace {
       JVM's harness)? Without, the runtime does not build them. */
   public boolean writes() { return out != null || sink != null; }
 
+  /** Write the loop's own steps or not (the level of the header,
+      {@link #header}). @param yes true for the level {@code observable} */
+  public void observable(boolean yes) { observable = yes; }
+
+  /** @return does this trace write a line for the loop's own steps? */
+  private boolean loopSteps() { return writes() && !observable; }
+
   // ------------------------------------------------------------ the header
 
-  /** The header line (docs/trace-format.md, "The header").
+  /** The header line (docs/trace-format.md, "The header"), at the level
+      {@code full} or, when {@link #observable} was set, {@code observable}.
       @param variant the loop's name @param budget the budget
       @param o2aCapacity the capacity, or null for unbounded @param seed the seed, or null
       @param agents the agents' names and types, in creation order
@@ -87,7 +104,7 @@ public final class Trace {
     for (Map.Entry<String, Integer> e : percepts.entrySet()) ps.put(e.getKey(), e.getValue());
     line(new Json.Obj().put(Header.TRACE, Value.FORMAT).put(Header.VERSION, Value.VERSION)
         .put(Header.VARIANT, variant).put(Header.TIE_POLICY, Value.STABLE).put(Header.BUDGET, budget)
-        .put(Header.O2A_CAPACITY, o2aCapacity).put(Header.SEED, seed).put(Header.LEVEL, Value.FULL).put(Header.AGENTS, as)
+        .put(Header.O2A_CAPACITY, o2aCapacity).put(Header.SEED, seed).put(Header.LEVEL, observable ? Value.OBSERVABLE : Value.FULL).put(Header.AGENTS, as)
         .put(Header.PROGRAM, new Json.Obj().put(Field.BEHAVIOURS, bs).put(Header.PERCEPTS, ps)).toString());
   }
 
@@ -118,41 +135,44 @@ public final class Trace {
     event(start(agent, Event.PUT, Action.PUT).put(Field.OBJECT, Text.literal(object)).put(Field.INDEX, index));
   }
 
-  /** {@code deliver} (Send, R5e): a message reached the agent.
-      @param agent the receiver @param m the message @param seq its seq there */
-  public void deliver(String agent, Message m, int seq) {
+  /** {@code deliver} (Send, R5e): a message reached the agent; or
+      (SendInStep, R5d revised) it reached the agent during its last
+      behaviour step, after the step's handlers looked.
+      @param agent the receiver @param m the message @param seq its seq there
+      @param inStep during the agent's last behaviour step */
+  public void deliver(String agent, Message m, int seq, boolean inStep) {
     if (!writes()) return;
-    event(message(start(agent, Event.DELIVER, Action.SEND), m).put(Field.SEQ, seq));
+    event(message(start(agent, Event.DELIVER, inStep ? Action.SEND_IN_STEP : Action.SEND), m).put(Field.SEQ, seq));
   }
 
   /** {@code transfer} (Transfer, R3a). @param agent the agent @param moved how many percepts moved */
   public void transfer(String agent, int moved) {
-    if (!writes()) return;
+    if (!loopSteps()) return;
     event(start(agent, Event.TRANSFER, Action.TRANSFER).put(Field.MOVED, moved));
   }
 
   /** {@code transfer_one} (TransferOne, printed). @param agent the agent @param e the percept moved */
   public void transferOne(String agent, PerceptEntry e) {
-    if (!writes()) return;
+    if (!loopSteps()) return;
     event(entry(start(agent, Event.TRANSFER_ONE, Action.TRANSFER_ONE), e));
   }
 
   /** {@code transfer_spin} (TransferSpin, printed). @param agent the agent
       @param object the object peeked at */
   public void transferSpin(String agent, Object object) {
-    if (!writes()) return;
+    if (!loopSteps()) return;
     event(start(agent, Event.TRANSFER_SPIN, Action.TRANSFER_SPIN).put(Field.OBJECT, Text.literal(object)));
   }
 
   /** {@code transfer_end} (TransferEnd, printed). @param agent the agent */
   public void transferEnd(String agent) {
-    if (!writes()) return;
+    if (!loopSteps()) return;
     event(start(agent, Event.TRANSFER_END, Action.TRANSFER_END));
   }
 
   /** {@code dequeue} (Dequeue, R3b). @param agent the agent @param e the percept taken */
   public void dequeue(String agent, PerceptEntry e) {
-    if (!writes()) return;
+    if (!loopSteps()) return;
     event(entry(start(agent, Event.DEQUEUE, Action.DEQUEUE), e));
   }
 
@@ -171,7 +191,7 @@ public final class Trace {
   /** {@code skip} (Skip, R4b). @param agent the agent @param instance the
       instance @param behaviour its type @param handler the handler (from 1) */
   public void skip(String agent, int instance, String behaviour, int handler) {
-    if (!writes()) return;
+    if (!loopSteps()) return;
     event(start(agent, Event.SKIP, Action.SKIP).put(Field.INSTANCE, instance).put(Field.BEHAVIOUR, behaviour)
         .put(Field.HANDLER, handler));
   }
@@ -179,7 +199,7 @@ public final class Trace {
   /** {@code end_dispatch}, or {@code discard} when no handler applied (EndDispatch, R3b).
       @param agent the agent @param seq the percept's seq @param discarded no handler applied */
   public void endDispatch(String agent, int seq, boolean discarded) {
-    if (!writes()) return;
+    if (discarded ? !writes() : !loopSteps()) return;
     event(start(agent, discarded ? Event.DISCARD : Event.END_DISPATCH, Action.END_DISPATCH).put(Field.SEQ, seq));
   }
 
@@ -205,13 +225,13 @@ public final class Trace {
 
   /** {@code next_iteration} (NextIteration). @param agent the agent */
   public void nextIteration(String agent) {
-    if (!writes()) return;
+    if (!loopSteps()) return;
     event(start(agent, Event.NEXT_ITERATION, Action.NEXT_ITERATION));
   }
 
   /** {@code idle} (Idle, R3e). @param agent the agent */
   public void idle(String agent) {
-    if (!writes()) return;
+    if (!loopSteps()) return;
     event(start(agent, Event.IDLE, Action.IDLE));
   }
 

@@ -86,6 +86,9 @@ public final class TraceFormat {
     public static final String NOTIFY_WITH = "NotifyWith";
     public static final String PUT = "Put";
     public static final String SEND = "Send";
+    /** R5d revised: a message that reached the agent during its last
+        behaviour step, after the step's handlers looked. */
+    public static final String SEND_IN_STEP = "SendInStep";
     public static final String TRANSFER = "Transfer";
     public static final String TRANSFER_ONE = "TransferOne";
     public static final String TRANSFER_SPIN = "TransferSpin";

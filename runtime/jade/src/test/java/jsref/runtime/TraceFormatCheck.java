@@ -202,7 +202,8 @@ public final class TraceFormatCheck {
     t.refused("a", "falling");
     t.refusedPut("a", "box");
     t.put("a", "box", 1);
-    t.deliver("a", m, 1);
+    t.deliver("a", m, 1, false);
+    t.deliver("a", m, 2, true);
     t.undeliverable("a", "z", "inform", "c");
     t.transfer("a", 2);
     t.transferOne("a", e);
