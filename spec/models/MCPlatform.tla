@@ -28,7 +28,7 @@
 \* expect BehaviourProgress holds (full)
 \* expect MessageProgress holds (full)
 \* expect NoLivelock holds (full)
-\* expect DeliveryProgress holds
+\* expect DeliveryProgress holds (full)
 \* expect PlatformAnswers holds
 \* expect MessagesConsumed holds (full)
 EXTENDS Platform
