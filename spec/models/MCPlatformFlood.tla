@@ -23,7 +23,7 @@
 \* expect NoLivelock holds (full)
 \* expect DeliveryProgress holds (full)
 \* expect PlatformAnswers holds (full)
-\* expect MessagesConsumed violated lasso
+\* expect MessagesConsumed violated lasso (full)
 EXTENDS Platform
 
 MCVariant == "reference"
