@@ -10,14 +10,16 @@
 (* (SendInStep, R5d revised).  A host notifies percepts to both agents at  *)
 (* any moment (R2).                                                        *)
 (*                                                                         *)
-(* The platform's own agents (R5e revised): every platform has ams and df; *)
-(* no program agent takes their names.  A message to ams or df is answered *)
-(* with a not_understood (its content is never one they can read: in a     *)
-(* model, contents are names).  A message to an agent that is not on the   *)
-(* platform is not delivered: ams answers the sender with a failure.  Each *)
-(* answer is a message to the sender, sent at some moment after the        *)
-(* message that caused it (the platform's queue `pending`) and delivered   *)
-(* like any message (it wakes blocked behaviours, a handler may take it).  *)
+(* The platform's own agents (R5e revised, D44): every platform has ams    *)
+(* and df; no program agent takes their names.  A message to ams or df is  *)
+(* taken by them and never answered: on JADE 4.3 they read only messages   *)
+(* of their own ontologies, which a program's message never carries.  A   *)
+(* message to an agent that is not on the platform is not delivered: ams   *)
+(* answers the sender with a failure (D43: its content names the receiver  *)
+(* that could not be reached).  That failure is a message to the sender,   *)
+(* sent at some moment after the message that caused it (the platform's   *)
+(* queue `pending`) and delivered like any message (it wakes blocked       *)
+(* behaviours, a handler may take it).                                     *)
 (*                                                                         *)
 (* Model bounds, not language rules: an agent sends at most MaxOut         *)
 (* messages (later sends are dropped), so that the state graph is finite;  *)
@@ -48,9 +50,9 @@ CONSTANTS
 Agents == {NameA, NameB}
 PlatformAgents == {"ams", "df"}
 
-\* The names of the platform's answers (messages to the sender).
+\* The name of the platform's one answer: ams's failure to the sender of a
+\* message to an agent not on the platform (D43).
 Failure == "failure"
-NotUnderstood == "not_understood"
 
 ASSUME
     /\ NameA # NameB
@@ -66,9 +68,12 @@ VARIABLES
     posB, phaseB, curB, dispatchedB, doneB, waitsB, lastB, steppedB,
     chan,       \* [Agents -> Seq(message name)]: sent, not yet delivered, in
                 \*   the order of the sends to that receiver
-    pending,    \* Seq([from, to, m]): sent to ams, df or an agent not on the
-                \*   platform, not yet answered, in send order
+    pending,    \* Seq([from, to, m]): sent to an agent not on the platform,
+                \*   not yet answered, in send order
     out,        \* [Agents -> Nat]: messages each agent has sent (MaxOut)
+    absent,     \* ghost: [Agents -> Nat]: messages each agent has sent to
+                \*   agents not on the platform
+    failures,   \* ghost: [Agents -> Nat]: failures ams has sent each agent
     overA,      \* ghost: [instance id -> Nat] for A: behaviour steps of other
                 \*   instances since the instance joined the ready list or last
                 \*   stepped (0 when it is not ready)
@@ -116,7 +121,7 @@ varsA == <<o2aA, pqA, msgqA, nextSeqA, msgSeqA, putsA, activeA, readyA, blockedA
            posA, phaseA, curA, dispatchedA, doneA, waitsA, lastA, steppedA>>
 varsB == <<o2aB, pqB, msgqB, nextSeqB, msgSeqB, putsB, activeB, readyB, blockedB,
            posB, phaseB, curB, dispatchedB, doneB, waitsB, lastB, steppedB>>
-platformVars == <<chan, pending, out>>
+platformVars == <<chan, pending, out, absent, failures>>
 vars == <<varsA, varsB, platformVars, overA, overB>>
 
 -----------------------------------------------------------------------------
@@ -129,17 +134,25 @@ SendsIn(effs) == SelectSeq(effs, LAMBDA e : e.op = "send")
 
 \* The channels, the platform's queue and the count n of agent from, after
 \* it sent the messages ss: to an agent of the program, into its channel;
-\* to ams, df or an agent not on the platform, into the platform's queue.
-\* Each counts against MaxOut; from then on sends are dropped (a model
-\* bound).  The result is <<chan, pending, n>>.
+\* to ams or df, taken by them (nothing more happens, D44); to an agent not
+\* on the platform, into the platform's queue.  Each counts against MaxOut;
+\* from then on sends are dropped (a model bound).  The result is
+\* <<chan, pending, n>>.
 RECURSIVE Post(_, _, _, _, _)
 Post(from, ss, ch, pd, n) ==
     IF ss = <<>> \/ n >= MaxOut THEN <<ch, pd, n>>
     ELSE LET e == Head(ss)
          IN IF e.to \in Agents
             THEN Post(from, Tail(ss), [ch EXCEPT ![e.to] = Append(@, e.m)], pd, n + 1)
+            ELSE IF e.to \in PlatformAgents
+            THEN Post(from, Tail(ss), ch, pd, n + 1)
             ELSE Post(from, Tail(ss), ch,
                       Append(pd, [from |-> from, to |-> e.to, m |-> e.m]), n + 1)
+
+\* The ghost absent, counted apart from Post's routing: of the first k
+\* messages of ss (those posted), the ones to an agent not on the platform.
+ToAbsent(ss, k) ==
+    Len(SelectSeq(SubSeq(ss, 1, k), LAMBDA e : e.to \notin Agents \cup PlatformAgents))
 
 \* The messages sent by the rule an agent just took: the bodies of a Handle
 \* or of a BehaviourStep send; no other rule runs a body.  (AgentLoop's
@@ -178,6 +191,8 @@ Init ==
     /\ chan = [n \in Agents |-> <<>>]
     /\ pending = <<>>
     /\ out = [n \in Agents |-> 0]
+    /\ absent = [n \in Agents |-> 0]
+    /\ failures = [n \in Agents |-> 0]
     /\ overA = [i \in A!Ids |-> 0]
     /\ overB = [i \in B!Ids |-> 0]
 
@@ -207,6 +222,9 @@ StepA ==
        IN /\ chan' = r[1]
           /\ pending' = r[2]
           /\ out' = [out EXCEPT ![NameA] = r[3]]
+          /\ absent' = [absent EXCEPT ![NameA] =
+                           @ + ToAbsent(BodySendsA, r[3] - out[NameA])]
+          /\ UNCHANGED failures
     /\ overA' = Overtake(overA, readyA, readyA', lastA')
     /\ UNCHANGED <<varsB, overB>>
 
@@ -216,6 +234,9 @@ StepB ==
        IN /\ chan' = r[1]
           /\ pending' = r[2]
           /\ out' = [out EXCEPT ![NameB] = r[3]]
+          /\ absent' = [absent EXCEPT ![NameB] =
+                           @ + ToAbsent(BodySendsB, r[3] - out[NameB])]
+          /\ UNCHANGED failures
     /\ overB' = Overtake(overB, readyB, readyB', lastB')
     /\ UNCHANGED <<varsA, overA>>
 
@@ -230,7 +251,7 @@ DeliverA ==
        \/ A!SendInStep(Head(chan[NameA]))
     /\ chan' = [chan EXCEPT ![NameA] = Tail(@)]
     /\ overA' = Overtake(overA, readyA, readyA', lastA')
-    /\ UNCHANGED <<varsB, pending, out, overB>>
+    /\ UNCHANGED <<varsB, pending, out, absent, failures, overB>>
 
 DeliverB ==
     /\ chan[NameB] # <<>>
@@ -238,28 +259,34 @@ DeliverB ==
        \/ B!SendInStep(Head(chan[NameB]))
     /\ chan' = [chan EXCEPT ![NameB] = Tail(@)]
     /\ overB' = Overtake(overB, readyB, readyB', lastB')
-    /\ UNCHANGED <<varsA, pending, out, overA>>
+    /\ UNCHANGED <<varsA, pending, out, absent, failures, overA>>
 
 (***************************************************************************)
-(* The platform answers the oldest message sent to ams, df or an agent     *)
-(* that is not on the platform (R5e revised): not_understood from ams or   *)
-(* df, failure from ams; the answer goes to the sender's channel.          *)
+(* The platform answers the oldest message sent to an agent that is not   *)
+(* on the platform (R5e revised, D43): a failure from ams, into the        *)
+(* sender's channel.  Messages to ams and df never come here (D44).        *)
 (***************************************************************************)
 Answer ==
     /\ pending # <<>>
     /\ LET x == Head(pending)
-       IN chan' = [chan EXCEPT ![x.from] =
-                      Append(@, IF x.to \in PlatformAgents THEN NotUnderstood ELSE Failure)]
+       IN /\ chan' = [chan EXCEPT ![x.from] = Append(@, Failure)]
+          /\ failures' = [failures EXCEPT ![x.from] = @ + 1]
     /\ pending' = Tail(pending)
-    /\ UNCHANGED <<varsA, varsB, out, overA, overB>>
+    /\ UNCHANGED <<varsA, varsB, out, absent, overA, overB>>
 
 Next == HostA \/ HostB \/ StepA \/ StepB \/ DeliverA \/ DeliverB \/ Answer
 
-\* Each agent is weakly fair (its thread runs), and so are the deliveries
-\* and the platform's answers; the host is not fair.
+\* The platform's deliveries and answers.
+Deliver == DeliverA \/ DeliverB \/ Answer
+
+\* Each agent is weakly fair (its thread runs), and so is the platform's
+\* delivery as a whole: while a message is in flight, some delivery or
+\* answer happens.  (As each agent sends finitely many messages, this
+\* delivers every message, as fairness for each channel would, and it is
+\* one fairness condition for TLC to check instead of three.)  The host is
+\* not fair.
 Spec == /\ Init /\ [][Next]_vars
-        /\ WF_vars(StepA) /\ WF_vars(StepB)
-        /\ WF_vars(DeliverA) /\ WF_vars(DeliverB) /\ WF_vars(Answer)
+        /\ WF_vars(StepA) /\ WF_vars(StepB) /\ WF_vars(Deliver)
 
 -----------------------------------------------------------------------------
 (***************************************************************************)
@@ -270,7 +297,9 @@ TypeOK ==
     /\ chan[NameA] \in Seq(ConfA.messages)
     /\ chan[NameB] \in Seq(ConfB.messages)
     /\ \A n \in Agents : out[n] \in 0..MaxOut
-    /\ \A k \in DOMAIN pending : pending[k].from \in Agents /\ pending[k].to \notin Agents
+    /\ \A n \in Agents : absent[n] \in 0..MaxOut /\ failures[n] \in 0..MaxOut
+    /\ \A k \in DOMAIN pending :
+          pending[k].from \in Agents /\ pending[k].to \notin Agents \cup PlatformAgents
 
 ReadyBlockedConsistent == A!ReadyBlockedConsistent /\ B!ReadyBlockedConsistent
 PriorityOrder == A!PriorityOrder /\ B!PriorityOrder
@@ -288,26 +317,48 @@ NoLivelock == A!NoLivelock /\ B!NoLivelock
 (* The platform's properties.                                              *)
 (***************************************************************************)
 
-\* Round robin survives the finer interleaving and R5d's restart in place:
-\* between two steps of a ready behaviour (or from when it became ready),
-\* at most MaxActive - 1 steps of other behaviours of its agent, however
-\* many messages reach the agent during its steps.
+\* Exact round robin: between two steps of a ready behaviour (or from when
+\* it became ready), at most MaxActive - 1 steps of other behaviours of its
+\* agent, each of the others at most once.
 RoundRobinBound ==
     /\ \A i \in DOMAIN overA : overA[i] <= ConfA.maxActive - 1
     /\ \A i \in DOMAIN overB : overB[i] <= ConfB.maxActive - 1
 
-\* Every message sent to an agent of the program reaches it: the k-th
-\* message to an agent (msgSeq counts those delivered, chan holds the rest)
-\* is eventually delivered.
-DeliveryProgress ==
-    /\ \A k \in 1..(2 * MaxOut) : (msgSeqA + Len(chan[NameA]) >= k) ~> (msgSeqA >= k)
-    /\ \A k \in 1..(2 * MaxOut) : (msgSeqB + Len(chan[NameB]) >= k) ~> (msgSeqB >= k)
+\* No starvation, with a bound: at most 2 * (MaxActive - 1) steps of other
+\* behaviours, each of the others at most twice.  (A behaviour woken by a
+\* message that came after its step goes to the end of the ready list
+\* (R5d), which may come before the behaviours it had passed; one woken by a
+\* message that came during its step keeps its place.)
+WaitBound ==
+    /\ \A i \in DOMAIN overA : overA[i] <= 2 * (ConfA.maxActive - 1)
+    /\ \A i \in DOMAIN overB : overB[i] <= 2 * (ConfB.maxActive - 1)
 
-\* Every message to ams, df or an agent not on the platform is answered.
-PlatformAnswers == pending # <<>> ~> pending = <<>>
+\* Every message sent to an agent of the program reaches it.  (Each agent
+\* sends at most MaxOut messages, so a channel that empties again and
+\* again cannot hold a message for ever: "eventually empty" is "every
+\* message delivered", in one temporal formula per agent instead of one per
+\* message, which TLC checks much faster.)
+DeliveryProgress == \A n \in Agents : chan[n] # <<>> ~> chan[n] = <<>>
 
-\* Every message that reaches an agent is eventually taken by a handler
-\* (whether or not a handler accepts it).
-MessagesConsumed == A!EveryMessageConsumed /\ B!EveryMessageConsumed
+\* The platform's answers are exactly ams's failures for the messages to
+\* agents not on the platform (D43, D44): each agent has had one failure
+\* for each such message it sent, but for those still waiting in the
+\* platform's queue, and none for its messages to ams or df, which are
+\* never answered.
+PendingFrom(n) == Len(SelectSeq(pending, LAMBDA x : x.from = n))
+OnlyFailuresAnswer == \A n \in Agents : failures[n] + PendingFrom(n) = absent[n]
+
+\* Every message to an agent not on the platform is answered by ams's
+\* failure, and no message to ams or df is ever answered.
+PlatformAnswers == /\ [](OnlyFailuresAnswer)
+                   /\ (pending # <<>> ~> pending = <<>>)
+
+\* Every message that reaches an agent is eventually taken by a handler,
+\* whether or not one accepts it (AgentLoop's EveryMessageConsumed, in the
+\* same one-formula form as DeliveryProgress: finitely many messages).
+MessageWaitingA == \E k \in DOMAIN msgqA : msgqA[k].kind = "message"
+MessageWaitingB == \E k \in DOMAIN msgqB : msgqB[k].kind = "message"
+MessagesConsumed == /\ MessageWaitingA ~> ~MessageWaitingA
+                    /\ MessageWaitingB ~> ~MessageWaitingB
 
 =============================================================================

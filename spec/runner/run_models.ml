@@ -3,6 +3,8 @@
    Each model spec/models/MC<Name>.tla states in its header, one per line,
      \* expect <Property> holds
      \* expect <Property> violated <invariant|lasso|deadlock>
+   either followed by " (full)" for a check that only --full makes (a
+   property TLC takes minutes to check on that model),
    and MC<Name>.cfg holds its CONSTANT bindings, its SPECIFICATION and the
    INVARIANT / PROPERTY lines saying which names are invariants and which are
    temporal properties.  A model whose header has a line "\* full" is run
@@ -12,6 +14,10 @@
    CONSTANT lines, its SPECIFICATION and only that invariant or property,
    runs TLC on it with a fresh -metadir, classifies the outcome from TLC's
    exit code (0 holds, 12 invariant, 13 lasso, 11 deadlock), and compares.
+   The invariants a model expects to hold (INVARIANT lines of its cfg) are
+   checked together, in one TLC run (one exploration checks them all); if
+   that run finds a violation, each is checked again alone, so that every
+   row says what its property alone gives.
    The pseudo-property DeadlockFree checks nothing but deadlock: it is the
    only run made without -deadlock (every other run passes -deadlock, since
    most models terminate once the host stops).
@@ -69,6 +75,7 @@ type model = {
   variant : string;         (* reference, or "-" *)
   is_full : bool;
   expects : (string * outcome) list;
+  full_only : string list;  (* expectations marked (full) *)
   constants : string list;  (* CONSTANT lines of the cfg *)
   specification : string;   (* SPECIFICATION line *)
   invariants : string list;
@@ -76,7 +83,7 @@ type model = {
 }
 
 let expect_re =
-  Str.regexp "^\\\\\\* expect \\([A-Za-z0-9_]+\\) \\(holds\\|violated \\(invariant\\|lasso\\|deadlock\\)\\)[ \t\r]*$"
+  Str.regexp "^\\\\\\* expect \\([A-Za-z0-9_]+\\) \\(holds\\|violated \\(invariant\\|lasso\\|deadlock\\)\\)\\( (full)\\)?[ \t\r]*$"
 
 let variant_re = Str.regexp "^MCVariant == \"\\([a-z]+\\)\""
 
@@ -86,7 +93,7 @@ let load_model dir name =
   if not (Sys.file_exists tla_path) then die "no model %s" tla_path;
   if not (Sys.file_exists cfg_path) then die "no config %s" cfg_path;
   let tla = lines (read_file tla_path) in
-  let expects =
+  let parsed =
     List.filter_map
       (fun l ->
         let l = trim l in
@@ -94,10 +101,13 @@ let load_model dir name =
           let p = Str.matched_group 1 l in
           let o = if Str.matched_group 2 l = "holds" then Holds
                   else Violated (Str.matched_group 3 l) in
-          Some (p, o)
+          let marked = (try ignore (Str.matched_group 4 l); true with Not_found -> false) in
+          Some (p, o, marked)
         else None)
       tla
   in
+  let expects = List.map (fun (p, o, _) -> (p, o)) parsed in
+  let full_only = List.filter_map (fun (p, _, f) -> if f then Some p else None) parsed in
   let variant =
     match List.find_opt (fun l -> Str.string_match variant_re l 0) tla with
     | Some l -> ignore (Str.string_match variant_re l 0); Str.matched_group 1 l
@@ -119,7 +129,7 @@ let load_model dir name =
     | Some s -> s
     | None -> die "%s has no SPECIFICATION" cfg_path
   in
-  { name; variant; is_full; expects; constants; specification;
+  { name; variant; is_full; expects; full_only; constants; specification;
     invariants = with_kw "INVARIANT"; properties = with_kw "PROPERTY" }
 
 let all_model_names dir =
@@ -133,7 +143,7 @@ let all_model_names dir =
 
 type job = {
   model : model;
-  prop : string;
+  props : string list;      (* one property, or invariants expected to hold, checked together *)
   expected : outcome;
   tmp : string;
   mutable observed : outcome;
@@ -152,16 +162,18 @@ let fresh_dir () =
   in
   go 0
 
-(* The temporary cfg for one expectation and whether -deadlock is passed. *)
-let cfg_for m prop expected =
-  let check, deadlock =
-    if prop = "DeadlockFree" then ([], false)
-    else if List.mem prop m.invariants then (["INVARIANT " ^ prop], true)
-    else if List.mem prop m.properties then (["PROPERTY " ^ prop], true)
+(* The temporary cfg for one job and whether -deadlock is passed. *)
+let cfg_for m props expected =
+  let line prop =
+    if List.mem prop m.invariants then "INVARIANT " ^ prop
+    else if List.mem prop m.properties then "PROPERTY " ^ prop
     else
       match expected with
-      | Violated "lasso" -> (["PROPERTY " ^ prop], true)
-      | _ -> (["INVARIANT " ^ prop], true)
+      | Violated "lasso" -> "PROPERTY " ^ prop
+      | _ -> "INVARIANT " ^ prop
+  in
+  let check, deadlock =
+    if props = ["DeadlockFree"] then ([], false) else (List.map line props, true)
   in
   (String.concat "\n" (m.constants @ [m.specification] @ check) ^ "\n", deadlock)
 
@@ -172,7 +184,7 @@ let cfg_for m prop expected =
    there, and concurrent runs sharing /tmp race on those files (seen as
    random "exit 150" parse failures). *)
 let command j =
-  let cfg, deadlock = cfg_for j.model j.prop j.expected in
+  let cfg, deadlock = cfg_for j.model j.props j.expected in
   write_file (Filename.concat j.tmp "check.cfg") cfg;
   let models_dir = Filename.concat !spec_dir "models" in
   let tla = j.model.name ^ ".tla" in
@@ -237,7 +249,7 @@ let run_all (js : job list) =
          j.seconds <- Unix.gettimeofday () -. t0;
          let code = match st with Unix.WEXITED c -> c | _ -> 255 in
          classify j code;
-         Printf.eprintf "  %-22s %-24s %s\n%!" j.model.name j.prop
+         Printf.eprintf "  %-22s %-24s %s\n%!" j.model.name (String.concat "+" j.props)
            (string_of_outcome j.observed)
        | None -> ());
       loop ()
@@ -280,38 +292,68 @@ let () =
     | [] ->
       all_model_names models_dir |> List.map (load_model models_dir)
       |> List.filter (fun m -> !full || not m.is_full)
+      |> List.map (fun m ->
+          if !full then m
+          else { m with expects = List.filter (fun (p, _) -> not (List.mem p m.full_only)) m.expects })
     | ns ->
       List.map (fun n ->
           let n = if Filename.check_suffix n ".tla" then Filename.chop_extension n else n in
           load_model models_dir (Filename.basename n)) ns
   in
   if chosen = [] then die "no models to run";
+  let job m props o =
+    { model = m; props; expected = o; tmp = fresh_dir ();
+      observed = Error "not run"; states = "?"; seconds = 0.0 } in
+  (* the invariants expected to hold, together; every other expectation alone *)
+  let together m =
+    List.filter_map (fun (p, o) ->
+        if o = Holds && p <> "DeadlockFree" && List.mem p m.invariants then Some p else None) m.expects in
+  let batches = Hashtbl.create 16 in
   let js =
     List.concat_map
       (fun m ->
         if m.expects = [] then die "%s has no \\* expect lines" m.name;
-        List.map (fun (p, o) ->
-            { model = m; prop = p; expected = o; tmp = fresh_dir ();
-              observed = Error "not run"; states = "?"; seconds = 0.0 })
-          m.expects)
+        let t = together m in
+        let t = if List.length t >= 2 then t else [] in
+        let batch = if t = [] then [] else (let j = job m t Holds in Hashtbl.replace batches m.name j; [ j ]) in
+        batch @ List.filter_map (fun (p, o) -> if List.mem p t then None else Some (job m [ p ] o)) m.expects)
       chosen
   in
-  Printf.eprintf "run_models: %d checks in %d models\n%!" (List.length js) (List.length chosen);
+  let checks = List.fold_left (fun n m -> n + List.length m.expects) 0 chosen in
+  Printf.eprintf "run_models: %d checks in %d models, %d TLC runs\n%!" checks (List.length chosen) (List.length js);
   let t0 = Unix.gettimeofday () in
   run_all js;
+  (* a batch that did not hold: each of its invariants again, alone *)
+  let again =
+    Hashtbl.fold (fun _ (b : job) acc ->
+        if b.observed = Holds then acc else List.map (fun p -> job b.model [ p ] Holds) b.props @ acc) batches [] in
+  if again <> [] then begin
+    Printf.eprintf "run_models: %d invariants checked again, alone\n%!" (List.length again);
+    run_all again
+  end;
   let total = Unix.gettimeofday () -. t0 in
-  let ok j = j.observed = j.expected in
-  let passed = List.length (List.filter ok js) in
-  let failed = List.length js - passed in
+  (* one row per expectation, in the models' order *)
+  let rows =
+    List.concat_map (fun m ->
+        List.map (fun (p, o) ->
+            let single = List.find_opt (fun j -> j.model.name = m.name && j.props = [ p ]) (again @ js) in
+            match single, Hashtbl.find_opt batches m.name with
+            | Some j, _ -> (j, p, o, false)
+            | None, Some b -> (b, p, o, true)
+            | None, None -> die "no run for %s %s" m.name p) m.expects) chosen in
+  let ok (j, _, o, _) = j.observed = o in
+  let passed = List.length (List.filter ok rows) in
+  let failed = List.length rows - passed in
   (* Console table *)
   let row a b c d e f g h =
     Printf.printf "%-22s %-10s %-24s %-20s %-20s %9s %7s  %s\n" a b c d e f g h in
   row "model" "variant" "property" "expected" "observed" "states" "seconds" "";
-  List.iter (fun j ->
-      row j.model.name j.model.variant j.prop (string_of_outcome j.expected)
-        (string_of_outcome j.observed) j.states (Printf.sprintf "%.1f" j.seconds)
-        (if ok j then "ok" else "FAIL"))
-    js;
+  List.iter (fun ((j, p, o, t) as r) ->
+      row j.model.name j.model.variant p (string_of_outcome o)
+        (string_of_outcome j.observed) j.states
+        (Printf.sprintf "%.1f%s" j.seconds (if t then "*" else ""))
+        (if ok r then "ok" else "FAIL"))
+    rows;
   let summary = Printf.sprintf "%d passed, %d failed" passed failed in
   print_endline summary;
   (* Markdown *)
@@ -319,16 +361,18 @@ let () =
   Buffer.add_string b "# TLC results\n\n";
   Buffer.add_string b
     "Generated by `spec/runner/run_models.exe` (`make spec` / `make spec-full`); do not edit.\n\
-     One row per `\\* expect` line of a model: the property was checked alone, with TLC 2.18.\n\n";
+     One row per `\\* expect` line of a model, checked with TLC 2.18: each property alone, but for\n\
+     the invariants a model expects to hold, checked together in one run (their seconds, marked *,\n\
+     are that run's; had it found a violation, each would have been checked again alone).\n\n";
   Buffer.add_string b "| model | variant | property | expected | observed | distinct states | seconds | |\n";
   Buffer.add_string b "|---|---|---|---|---|---:|---:|---|\n";
-  List.iter (fun j ->
+  List.iter (fun ((j, p, o, t) as r) ->
       Buffer.add_string b
-        (Printf.sprintf "| %s | %s | %s | %s | %s | %s | %.1f | %s |\n"
-           j.model.name j.model.variant j.prop (string_of_outcome j.expected)
+        (Printf.sprintf "| %s | %s | %s | %s | %s | %s | %.1f%s | %s |\n"
+           j.model.name j.model.variant p (string_of_outcome o)
            (String.map (fun c -> if c = '|' then '/' else c) (string_of_outcome j.observed))
-           j.states j.seconds (if ok j then "ok" else "**FAIL**")))
-    js;
+           j.states j.seconds (if t then "*" else "") (if ok r then "ok" else "**FAIL**")))
+    rows;
   Buffer.add_string b (Printf.sprintf "\n%s (%.0f s in all).\n" summary total);
   if (!full && !names = []) || !results_given then
     (try write_file !results (Buffer.contents b)
