@@ -14,7 +14,7 @@ type t =
 let fields_of = [
   "notify", [ "agent"; "notify"; "priority" ];
   "put", [ "agent"; "put" ];
-  "message", [ "agent"; "message"; "performative" ];
+  "message", [ "agent"; "message"; "performative"; "during" ];
   "run", [ "run" ];
 ]
 
