@@ -1,7 +1,7 @@
 (* glossary RULINGS.md SPEC.md: writes an OCaml module on standard output
    with the one-line statements the documentation gives of the rulings and
-   decisions (the tables of docs/rulings.md: "Summary" and "The decisions
-   D1-D39") and of the spec's properties and variables (the tables of
+   decisions (the tables of docs/rulings.md: "Summary" and "The project's
+   decisions") and of the spec's properties and variables (the tables of
    docs/spec.md: "Properties" and "Variables"), so that the page explains
    every R, D and property name it shows in the words of the docs. *)
 
@@ -98,7 +98,7 @@ let () =
   List.iter (fun l -> match cells l with
       | d :: text :: _ when is_prefix "D" d && String.length d > 1 && d.[1] >= '0' && d.[1] <= '9' ->
         Printf.printf "  (%S, %S, %S);\n" d (plain text) "rulings.md#the-projects-decisions"
-      | _ -> ()) (section rulings "The decisions");
+      | _ -> ()) (section rulings "The project's decisions");
   print_string "]\n\nlet properties = [\n";
   List.iter (fun l -> match cells l with
       | [ p; kind; text ] when is_prefix "`" p ->
