@@ -161,7 +161,7 @@ let show (m : Model.t) (c : Model.M.t) =
 (* ---------------------------------------------------------- explore *)
 
 (* About 650 bytes a state (with its key and edges): a million states fit in
-   well under a gigabyte; the largest model of spec/models has 105k. *)
+   well under a gigabyte; the largest model of spec/models has 110k. *)
 let default_max_states = 1_000_000
 
 let explore ?(max_states = default_max_states) ?rules (m : Model.t) =

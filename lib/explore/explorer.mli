@@ -51,7 +51,7 @@ val shortest_path : graph -> int -> (string * int) list
     with the same fingerprint would be taken for one and the second (with what
     only it leads to) missed: the probability of that is at most
     [distinct * generated / 2^63] ({!collision_probability}), about 6e-7 for
-    1.4M states and 3.6M generated, if fingerprints behave as random numbers
+    1.5M states and 3.7M generated, if fingerprints behave as random numbers
     (TLC makes the same assumption of its 64-bit fingerprints). Comparisons
     with TLC's state graph ([explore --against-tlc], the conformance checks)
     use {!explore}, which is exact. *)
