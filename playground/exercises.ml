@@ -445,7 +445,8 @@ let event t line =
       Session.host t (Session.Notify { agent; percept; priority })
     | _, Some obj, _, _ -> Session.host t (Session.Put { agent; obj })
     | _, _, Some content, _ ->
-      Session.host t (Session.Message { agent; content; perf = Option.value (text "performative" j) ~default:"inform" })
+      Session.host t (Session.Message { agent; content; perf = Option.value (text "performative" j) ~default:"inform";
+                                 during = text "during" j = Some "step" })
     | _, _, _, Some (`Int n) -> Session.run_rounds t n; Ok ()
     | _, _, _, Some (`String "idle") -> ignore (Session.run_idle t); Ok ()
     | _, _, _, Some r ->

@@ -47,7 +47,7 @@ let setup ?(tie = Mc.Stable) ?(budget = 1) ~variant ~capacity text =
 
 let notify p = Host (Session.Notify { agent = "r"; percept = p; priority = None })
 let put o = Host (Session.Put { agent = "r"; obj = o })
-let send c = Host (Session.Message { agent = "r"; perf = "inform"; content = c })
+let send c = Host (Session.Message { agent = "r"; perf = "inform"; content = c; during = false })
 let s action tla say = { action; tla; say }
 
 (* The one command that has TLC check the model's expected outcomes (the
@@ -340,7 +340,7 @@ let host_json = function
     `Assoc ([ "kind", `String "notify"; "agent", `String agent; "text", `String percept ]
             @ (match priority with Some k -> [ "priority", `Int k ] | None -> []))
   | Session.Put { agent; obj } -> `Assoc [ "kind", `String "put"; "agent", `String agent; "text", `String obj ]
-  | Session.Message { agent; perf; content } ->
+  | Session.Message { agent; perf; content; during = _ } ->
     `Assoc [ "kind", `String "message"; "agent", `String agent; "performative", `String perf; "text", `String content ]
 
 let to_json () =

@@ -31,7 +31,8 @@ let default_setup = {
 type host_action =
   | Notify of { agent : string; percept : string; priority : int option }
   | Put of { agent : string; obj : string }
-  | Message of { agent : string; perf : string; content : string }
+  | Message of { agent : string; perf : string; content : string; during : bool }
+      (* [during]: it arrives during the agent's next behaviour step (D42) *)
 
 type outcome = Stepped | All_idle | Limit
 
@@ -51,6 +52,8 @@ type state = {
   mutable out : string list;            (* what run prints, newest first *)
   mutable round : int list;             (* agents still to run in this round *)
   mutable current : int option;         (* the agent in the middle of an iteration *)
+  mutable held : (string * E.message) list;
+      (* the host's messages for an agent's next behaviour step (D42), oldest first *)
   max_steps : int;
   names : (string * int, string) Hashtbl.t;
   (* (agent, instance id) -> behaviour type, for every instance seen active:
@@ -163,6 +166,16 @@ let rec arrive st ~sender ~receiver m =
   | P.Undeliverable _ -> arrive st ~sender:"ams" ~receiver:sender (Interp.Runtime.failure ~receiver)
   | P.Delivered _ | P.To_platform _ | P.Step _ -> ()
 
+(* A host message that reaches [receiver] during its last behaviour step
+   (R5d, D42): SendInStep where its window is open, else a plain delivery. *)
+let arrive_in_step st ~receiver m =
+  match P.deliver_in_step st.params st.platform ~sender:"host" ~receiver m with
+  | Some (pl, P.Delivered _) ->
+    st.platform <- pl;
+    Interp.Tracer.host ~in_step:true st.tr ~agent:receiver pl.agents.(index st receiver).config
+  | Some (pl, ev) -> on_event st pl ev
+  | None -> arrive st ~sender:"host" ~receiver m
+
 (* ----------------------------------------------------------- agents *)
 
 exception Bad of string
@@ -218,7 +231,7 @@ let boot (s : setup) : (state, string list) result =
                    rand = Option.map (fun n -> Random.State.make [| n |]) s.seed;
                    tr = Interp.Tracer.create (Trace.nowhere ()) ~on_body:(fun _ _ -> ());
                    lines = []; out = [];
-                   round = []; current = None; max_steps = s.max_steps;
+                   round = []; current = None; held = []; max_steps = s.max_steps;
                    names = Hashtbl.create 16 } in
         st.tr <- tracer st;
         Interp.Tracer.header st.tr env st.params ~seed:s.seed (List.map (fun (n, ty, _) -> (n, ty)) specs);
@@ -294,11 +307,14 @@ let do_host st (h : host_action) : (unit, string) result =
             Interp.Tracer.host st.tr ~agent c;
             Ok ()
           end)
-    | Message { perf; content; _ } ->
+    | Message { perf; content; during; _ } ->
       parse "message" content (fun e ->
           let v = E.literal_value st.env e in
           let perf = if String.trim perf = "" then "inform" else String.trim perf in
-          arrive st ~sender:"host" ~receiver:agent { E.perf; content = v; sender = "host" };
+          let m = { E.perf; content = v; sender = "host" } in
+          (* D42: held until the agent's next behaviour step *)
+          if during then st.held <- st.held @ [ (agent, m) ]
+          else arrive st ~sender:"host" ~receiver:agent m;
           Ok ())
 
 (* ------------------------------------------------------------ rules *)
@@ -344,6 +360,14 @@ let do_rule ?refill ?agent st choice : outcome =
         set_config st i { st.platform.agents.(i).config with world = w };
         List.iter (fun (receiver, m) -> arrive st ~sender:name ~receiver m) out;
         st.steps <- st.steps + 1;
+        (* D42: the host's messages held for this behaviour step arrive
+           during it (SendInStep, R5d), as Runtime.rule delivers them *)
+        (match l with
+         | Mc.Behaviour_step _ ->
+           let (mine, others) = List.partition (fun (a, _) -> a = name) st.held in
+           st.held <- others;
+           List.iter (fun (_, m) -> arrive_in_step st ~receiver:name m) mine
+         | _ -> ());
         if ends_iteration l then st.current <- None;
         Stepped
 
@@ -392,6 +416,13 @@ let run_idle ?(limit = 5000) t =
     if n >= limit then (n, Stepped)
     else match rule t 0 with
       | Stepped -> go (n + 1)
+      | All_idle when t.st.held <> [] ->
+        (* D42: held messages whose step never came arrive as plain
+           deliveries, in agent name order (Runtime.release_held) *)
+        let held = List.stable_sort (fun (a, _) (b, _) -> compare a b) t.st.held in
+        t.st.held <- [];
+        List.iter (fun (a, m) -> arrive t.st ~sender:"host" ~receiver:a m) held;
+        go n
       | o -> (n, o) in
   go 0
 
@@ -672,8 +703,9 @@ let host_line = function
     `Assoc ([ "agent", str agent; "notify", str percept ]
             @ (match priority with Some k -> [ "priority", int k ] | None -> []))
   | Put { agent; obj } -> `Assoc [ "agent", str agent; "put", str obj ]
-  | Message { agent; perf; content } ->
-    `Assoc [ "agent", str agent; "message", str content; "performative", str perf ]
+  | Message { agent; perf; content; during } ->
+    `Assoc ([ "agent", str agent; "message", str content; "performative", str perf ]
+            @ (if during then [ "during", str "step" ] else []))
 
 let export t =
   let rec go acc = function
@@ -706,7 +738,8 @@ let restore s (j : Yojson.Safe.t) =
       Some [ H (Notify { agent; percept; priority = num "priority" j }) ]
     | Some agent, None, Some obj, _ -> Some [ H (Put { agent; obj }) ]
     | Some agent, None, None, Some content ->
-      Some [ H (Message { agent; content; perf = Option.value (text "performative" j) ~default:"inform" }) ]
+      Some [ H (Message { agent; content; perf = Option.value (text "performative" j) ~default:"inform";
+                          during = text "during" j = Some "step" }) ]
     | _ ->
       match num "rules" j, num "choice" j, num "round" j, num "single" j with
       | Some n, _, _, _ -> Some (times n (R (0, true)))

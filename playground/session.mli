@@ -57,8 +57,10 @@ type host_action =
   | Notify of { agent : string; percept : string; priority : int option }
       (** [notifyEvent(p)], or [notifyEvent(p, k)] with a priority (R2) *)
   | Put of { agent : string; obj : string }    (** an object into O2A (R2c) *)
-  | Message of { agent : string; perf : string; content : string }
-      (** a message from the host (R5e) *)
+  | Message of { agent : string; perf : string; content : string; during : bool }
+      (** a message from the host (R5e); [during]: it arrives during the
+          agent's next behaviour step, after its handlers looked (an events
+          file's ["during": "step"], D42): with SendInStep (R5d revised) *)
 
 val host : t -> host_action -> (unit, string) result
 (** Does the host action between two rules. Percepts, objects and contents

@@ -49,7 +49,8 @@ let play t (v : Interp.Oracle.vector) =
            | _, Some (`String o), _, _ -> ignore (S.host t (S.Put { agent = agent (); obj = o }))
            | _, _, Some (`String c), _ ->
              let perf = match get "performative" with Some (`String p) -> p | _ -> "inform" in
-             ignore (S.host t (S.Message { agent = agent (); perf; content = c }))
+             let during = get "during" = Some (`String "step") in
+             ignore (S.host t (S.Message { agent = agent (); perf; content = c; during }))
            | _, _, _, Some (`Int k) -> S.run_rounds t k
            | _, _, _, Some (`String "idle") -> ignore (S.run_idle ~limit:max_int t)
            | _, _, _, Some (`Assoc [ ("rules", `Int k) ]) -> S.run_rules t k
