@@ -1,4 +1,5 @@
-(* jadescript-ref conform [--impl 'COMMAND'] [--vectors DIR] [--update] *)
+(* jadescript-ref conform [--impl 'COMMAND'] [--vectors DIR] [--update]
+   [--judge] [--generated N [--seed S]] *)
 
 open Cmdliner
 module O = Interp.Oracle
@@ -50,17 +51,41 @@ let find_vectors = function
       if Sys.file_exists p then p else let u = Filename.dirname d in if u = d then p else up u in
     up (Sys.getcwd ())
 
-let rec run impl vectors update only timeout keep =
+let rec run impl vectors update only timeout keep judge generated seed =
   (* ^C or a SIGTERM stops conform between two vectors or while one runs:
      the implementation is stopped and the temporary files removed
      (Oracle.run_vector), then exit 130. *)
   List.iter (fun s -> Sys.set_signal s (Sys.Signal_handle (fun _ -> raise Sys.Break)))
     [ Sys.sigint; Sys.sigterm ];
-  match run_vectors impl vectors update only timeout keep with
+  match
+    match generated with
+    | Some n -> run_generated impl n seed timeout keep
+    | None -> run_vectors impl vectors update only timeout keep judge
+  with
   | code -> code
   | exception Sys.Break -> prerr_endline "jadescript-ref: error: conform interrupted"; 130
 
-and run_vectors impl vectors update only timeout keep =
+(* --generated N: N programs of lib/gen with random hosts, each run by the
+   implementation and judged (bin/judged.ml); nothing to compare with. *)
+and run_generated impl n seed timeout keep =
+  if n < 1 || n > 1_000_000 then begin
+    prerr_endline (Printf.sprintf "jadescript-ref: error: --generated %d: a number of programs from 1 to 1000000" n); 1
+  end else begin
+    let impl = match impl with Some c -> c | None -> self_run () in
+    let timeout = Option.value timeout ~default:60. in
+    (match keep with Some d when not (Sys.file_exists d) -> (try Sys.mkdir d 0o755 with Sys_error _ -> ()) | _ -> ());
+    let failed = ref 0 in
+    for k = 1 to n do
+      let case = Judged.generated ~seed k in
+      match Judged.judge_case ~spawn ~timeout ~impl ?keep case with
+      | Ok () -> Printf.printf "%-44s pass\n%!" case.name
+      | Error m -> incr failed; Printf.printf "%-44s FAIL: %s\n%!" case.name m
+    done;
+    Printf.printf "%d generated programs (seed %d): %d pass, %d fail\n" n seed (n - !failed) !failed;
+    if !failed = 0 then 0 else 1
+  end
+
+and run_vectors impl vectors update only timeout keep judge =
   match timeout with
   | Some t when not (t > 0. && t <= 86400.) ->
     prerr_endline (Printf.sprintf "jadescript-ref: error: --timeout %g: a number of seconds above 0 and at most 86400" t); 1
@@ -94,6 +119,13 @@ and run_vectors impl vectors update only timeout keep =
           incr failed;
           Printf.printf "%-44s %-14s BROKEN VECTOR: its expected trace fails its assertions: %s\n%!"
             v.name (String.concat "," v.rulings) e
+        | None when judge ->
+          let timeout = match timeout with Some t -> t | None -> O.default_timeout v in
+          (match Judged.judge_case ~spawn ~timeout ~impl ?keep (Judged.of_vector v) with
+           | Ok () -> Printf.printf "%-44s %-14s pass (judged)\n%!" v.name (String.concat "," v.rulings)
+           | Error m ->
+             incr failed;
+             Printf.printf "%-44s %-14s FAIL: %s\n%!" v.name (String.concat "," v.rulings) m)
         | None ->
           match O.run_vector ~spawn ?timeout ?keep ~impl v with
           | O.Pass -> Printf.printf "%-44s %-14s pass\n%!" v.name (String.concat "," v.rulings)
@@ -122,6 +154,17 @@ let cmd =
   let timeout = Arg.(value & opt (some float) None & info ["timeout"] ~docv:"SECONDS"
                        ~doc:"Time limit of one vector's run (default: 30 s plus 0.05 s per expected \
                              event); an implementation still running then is killed and fails.") in
+  let judge = Arg.(value & flag & info ["judge"]
+                     ~doc:"Judge each run by the program's semantics (jadescript-ref judge) instead of \
+                           comparing it with the expected trace: any schedule the rulings allow passes \
+                           (R6). The implementation runs in a fresh directory that holds only the \
+                           program and the events file.") in
+  let generated = Arg.(value & opt (some int) None & info ["generated"] ~docv:"N"
+                         ~doc:"Instead of the vectors, N generated well-typed programs with random hosts \
+                               (lib/gen), each run by the implementation in a fresh directory and judged: \
+                               there is no expected trace to copy. Case K of seed S is named \
+                               generated-S-K and is the same on every machine.") in
+  let seed = Arg.(value & opt int 1 & info ["seed"] ~docv:"S" ~doc:"The seed of --generated (default 1).") in
   Cmd.v (Cmd.info "conform" ~doc:"Run an implementation on the conformance vectors."
            ~man:[`S Manpage.s_description;
                  `P "Runs the implementation on every vector of conformance/ and compares \
@@ -131,5 +174,8 @@ let cmd =
                      (docs/trace-format.md). The implementation must also end within \
                      $(b,--timeout), exit with status 0 (or 1 exactly when its trace records \
                      a run-time error, D15) and write the expected header. Exit status 1 \
-                     when a vector fails."])
-    Term.(const run $ impl $ vectors $ update $ only $ timeout $ keep)
+                     when a vector fails.";
+                 `P "With $(b,--judge), each run is judged by the program's semantics instead \
+                     (docs/trace-format.md, \"Judging a run\"); with $(b,--generated) N, N \
+                     generated programs take the place of the vectors."])
+    Term.(const run $ impl $ vectors $ update $ only $ timeout $ keep $ judge $ generated $ seed)

@@ -28,11 +28,8 @@ let number ~opt ~lo ~hi ~what = function
      | Some n when n >= lo && n <= hi -> Some n
      | _ -> usage_error "option --%s: %S is not a whole number from %d to %d (%s)" opt s lo hi what)
 
-(* Parse and check the program; print every diagnostic; stop on an error. *)
-let load files =
-  let parsed = List.map (fun f -> match Parse.file f with
-      | r -> Ok r
-      | exception Diag.Failed d -> Error d) files in
+(* Check the parsed files; print every diagnostic; stop on an error. *)
+let check parsed =
   let syntax = List.filter_map (function Error d -> Some d | Ok _ -> None) parsed in
   let ok = List.filter_map (function Ok r -> Some r | Error _ -> None) parsed in
   let env, diags = Typing.check ok in
@@ -40,6 +37,14 @@ let load files =
   List.iter (fun d -> prerr_endline (Diag.to_string d)) (List.sort Diag.compare errors);
   if errors <> [] then raise (Stop 1);
   env
+
+(* Parse and check the program's files. *)
+let load files =
+  check (List.map (fun f -> match Parse.file f with r -> Ok r | exception Diag.Failed d -> Error d) files)
+
+(* The same for a program given as texts: (file name, text). *)
+let load_texts files =
+  check (List.map (fun (f, text) -> match Parse.string ~file:f text with r -> Ok r | exception Diag.Failed d -> Error d) files)
 
 let agent_spec env spec =
   let fail msg = prerr_endline (Printf.sprintf "--agent %s: error: %s" spec msg); raise (Stop 1) in

@@ -192,9 +192,17 @@ let check (h : Trace.header) lines =
         | Trace.Undeliverable { receiver; performative; content } ->
           if List.mem_assoc receiver agents then
             fail "a message to %s is undeliverable, but %s is an agent of the header" receiver receiver;
-          (match Queue.peek_opt a.undeliverable with
-           | Some (r, p, c) when r = receiver && p = performative && c = content ->
-             ignore (Queue.pop a.undeliverable);
+          (* the oldest message to that receiver not yet reported: the order
+             of the sends holds per receiver, not across receivers (R6) *)
+          let owed = List.of_seq (Queue.to_seq a.undeliverable) in
+          let rec split before = function
+            | ((r, _, _) as x) :: rest when r = receiver -> Some (List.rev before, x, rest)
+            | x :: rest -> split (x :: before) rest
+            | [] -> None in
+          (match split [] owed with
+           | Some (before, (_, p, c), after) when p = performative && c = content ->
+             Queue.clear a.undeliverable;
+             List.iter (fun x -> Queue.push x a.undeliverable) (before @ after);
              Queue.push (Interp_eval.Value.to_literal (Interp_eval.Value.Aid receiver)) a.failures
            | _ -> fail "%s reports undeliverable a message %s %s to %s that it did not send" a.name performative content receiver)
         | Trace.Transfer moved ->

@@ -67,3 +67,15 @@ val run_vector :
     signal n). The default uses [Sys.command], which cannot be interrupted:
     system() ignores SIGINT while it waits; [jadescript-ref conform] passes
     one built on Unix that can. *)
+
+val first_line : string -> string
+(** The first line of a file (an implementation's standard error), at most
+    300 bytes; [""] when it cannot be read. *)
+
+val describe_status : timeout:float -> int -> string
+(** A shell's status in words: ["exited with status 3"], ["timed out after
+    30 s (--timeout)"], ["was killed by signal 11"]. *)
+
+val default_timeout : vector -> float
+(** A vector's time limit when none is given: 30 s, plus 0.05 s per event of
+    its expected trace. *)

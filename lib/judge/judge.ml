@@ -357,10 +357,17 @@ let deliver st n ag (m : Trace.message) seq in_step =
        | Some c' when c'.msg_seq = seq -> Some c'
        | _ -> None)
 
+(* The oldest message of [ag] to [receiver] not yet reported: reports keep
+   the order of the sends to one receiver, not across receivers (R6: each
+   receiver's messages arrive in order, the receivers in any). *)
 let undeliverable st n ag receiver perf content =
-  match ag.undeliverable with
-  | (r, m) :: rest when r = receiver && m.perf = perf && V.to_literal m.content = content ->
-    ag.undeliverable <- rest;
+  let rec split before = function
+    | (r, m) :: rest when r = receiver -> Some (List.rev before, m, rest)
+    | x :: rest -> split (x :: before) rest
+    | [] -> None in
+  match split [] ag.undeliverable with
+  | Some (before, m, after) when m.perf = perf && V.to_literal m.content = content ->
+    ag.undeliverable <- before @ after;
     (* R5e: the platform answers the sender with a failure from ams, which
        reaches it like any message *)
     Queue.push ("ams", Interp.Runtime.failure ~receiver) (answers st ag.name)

@@ -426,6 +426,56 @@ let conform_judges () =
   Alcotest.(check bool) ("a hang is stopped by --timeout:\n" ^ out) true
     (Unix.gettimeofday () -. t0 < 20. && (try ignore (Explore.Str_find.find out "timed out"); true with Not_found -> false))
 
+(* conform --judge and --generated (bin/judged.ml): a run is judged by its
+   program's semantics, so any schedule R6 allows passes (the reference's
+   finer interleaving, run --interleave); each case runs in a fresh
+   directory with no expected trace, and a generated case has none at all.
+   Implementations that cheat fail: one that copies the expected trace it
+   finds beside the program, one that copies another vector's trace, one
+   that writes the trace of one fixed generated program for every case, and
+   one with a defect of the bug catalogue (lib/defects). *)
+let conform_judged () =
+  let dir = Filename.concat root "conformance" in
+  let fake name body =
+    let f = Filename.temp_file ("jsref-fake-" ^ name) ".sh" in
+    let oc = open_out_bin f in
+    output_string oc ("#!/bin/sh\nwhile [ $# -gt 0 ]; do if [ \"$1\" = --trace ]; then out=\"$2\"; fi; shift; done\n"
+                      ^ body ^ "\n");
+    close_out oc; Unix.chmod f 0o755; f in
+  let conform args = let (status, out, _) = run_command (Printf.sprintf "%s conform %s" exe args) in (status, out) in
+  let says out why = try ignore (Explore.Str_find.find out why); true with Not_found -> false in
+  let vectors = "047-r6-ping-pong 048-r6-three-agent-ring 067-r5e-failure-wakes-sender 085-r5d-message-during-step-keeps-place" in
+  let (status, out) = conform ("--judge " ^ vectors) in
+  Alcotest.(check int) ("the reference, judged, passes:\n" ^ out) 0 status;
+  let (status, out) = conform (Printf.sprintf "--judge --impl %s %s" (Filename.quote (exe ^ " run --interleave 5")) vectors) in
+  Alcotest.(check int) ("another schedule (run --interleave), judged, passes:\n" ^ out) 0 status;
+  let (status, out) = conform "--generated 12 --seed 4" in
+  Alcotest.(check int) ("the reference on generated programs passes:\n" ^ out) 0 status;
+  Alcotest.(check bool) "a summary of the generated programs" true (says out "12 generated programs (seed 4): 12 pass, 0 fail");
+  let (status, out) = conform (Printf.sprintf "--generated 12 --seed 4 --impl %s" (Filename.quote (exe ^ " run --interleave 9"))) in
+  Alcotest.(check int) ("another schedule on generated programs passes:\n" ^ out) 0 status;
+  (* the cheaters *)
+  let copy_here = fake "copy-here" "cp expected.jsonl \"$out\"" in
+  let (status, out) = conform ("--judge --impl " ^ copy_here ^ " 047-r6-ping-pong") in
+  Alcotest.(check int) ("copying the expected trace beside the program fails:\n" ^ out) 1 status;
+  let other = Filename.concat (Filename.concat dir "048-r6-three-agent-ring") "expected.jsonl" in
+  let copy_other = fake "copy-other" (Printf.sprintf "cp %s \"$out\"" (Filename.quote other)) in
+  let (status, out) = conform ("--judge --impl " ^ copy_other ^ " 047-r6-ping-pong") in
+  Alcotest.(check int) ("another vector's trace fails:\n" ^ out) 1 status;
+  Alcotest.(check bool) ("... at the header:\n" ^ out) true (says out "line 1:");
+  let keep = Filename.temp_file "jsref-judged" "" in
+  Sys.remove keep;
+  ignore (conform (Printf.sprintf "--generated 1 --seed 4 --keep %s" (Filename.quote keep)));
+  let fixed = Filename.concat (Filename.concat keep "generated-4-1") "trace.jsonl" in
+  Alcotest.(check bool) "--keep keeps the case and its trace" true (Sys.file_exists fixed);
+  let replay = fake "replay" (Printf.sprintf "cp %s \"$out\"" (Filename.quote fixed)) in
+  let (status, out) = conform ("--generated 12 --seed 4 --impl " ^ replay) in
+  Alcotest.(check int) ("one fixed trace for every generated program fails:\n" ^ out) 1 status;
+  Alcotest.(check bool) ("... except the program it was written for:\n" ^ out) true (says out "generated-4-1                                pass");
+  let (status, out) = conform (Printf.sprintf "--generated 12 --seed 4 --impl %s" (Filename.quote (exe ^ " run --defect first-handler-only"))) in
+  Alcotest.(check int) ("a defect of the catalogue fails:\n" ^ out) 1 status;
+  ignore (Sys.command ("rm -rf " ^ Filename.quote keep))
+
 (* conform's resources: a huge trace is read with bounded memory
    (a 2M-line trace and a 100 MB line: conform's peak RSS stays small); its
    temporary files are removed after a pass, a failure, a timeout and a
@@ -569,6 +619,7 @@ let () =
         Alcotest.test_case "conformance vectors' traces validated" `Slow vectors_validated;
         Alcotest.test_case "conform: reference passes, native fails" `Slow conform_passes;
         Alcotest.test_case "conform judges status, signals, hangs, headers, events" `Slow conform_judges;
+        Alcotest.test_case "conform --judge, --generated: other schedules pass, cheaters fail" `Slow conform_judged;
         Alcotest.test_case "conform: bounded memory, temporary files, SIGINT" `Slow conform_resources;
         qcheck ~count:3 ~long_factor:15 "random programs' traces validated by TLC"
           (QCheck.pair Typed_gen.arb_program QCheck.small_nat) random_run_validates ]);
