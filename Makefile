@@ -38,6 +38,8 @@ bench: build
 conformance: build
 	@dune exec --no-print-directory -- jadescript-ref explore --all --full --mutants --simulate 200 --validate 200
 	@dune exec --no-print-directory -- jadescript-ref defects
+	@dune exec --no-print-directory -- jadescript-ref conform --generated 1000 --seed 1 | tail -n 1
+	@dune exec --no-print-directory -- jadescript-ref conform --generated 1000 --seed 1 --impl "$$PWD/_build/default/bin/main.exe run --interleave 7" | tail -n 1
 	@JSREF_LONG=1 bash scripts/test
 
 # The fuzz campaign (fuzz/README.md): 1,000,000 generated inputs over
