@@ -217,8 +217,6 @@ let expand st ag n (cands : cand list) =
 
 (* ------------------------------------------------------------- lines *)
 
-let receivers_known st r = find_agent st r <> None || List.mem r platform_agents
-
 (* The messages a matched send line posts: in flight to its receivers; to
    an absent one, owed as undeliverable by the sender; to a platform agent,
    theirs, never answered (R5e, D44). *)
