@@ -81,6 +81,9 @@ type st = {
       (* per receiver, the platform's answers to it not yet delivered (its
          agents answer when they get to it: in their order, not in the
          order of the agents' sends) *)
+  mutable from_destroy : E.message list;
+      (* the messages of on destroy, which a run that ended need not have
+         delivered (D26), told apart by identity *)
   mutable ncreated : int;
   mutable lines : int;
 }
@@ -243,7 +246,9 @@ let agent_line st n ag (ev : Trace.event) =
           | o :: _ -> Printf.sprintf "the program writes %s here, not %s" o (show_event ev))
      | _ ->
        (match body, !posted with
-        | Trace.Send { receivers; _ }, Some msgs -> post st ag msgs receivers
+        | Trace.Send { receivers; _ }, Some msgs ->
+          if action = "destroy" then st.from_destroy <- msgs @ st.from_destroy;
+          post st ag msgs receivers
         | _ -> ());
        ag.cands <- merge st n kept)
   | _ ->
@@ -405,6 +410,8 @@ let destroy st n ag =
 
 let line st n (l : Trace.line) =
   st.lines <- st.lines + 1;
+  (* the lines are numbered 1, 2, 3... after the header (docs/trace-format.md) *)
+  if l.step <> st.lines - 1 then reject n "step %d, but this is line %d of the trace's events: the steps are 1, 2, 3..." l.step (st.lines - 1);
   let ag = match find_agent st l.agent with
     | Some a -> a
     | None -> reject n "%s is not an agent of the run" l.agent in
@@ -462,7 +469,7 @@ let judge env ~agents ?(options = default_options) path =
                  agents = Array.of_list (List.map (fun (name, atype, args) ->
                      { name; atype; args; cands = []; created = false; destroyed = false;
                        names = Hashtbl.create 8; undeliverable = [] }) agents);
-                 inflight = Hashtbl.create 8; answers = Hashtbl.create 8; ncreated = 0; lines = 1 };
+                 inflight = Hashtbl.create 8; answers = Hashtbl.create 8; from_destroy = []; ncreated = 0; lines = 1 };
     () in
   let on_line n l = match !st with Some s -> line s n l | None -> () in
   match Trace.stream path ~header ~line:on_line with
@@ -480,7 +487,16 @@ let judge env ~agents ?(options = default_options) path =
                raise (Reject (s.lines + 1, Printf.sprintf "agent %s: the trace ends before the lines its on destroy owes" a.name));
              (match a.undeliverable with
               | (r, _) :: _ -> raise (Reject (s.lines + 1, Printf.sprintf "agent %s: its message to %s was never reported undeliverable (R5e)" a.name r))
-              | [] -> ())) s.agents
+              | [] -> ())) s.agents;
+         (* every message sent, but those of on destroy, was delivered;
+            every failure of ams too (D26, D43) *)
+         let left what tbl exempt =
+           Hashtbl.iter (fun r q -> Queue.iter (fun (sender, (m : E.message)) ->
+               if not (exempt m) then
+                 raise (Reject (s.lines + 1, Printf.sprintf "the run ended, but %s %s %s from %s to %s was never delivered (D26)"
+                                  what m.perf (V.to_literal m.content) sender r))) q) tbl in
+         left "the message" s.inflight (fun m -> List.memq m s.from_destroy);
+         left "the platform's answer" s.answers (fun _ -> false)
        end
      with
      | () -> Accepted { lines = s.lines; complete; cut; level = s.level }
