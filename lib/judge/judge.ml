@@ -195,6 +195,18 @@ let merge st n cands =
     reject n "more than %d configurations of the agent explain the trace so far (the judge's search bound, --bound)" st.bound;
   out
 
+(* The properties of the agent and of its active behaviours as they are
+   (their cells' values), to be put back. A body that changes a list or a
+   map in place is not undone so. *)
+let save_cells (c : M.t) =
+  let out = ref [] in
+  let add tbl = Syntax.Strtbl.iter (fun _ (cell : E.cell) -> out := (cell, cell.v) :: !out) tbl in
+  add c.world.props;
+  List.iter (fun (i : E.beh Mc.instance) -> add i.beh.bprops) c.active;
+  !out
+
+let restore_cells saved = List.iter (fun ((cell : E.cell), v) -> cell.v <- v) saved
+
 (* Every configuration a candidate may be in before its next line: itself
    and, in an observable trace, those hidden steps reach (a hidden step
    whose bodies record something, an error of a guard, stops there: its
@@ -202,18 +214,31 @@ let merge st n cands =
 let expand st ag n (cands : cand list) =
   if st.level = Full then cands
   else begin
-    let out = ref [] and count = ref 0 in
+    let out = ref [] and count = ref 0 and seen = Hashtbl.create 16 in
     let rec go (x : cand) depth =
+      (* a configuration reached before is not explored again: hidden steps
+         that go round (the printed loop spinning on an object) end *)
+      let k = key x in
+      if not (Hashtbl.mem seen k) then begin
+      Hashtbl.replace seen k ();
       out := x :: !out;
       incr count;
       if !count > 100 * st.bound then
         reject n "agent %s: the hidden steps before this line go on past the judge's search bound" ag.name;
-      if x.owed = [] && depth < 10_000 then
+      if x.owed = [] && depth < 10_000 then begin
+        (* the rules enabled here include the shown ones (Handle, a
+           behaviour step), whose bodies change the shared data: undone,
+           as their lines come later *)
+        let saved = save_cells x.c in
+        let next = M.step st.params x.c in
+        restore_cells saved;
         List.iter (fun (l, c') ->
             if hidden l then begin
               let (c', evs) = settle c' in
               go { c = c'; owed = owed_of ag.name (Mc.action_name l) evs } (depth + 1)
-            end) (M.step st.params x.c) in
+            end) next
+      end
+      end in
     List.iter (fun x -> go x 0) cands;
     merge st n (List.rev !out)
   end
@@ -253,20 +278,30 @@ let agent_line st n ag (ev : Trace.event) =
        ag.cands <- merge st n kept)
   | _ ->
     let cands = expand st ag n ag.cands in
-    let alternatives = ref [] in
+    let alternatives = ref [] and after = ref [] in
     let kept = List.concat_map (fun x ->
         if x.owed <> [] then begin
           (match x.owed with (a, b, _) :: _ -> alternatives := show_body a b :: !alternatives | [] -> ());
           []
         end else
-          List.filter_map (fun (l, c') ->
+        begin
+          (* each candidate's rule runs its body on the shared data: undone
+             after it, and the data after the first rule that explains the
+             line put back at the end *)
+          let saved = save_cells x.c in
+          let matched = List.filter_map (fun (l, c') ->
               let (c', evs) = settle c' in
               let e = expected ag ~before:x.c c' l evs in
               if e = ev then Some { c = c'; owed = owed_of ag.name (Mc.action_name l) evs }
               else begin
                 if not (st.level = Observable && hidden l) then alternatives := show_event e :: !alternatives;
                 None
-              end) (M.step st.params x.c)) cands in
+              end) (M.step st.params x.c) in
+          if matched <> [] && !after = [] then after := List.map (fun ((cell : E.cell), _) -> (cell, cell.v)) saved;
+          restore_cells saved;
+          matched
+        end) cands in
+    restore_cells !after;
     (match kept with
      | [] ->
        reject n "agent %s: %s" ag.name
