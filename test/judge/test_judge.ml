@@ -128,11 +128,12 @@ let expected_accepted () =
    it applies to with JSREF_LONG=1, as make conformance runs it). *)
 let per_kind = if Sys.getenv_opt "JSREF_LONG" = Some "1" then max_int else 3
 
-let tampered_rejected level_traces () =
+let tampered_rejected ?(not_here = []) level_traces () =
   let traces = Array.of_list (level_traces ()) in
   let n = Array.length traces in
   let tried = ref 0 and failures = ref [] and kinds_applied = ref 0 in
   List.iteri (fun ki (k : Tamper.t) ->
+      if not (List.mem k.name not_here) then
       let applied = ref 0 and i = ref 0 in
       while !applied < per_kind && !i < n do
         let (x, good) = traces.((ki * 7 + !i) mod n) in
@@ -260,6 +261,14 @@ let observable = lazy (
       if l = [] then Alcotest.failf "%s --level observable: no trace (status %d): %s" x.v.name status err;
       (x, l)) (Lazy.force vecs))
 
+(* A kind of tampering that can leave a valid observable trace: two
+   adjacent shown steps of one agent swapped (a handle and a behaviour
+   step) may be the same run with the percept notified in the middle of an
+   iteration, its hidden Transfer one iteration later (found with
+   JSREF_LONG=1 on vectors 006 and 061); a full trace's transfer line pins
+   the order. *)
+let observable_valid = [ "loop steps of one agent swapped" ]
+
 let observable_accepted () =
   List.iter (fun (x, l) ->
       (match Yojson.Safe.from_string (List.hd l) with
@@ -293,7 +302,7 @@ let () =
     "observable", [
       Alcotest.test_case "every vector's run at the observable level is accepted" `Quick observable_accepted;
       Alcotest.test_case "tampered observable traces rejected at a located line" `Quick
-        (tampered_rejected (fun () -> Lazy.force observable));
+        (tampered_rejected ~not_here:observable_valid (fun () -> Lazy.force observable));
       Alcotest.test_case "a loop step's line in an observable trace rejected" `Quick observable_with_loop_step;
     ];
   ]
