@@ -59,7 +59,7 @@ let cmd =
                     ~doc:"Also write the generated TLA+ modules into DIR.") in
   Cmd.v (Cmd.info "validate" ~doc:"Check traces: the format, agents, literals and messages in OCaml, then each agent against spec/AgentLoop.tla with TLC."
            ~man:[`S Manpage.s_description;
-                 `P "First checks in OCaml what TLC does not see: the format (version 1, \
+                 `P "First checks in OCaml what TLC does not see: the format (version 2 or 1, \
                      every field of the right type), the agents against the header, step \
                      numbers, the literals (a dequeue carries the percept notified with its \
                      seq, a handle the percept dequeued, a delivery the content sent), \

@@ -34,7 +34,7 @@ type verdict =
       (** the trace line of the first step the spec does not take *)
   | Cannot of { agent : string; line : int; reason : string }
   | Invalid of { line : int; message : string }
-      (** not a trace of version 1, or a fact TLC does not see is wrong: the
+      (** not a trace of version 1 or 2 (the reader of [Trace]), or a fact TLC does not see is wrong: the
           strict reading of [Trace.read_located] and the checks of
           {!Trace_check} (agents, steps, literals, messages across agents, the
           O2A capacity), made before TLC runs *)

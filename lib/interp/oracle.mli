@@ -52,7 +52,7 @@ val run_vector :
     - its exit status must be 0, or 1 exactly when its trace records a
       run-time error (D15); a signal or any other status fails;
     - its trace's first line must be a header of format ["jadescript-ref"]
-      version 1, equal to the expected header (field order aside);
+      (version 2, as the expected traces are), equal to the expected header (field order aside);
     - its events must equal the expected ones, in order, [step] aside.
     The trace is read one line at a time, each line up to 1 MB, so memory
     stays bounded by the expected trace whatever the implementation writes;

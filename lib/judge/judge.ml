@@ -81,6 +81,9 @@ type st = {
       (* per receiver, the platform's answers to it not yet delivered (its
          agents answer when they get to it: in their order, not in the
          order of the agents' sends) *)
+  mutable from_destroy : E.message list;
+      (* the messages of on destroy, which a run that ended need not have
+         delivered (D26), told apart by identity *)
   mutable ncreated : int;
   mutable lines : int;
 }
@@ -192,6 +195,18 @@ let merge st n cands =
     reject n "more than %d configurations of the agent explain the trace so far (the judge's search bound, --bound)" st.bound;
   out
 
+(* The properties of the agent and of its active behaviours as they are
+   (their cells' values), to be put back. A body that changes a list or a
+   map in place is not undone so. *)
+let save_cells (c : M.t) =
+  let out = ref [] in
+  let add tbl = Syntax.Strtbl.iter (fun _ (cell : E.cell) -> out := (cell, cell.v) :: !out) tbl in
+  add c.world.props;
+  List.iter (fun (i : E.beh Mc.instance) -> add i.beh.bprops) c.active;
+  !out
+
+let restore_cells saved = List.iter (fun ((cell : E.cell), v) -> cell.v <- v) saved
+
 (* Every configuration a candidate may be in before its next line: itself
    and, in an observable trace, those hidden steps reach (a hidden step
    whose bodies record something, an error of a guard, stops there: its
@@ -199,25 +214,36 @@ let merge st n cands =
 let expand st ag n (cands : cand list) =
   if st.level = Full then cands
   else begin
-    let out = ref [] and count = ref 0 in
+    let out = ref [] and count = ref 0 and seen = Hashtbl.create 16 in
     let rec go (x : cand) depth =
+      (* a configuration reached before is not explored again: hidden steps
+         that go round (the printed loop spinning on an object) end *)
+      let k = key x in
+      if not (Hashtbl.mem seen k) then begin
+      Hashtbl.replace seen k ();
       out := x :: !out;
       incr count;
       if !count > 100 * st.bound then
         reject n "agent %s: the hidden steps before this line go on past the judge's search bound" ag.name;
-      if x.owed = [] && depth < 10_000 then
+      if x.owed = [] && depth < 10_000 then begin
+        (* the rules enabled here include the shown ones (Handle, a
+           behaviour step), whose bodies change the shared data: undone,
+           as their lines come later *)
+        let saved = save_cells x.c in
+        let next = M.step st.params x.c in
+        restore_cells saved;
         List.iter (fun (l, c') ->
             if hidden l then begin
               let (c', evs) = settle c' in
               go { c = c'; owed = owed_of ag.name (Mc.action_name l) evs } (depth + 1)
-            end) (M.step st.params x.c) in
+            end) next
+      end
+      end in
     List.iter (fun x -> go x 0) cands;
     merge st n (List.rev !out)
   end
 
 (* ------------------------------------------------------------- lines *)
-
-let receivers_known st r = find_agent st r <> None || List.mem r platform_agents
 
 (* The messages a matched send line posts: in flight to its receivers; to
    an absent one, owed as undeliverable by the sender; to a platform agent,
@@ -245,25 +271,37 @@ let agent_line st n ag (ev : Trace.event) =
           | o :: _ -> Printf.sprintf "the program writes %s here, not %s" o (show_event ev))
      | _ ->
        (match body, !posted with
-        | Trace.Send { receivers; _ }, Some msgs -> post st ag msgs receivers
+        | Trace.Send { receivers; _ }, Some msgs ->
+          if action = "destroy" then st.from_destroy <- msgs @ st.from_destroy;
+          post st ag msgs receivers
         | _ -> ());
        ag.cands <- merge st n kept)
   | _ ->
     let cands = expand st ag n ag.cands in
-    let alternatives = ref [] in
+    let alternatives = ref [] and after = ref [] in
     let kept = List.concat_map (fun x ->
         if x.owed <> [] then begin
           (match x.owed with (a, b, _) :: _ -> alternatives := show_body a b :: !alternatives | [] -> ());
           []
         end else
-          List.filter_map (fun (l, c') ->
+        begin
+          (* each candidate's rule runs its body on the shared data: undone
+             after it, and the data after the first rule that explains the
+             line put back at the end *)
+          let saved = save_cells x.c in
+          let matched = List.filter_map (fun (l, c') ->
               let (c', evs) = settle c' in
               let e = expected ag ~before:x.c c' l evs in
               if e = ev then Some { c = c'; owed = owed_of ag.name (Mc.action_name l) evs }
               else begin
                 if not (st.level = Observable && hidden l) then alternatives := show_event e :: !alternatives;
                 None
-              end) (M.step st.params x.c)) cands in
+              end) (M.step st.params x.c) in
+          if matched <> [] && !after = [] then after := List.map (fun ((cell : E.cell), _) -> (cell, cell.v)) saved;
+          restore_cells saved;
+          matched
+        end) cands in
+    restore_cells !after;
     (match kept with
      | [] ->
        reject n "agent %s: %s" ag.name
@@ -414,6 +452,8 @@ let destroy st n ag =
 
 let line st n (l : Trace.line) =
   st.lines <- st.lines + 1;
+  (* the lines are numbered 1, 2, 3... after the header (docs/trace-format.md) *)
+  if l.step <> st.lines - 1 then reject n "step %d, but this is line %d of the trace's events: the steps are 1, 2, 3..." l.step (st.lines - 1);
   let ag = match find_agent st l.agent with
     | Some a -> a
     | None -> reject n "%s is not an agent of the run" l.agent in
@@ -471,7 +511,7 @@ let judge env ~agents ?(options = default_options) path =
                  agents = Array.of_list (List.map (fun (name, atype, args) ->
                      { name; atype; args; cands = []; created = false; destroyed = false;
                        names = Hashtbl.create 8; undeliverable = [] }) agents);
-                 inflight = Hashtbl.create 8; answers = Hashtbl.create 8; ncreated = 0; lines = 1 };
+                 inflight = Hashtbl.create 8; answers = Hashtbl.create 8; from_destroy = []; ncreated = 0; lines = 1 };
     () in
   let on_line n l = match !st with Some s -> line s n l | None -> () in
   match Trace.stream path ~header ~line:on_line with
@@ -489,7 +529,16 @@ let judge env ~agents ?(options = default_options) path =
                raise (Reject (s.lines + 1, Printf.sprintf "agent %s: the trace ends before the lines its on destroy owes" a.name));
              (match a.undeliverable with
               | (r, _) :: _ -> raise (Reject (s.lines + 1, Printf.sprintf "agent %s: its message to %s was never reported undeliverable (R5e)" a.name r))
-              | [] -> ())) s.agents
+              | [] -> ())) s.agents;
+         (* every message sent, but those of on destroy, was delivered;
+            every failure of ams too (D26, D43) *)
+         let left what tbl exempt =
+           Hashtbl.iter (fun r q -> Queue.iter (fun (sender, (m : E.message)) ->
+               if not (exempt m) then
+                 raise (Reject (s.lines + 1, Printf.sprintf "the run ended, but %s %s %s from %s to %s was never delivered (D26)"
+                                  what m.perf (V.to_literal m.content) sender r))) q) tbl in
+         left "the message" s.inflight (fun m -> List.memq m s.from_destroy);
+         left "the platform's answer" s.answers (fun _ -> false)
        end
      with
      | () -> Accepted { lines = s.lines; complete; cut; level = s.level }

@@ -177,8 +177,8 @@ let without_step = function
 (* Reading is strict (docs/trace-format.md, "What validate checks"): every
    field of the right JSON type, no field the format does not have, no field
    twice, integers in the language's 32-bit range, the [action] field the
-   one of the event, the header of version 1 with known values. A bad value
-   is never read as 0 or "" (D25: version 1 is closed). *)
+   one of the event, the header of version 1 or 2 with known values. A bad
+   value is never read as 0 or "" (D25: the format is closed). *)
 
 exception Bad of string
 

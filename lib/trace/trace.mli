@@ -119,7 +119,8 @@ val is_header : Yojson.Safe.t -> bool
 (** Is this JSON value a trace header (its [trace] field)? *)
 
 val version : int
-(** The version of the format this module reads and writes: 1. *)
+(** The version of the format this module writes: 2 (it reads 1 and 2; a
+    header of version 1 has no [level] and is read as ["full"]). *)
 
 val header_version : Yojson.Safe.t -> Yojson.Safe.t option
 (** [Some v] when the value is a jadescript-ref header ([trace] is
@@ -176,7 +177,7 @@ val fold_file : string -> ('a -> int -> Yojson.Safe.t -> 'a) -> 'a -> 'a
 val read_located : string -> (header * (int * line) list, int * string) result
 (** A whole trace, strictly read: its header (the first non-blank line) and
     its lines with their line numbers; [Error (line, message)] on the first
-    line that is not JSON, not a header of version 1 with known values, or not
+    line that is not JSON, not a header of version 1 or 2 with known values, or not
     an event with every field of the right type (docs/trace-format.md). *)
 
 val stream : string -> header:(header -> unit) -> line:(int -> line -> unit) -> (bool, int * string) result

@@ -1,0 +1,308 @@
+(* The judge (lib/judge; docs/trace-format.md, "Judging a run"): the program
+   explains every line of every conformance vector's expected trace, and of
+   the same runs written at the observable level; it rejects, each at a
+   located line, every tampered trace (test/support/tamper.ml), the trace of
+   a defective implementation (lib/defects) where it differs in a way the
+   program cannot explain, and a trace copied from another program. *)
+
+open Test_support
+open Support
+
+module O = Interp.Oracle
+
+let write_lines path lines =
+  let oc = open_out_bin path in
+  List.iter (fun l -> output_string oc l; output_char oc '\n') lines;
+  close_out oc
+
+let lines_of path =
+  List.filter (fun l -> String.trim l <> "") (String.split_on_char '\n' (read_file path))
+
+let with_lines lines k =
+  let f = Filename.temp_file "jsref-judge" ".jsonl" in
+  write_lines f lines;
+  Fun.protect ~finally:(fun () -> Sys.remove f) (fun () -> k f)
+
+(* ------------------------------------------------------------ vectors *)
+
+type vec = {
+  v : O.vector;
+  env : Typing.Tenv.t;
+  agents : (string * string * Interp.Value.t list) list;
+  options : Judge.options;
+  expected : string list;   (* the expected trace's lines, header first *)
+}
+
+(* The value of option [opt] in a vector's args. *)
+let rec opt name = function
+  | o :: v :: _ when o = name -> Some v
+  | _ :: r -> opt name r
+  | [] -> None
+
+let rec all_opts name = function
+  | o :: v :: r when o = name -> v :: all_opts name r
+  | _ :: r -> all_opts name r
+  | [] -> []
+
+(* The program and the agents of a vector, as run takes them
+   (bin/cmd_run.ml, agent_spec). *)
+let load_vec (v : O.vector) =
+  (* the files as run names them, from the vector's folder (errors name
+     them so) *)
+  let cwd = Sys.getcwd () in
+  Sys.chdir v.dir;
+  let parsed = Fun.protect ~finally:(fun () -> Sys.chdir cwd) (fun () -> List.map Syntax.Parse.file v.files) in
+  let env, diags = Typing.check parsed in
+  if List.exists (fun d -> d.Syntax.Diag.severity = Syntax.Diag.Error) diags then
+    Alcotest.failf "%s: the program does not check" v.name;
+  let agents = List.map (fun spec ->
+      match String.split_on_char ':' spec with
+      | name :: ty :: rest ->
+        let args = String.concat ":" rest in
+        (name, ty, List.map (fun a -> match List.assoc_opt a (Interp.Host.objects ()) with
+             | Some x -> x
+             | None -> Interp.Eval.literal_value env (Syntax.Parse.expr ~file:"--agent" a))
+             (Interp.Host.split_args args))
+      | _ -> Alcotest.failf "%s: --agent %s" v.name spec) (all_opts "--agent" v.args) in
+  let fuel = match opt "--fuel" v.args with Some f -> int_of_string f | None -> Judge.default_options.fuel in
+  { v; env; agents; options = { Judge.default_options with fuel };
+    expected = lines_of (Filename.concat v.dir "expected.jsonl") }
+
+let vecs = lazy (List.map load_vec (O.load (Filename.concat root "conformance")))
+
+let judge (x : vec) lines = with_lines lines (fun f -> Judge.judge x.env ~agents:x.agents ~options:x.options f)
+
+let show = function
+  | Judge.Accepted { lines; _ } -> Printf.sprintf "accepted (%d lines)" lines
+  | Judge.Rejected { line; message } -> Printf.sprintf "rejected at line %d: %s" line message
+
+(* The first line (of the file: the header is 1) where two traces differ;
+   [None] when equal. *)
+let first_difference a b =
+  let rec go i a b = match a, b with
+    | [], [] -> None
+    | x :: a', y :: b' -> if String.equal x y then go (i + 1) a' b' else Some i
+    | _ -> Some i in
+  go 1 a b
+
+(* The judge must reject [tampered], a trace differing from the explained trace
+   [good] first at line [d]: at a line of the file (or the one after its
+   last), never before [d], since every line before it is explained. *)
+exception Bad of string
+let refuse fmt = Printf.ksprintf (fun m -> raise (Bad m)) fmt
+
+let rejected_at what (x : vec) ~good tampered =
+  let d = match first_difference good tampered with Some d -> d | None -> refuse "%s: not changed" what in
+  match judge x tampered with
+  | Judge.Accepted _ as a -> refuse "%s: %s" what (show a)
+  | Judge.Rejected { line; message } ->
+    if line < d || line > List.length tampered + 1 then
+      refuse "%s: rejected at line %d, but the lines differ first at line %d (of %d): %s"
+        what line d (List.length tampered) message;
+    if message = "" then refuse "%s: rejected without a reason" what;
+    line
+
+let rejected_located what x ~good b =
+  match rejected_at what x ~good b with
+  | line -> line
+  | exception Bad m -> Alcotest.fail m
+
+(* ------------------------------------------------- (a) accepted *)
+
+let expected_accepted () =
+  let vs = Lazy.force vecs in
+  Alcotest.(check bool) "there are vectors" true (List.length vs >= 80);
+  List.iter (fun x ->
+      match judge x x.expected with
+      | Judge.Accepted { lines; complete = _; cut; level } ->
+        Alcotest.(check int) (x.v.name ^ ": every line read") (List.length x.expected) lines;
+        Alcotest.(check bool) (x.v.name ^ ": not cut") false cut;
+        Alcotest.(check string) (x.v.name ^ ": level") "full" (Judge.string_of_level level)
+      | r -> Alcotest.failf "%s: %s" x.v.name (show r)) vs
+
+(* ------------------------------------------------- (b) tampered *)
+
+(* Each kind of tampering on the first few traces it applies to (taken in
+   turn from a different starting vector for each kind, with its own seed),
+   so that every kind is tried on several traces in seconds; every trace
+   it applies to with JSREF_LONG=1, as make conformance runs it). *)
+let per_kind = if Sys.getenv_opt "JSREF_LONG" = Some "1" then max_int else 3
+
+let tampered_rejected ?(not_here = []) level_traces () =
+  let traces = Array.of_list (level_traces ()) in
+  let n = Array.length traces in
+  let tried = ref 0 and failures = ref [] and kinds_applied = ref 0 in
+  List.iteri (fun ki (k : Tamper.t) ->
+      if not (List.mem k.name not_here) then
+      let applied = ref 0 and i = ref 0 in
+      while !applied < per_kind && !i < n do
+        let (x, good) = traces.((ki * 7 + !i) mod n) in
+        let seed = ki + !i in
+        (match k.apply (Random.State.make [| seed |]) good with
+         | None -> ()
+         | Some tampered ->
+           incr applied; incr tried;
+           match rejected_at (Printf.sprintf "%s, %s (seed %d)" x.v.name k.name seed) x ~good tampered with
+           | _ -> ()
+           | exception Bad m -> failures := m :: !failures);
+        incr i
+      done;
+      if !applied > 0 then incr kinds_applied) Tamper.all;
+  (match List.rev !failures with
+   | [] -> ()
+   | fs -> Alcotest.failf "%d of %d tampered traces not rejected so:\n%s" (List.length fs) !tried
+             (String.concat "\n" fs));
+  Printf.printf "%d tampered traces rejected, %d kinds of %d applied\n" !tried !kinds_applied (List.length Tamper.all);
+  Alcotest.(check bool) "most kinds apply" true (!kinds_applied * 4 >= List.length Tamper.all * 3)
+
+let full_traces () = List.map (fun x -> (x, x.expected)) (Lazy.force vecs)
+
+(* ------------------------------------------------- runs of the CLI *)
+
+(* The vector run by jadescript-ref with [extra] options: its trace. *)
+let run_vector (x : vec) extra =
+  let tr = Filename.temp_file "jsref-judge-run" ".jsonl" in
+  let cmd = Printf.sprintf "cd %s && %s run %s %s --events events.jsonl --trace %s %s"
+      (Filename.quote x.v.dir) exe (String.concat " " (List.map Filename.quote x.v.files))
+      (String.concat " " (List.map Filename.quote x.v.args)) (Filename.quote tr) extra in
+  let (status, _, err) = run_command cmd in
+  let l = if Sys.file_exists tr then lines_of tr else [] in
+  (try Sys.remove tr with Sys_error _ -> ());
+  (status, err, l)
+
+(* ------------------------------------------------- (c) defects *)
+
+(* A defect is run on the vectors (those of its ruling first) up to the first whose trace
+   differs from the expected one; the judge must reject that trace, never
+   before the first difference, unless the defect changes only what the
+   judge is not given: the schedule (R6 revised: the agents' rules in any
+   order) or the host's own operations (the trace of a notify whose
+   override was ignored is that of a host that gave none: the judge has no
+   events file). These are named here, each with its reason; any other
+   defect it lets through fails the test. *)
+let not_the_program = [
+  "rounds-reversed", "R6: any order of the agents' rules is a schedule";
+  "seed-ignored", "R6: any order of the agents' rules is a schedule";
+  "sends-reversed", "R6, R5e: messages to different receivers arrive in any order";
+  "override-ignored", "the host's notify: a notify with no override";
+  "override-zero-is-none", "the host's notify: a notify with no override";
+]
+
+let defects_caught () =
+  let vs = Lazy.force vecs in
+  let caught = ref [] and passed = ref [] and wrong = ref [] and unseen = ref [] in
+  List.iter (fun (d : Defects.t) ->
+      if d.can_differ then begin
+        let rec go = function
+          | [] -> unseen := d.name :: !unseen
+          | x :: rest ->
+            let (_, _, l) = run_vector x ("--defect " ^ d.name) in
+            if l = [] || first_difference x.expected l = None then go rest
+            else match rejected_at (d.name ^ " on " ^ x.v.name) x ~good:x.expected l with
+              | line -> caught := (d.name, x.v.name, line) :: !caught
+              | exception Bad m ->
+                if List.mem_assoc d.name not_the_program && (match judge x l with Judge.Accepted _ -> true | _ -> false)
+                then passed := (d.name, x.v.name) :: !passed
+                else wrong := m :: !wrong in
+        (* the vectors of the defect's ruling first (fewer runs) *)
+        let (mine, others) = List.partition (fun x -> List.mem d.ruling x.v.rulings) vs in
+        go (mine @ others)
+      end) Defects.all;
+  List.iter (fun (d, v, line) -> Printf.printf "caught   %-30s on %s at line %d\n" d v line) (List.rev !caught);
+  List.iter (fun (d, v) -> Printf.printf "accepted %-30s on %s (%s)\n" d v (List.assoc d not_the_program)) (List.rev !passed);
+  List.iter (fun d -> Printf.printf "no vector shows %s\n" d) (List.rev !unseen);
+  let shown = List.length (List.filter (fun (d : Defects.t) -> d.can_differ) Defects.all) - List.length !unseen in
+  Printf.printf "the judge catches %d of the %d defects the vectors show\n" (List.length !caught) shown;
+  (match !wrong with
+   | [] -> ()
+   | ws -> Alcotest.failf "defects the judge does not reject where it must:\n%s" (String.concat "\n" (List.rev ws)));
+  Alcotest.(check int) "caught + not the program's = shown" shown (List.length !caught + List.length !passed);
+  Alcotest.(check bool) "at least 40 defects shown" true (shown >= 40)
+
+(* ------------------------------------------------- (d) copied traces *)
+
+(* A cheating implementation writes another program's expected trace (the
+   next vector's whose program differs in more than comments): as it is (the header is not this program's: line 1), or under this run's own
+   header (the first line the program cannot explain). *)
+let copied_rejected () =
+  let vs = Array.of_list (Lazy.force vecs) in
+  let n = Array.length vs in
+  let pairs = ref 0 in
+  Array.iteri (fun i x ->
+      (* the next vector of another program (vectors with the same program
+         and other host events are runs of one program) *)
+      let text (v : vec) =
+        List.concat_map (fun f -> List.filter (fun l -> let l = String.trim l in l <> "" && l.[0] <> '#')
+                            (String.split_on_char '\n' (read_file (Filename.concat v.v.dir f)))) v.v.files in
+      let rec other j = let y = vs.(j mod n) in if text y <> text x then y else other (j + 1) in
+      let y = other (i + 1) in
+      (* as it is: rejected, at the header when it is not this run's *)
+      if first_difference x.expected y.expected <> None then begin
+        let line = rejected_located (Printf.sprintf "%s copying %s" x.v.name y.v.name) x ~good:x.expected y.expected in
+        if List.hd x.expected <> List.hd y.expected && line <> 1 then
+          Alcotest.failf "%s copying %s: rejected at line %d, not at its header" x.v.name y.v.name line
+      end;
+      match x.expected, y.expected with
+      | h :: _, _ :: ylines ->
+        let bad = h :: ylines in
+        if first_difference x.expected bad <> None then begin
+          incr pairs;
+          ignore (rejected_located (Printf.sprintf "%s copying %s under its own header" x.v.name y.v.name) x
+                    ~good:x.expected bad)
+        end
+      | _ -> Alcotest.failf "%s: an empty trace" x.v.name) vs;
+  Alcotest.(check bool) "copies judged" true (!pairs >= n - 1)
+
+(* ------------------------------------------------- (e) observable *)
+
+let observable = lazy (
+  List.map (fun x ->
+      let (status, err, l) = run_vector x "--level observable" in
+      if l = [] then Alcotest.failf "%s --level observable: no trace (status %d): %s" x.v.name status err;
+      (x, l)) (Lazy.force vecs))
+
+(* A kind of tampering that can leave a valid observable trace: two
+   adjacent shown steps of one agent swapped (a handle and a behaviour
+   step) may be the same run with the percept notified in the middle of an
+   iteration, its hidden Transfer one iteration later (found with
+   JSREF_LONG=1 on vectors 006 and 061); a full trace's transfer line pins
+   the order. *)
+let observable_valid = [ "loop steps of one agent swapped" ]
+
+let observable_accepted () =
+  List.iter (fun (x, l) ->
+      (match Yojson.Safe.from_string (List.hd l) with
+       | `Assoc f -> Alcotest.(check (option string)) (x.v.name ^ ": header level") (Some "observable")
+                       (match List.assoc_opt "level" f with Some (`String s) -> Some s | _ -> None)
+       | _ -> Alcotest.failf "%s: no header" x.v.name);
+      (* it leaves out lines of the full trace, and keeps the rest *)
+      Alcotest.(check bool) (x.v.name ^ ": shorter than the full trace") true (List.length l < List.length x.expected);
+      match judge x l with
+      | Judge.Accepted { level = Judge.Observable; cut = false; lines; _ } ->
+        Alcotest.(check int) (x.v.name ^ ": every line read") (List.length l) lines
+      | r -> Alcotest.failf "%s (observable): %s" x.v.name (show r)) (Lazy.force observable)
+
+(* The full trace's loop steps, written into an observable trace, are lines
+   the format says it has not. *)
+let observable_with_loop_step () =
+  let (x, l) = List.hd (Lazy.force observable) in
+  let step = List.find (fun s -> match Yojson.Safe.from_string s with
+      | `Assoc f -> List.assoc_opt "event" f = Some (`String "dequeue") | _ -> false) x.expected in
+  let bad = match l with h :: c :: rest -> h :: c :: step :: rest | _ -> Alcotest.fail "short" in
+  ignore (rejected_located "a dequeue line in an observable trace" x ~good:l bad)
+
+let () =
+  Alcotest.run "judge" [
+    "full", [
+      Alcotest.test_case "every vector's expected trace is accepted" `Quick expected_accepted;
+      Alcotest.test_case "tampered traces rejected at a located line" `Quick (tampered_rejected full_traces);
+      Alcotest.test_case "traces of defective implementations rejected where they differ" `Quick defects_caught;
+      Alcotest.test_case "a trace copied from another program rejected" `Quick copied_rejected;
+    ];
+    "observable", [
+      Alcotest.test_case "every vector's run at the observable level is accepted" `Quick observable_accepted;
+      Alcotest.test_case "tampered observable traces rejected at a located line" `Quick
+        (tampered_rejected ~not_here:observable_valid (fun () -> Lazy.force observable));
+      Alcotest.test_case "a loop step's line in an observable trace rejected" `Quick observable_with_loop_step;
+    ];
+  ]
