@@ -127,7 +127,16 @@ and run_vectors impl vectors update only timeout keep judge =
              incr failed;
              Printf.printf "%-44s %-14s FAIL: %s\n%!" v.name (String.concat "," v.rulings) m)
         | None ->
-          match O.run_vector ~spawn ?timeout ?keep ~impl v with
+          (* a fresh directory with only the program and the events: the
+             expected trace is not where the implementation runs *)
+          let workdir = Judged.fresh_dir () in
+          let outcome =
+            Fun.protect ~finally:(fun () -> Judged.remove_tree workdir) (fun () ->
+                List.iter (fun f ->
+                    Judged.write_file (Filename.concat workdir (Filename.basename f)) (Judged.read_file (Filename.concat v.dir f)))
+                  (v.files @ (if Sys.file_exists (Filename.concat v.dir "events.jsonl") then [ "events.jsonl" ] else []));
+                O.run_vector ~spawn ?timeout ?keep ~workdir ~impl v) in
+          match outcome with
           | O.Pass -> Printf.printf "%-44s %-14s pass\n%!" v.name (String.concat "," v.rulings)
           | O.Diverge { index; expected; got } ->
             incr failed;

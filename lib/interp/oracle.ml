@@ -199,8 +199,26 @@ let system_under_timeout ~timeout ~errs cmd =
   Sys.command (Printf.sprintf "timeout --kill-after=5 %g /bin/sh -c %s > /dev/null 2> %s"
                  timeout (Filename.quote cmd) (Filename.quote errs))
 
-let run_vector ?(spawn = system_under_timeout) ?timeout ?keep ~impl v =
+let run_vector ?(spawn = system_under_timeout) ?timeout ?keep ?workdir ~impl v =
   let timeout = match timeout with Some t -> t | None -> default_timeout v in
+  (* the expected trace is read before the implementation runs: what it
+     might write there meanwhile changes nothing *)
+  let expected =
+    let path = Filename.concat v.dir "expected.jsonl" in
+    match
+      let header = match String.split_on_char '\n' (read_file path) with
+        | h :: _ ->
+          (match Json_read.of_string h with
+           | Ok j -> j
+           | Error e -> failwith (Printf.sprintf "%s:1:%d: error: %s" path e.column e.message))
+        | [] -> failwith (path ^ ": empty") in
+      (header, read_trace path)
+    with
+    | r -> Ok r
+    | exception (Failure m | Sys_error m) -> Error m in
+  match expected with
+  | Error m -> Failed ("the vector is broken: " ^ m)
+  | Ok (expected_header, expected) ->
   let trace = Filename.temp_file "jsref-conform" ".jsonl" in
   let errs = Filename.temp_file "jsref-conform" ".err" in
   Fun.protect ~finally:(fun () ->
@@ -213,31 +231,19 @@ let run_vector ?(spawn = system_under_timeout) ?timeout ?keep ~impl v =
        | None -> ());
       List.iter (fun f -> try Sys.remove f with Sys_error _ -> ()) [ trace; errs ]) (fun () ->
       let cmd = Printf.sprintf "cd %s && %s %s %s --events events.jsonl --trace %s"
-          (Filename.quote v.dir) impl
+          (Filename.quote (Option.value workdir ~default:v.dir)) impl
           (String.concat " " (List.map Filename.quote v.files))
           (String.concat " " (List.map Filename.quote v.args))
           (Filename.quote trace) in
       let code = spawn ~timeout ~errs cmd in
       let because m = match first_line errs with "" -> m | l -> m ^ " (its stderr: " ^ l ^ ")" in
-      match
-        let path = Filename.concat v.dir "expected.jsonl" in
-        let header = match String.split_on_char '\n' (read_file path) with
-          | h :: _ ->
-            (match Json_read.of_string h with
-             | Ok j -> j
-             | Error e -> failwith (Printf.sprintf "%s:1:%d: error: %s" path e.column e.message))
-          | [] -> failwith (path ^ ": empty") in
-        (header, read_trace path)
-      with
-      | exception (Failure m | Sys_error m) -> Failed ("the vector is broken: " ^ m)
-      | (expected_header, expected) ->
-        if code <> 0 && code <> 1 then Failed (because ("the implementation " ^ describe_status ~timeout code))
-        else match compare_stream ~expected_header ~expected trace with
-          | exception (Sys_error m) -> Failed (because m)
-          | `Failed m -> Failed (because m)
-          | `Diverge (index, expected, got) -> Diverge { index; expected; got }
-          | `Pass errors ->
-            (* D15: status 1 exactly when the run recorded a run-time error *)
-            if code = 1 && not errors then Failed (because "the implementation exited with status 1, but its trace records no run-time error")
-            else if code = 0 && errors then Failed "the implementation exited with status 0, but its trace records a run-time error (D15: status 1)"
-            else Pass)
+      if code <> 0 && code <> 1 then Failed (because ("the implementation " ^ describe_status ~timeout code))
+      else match compare_stream ~expected_header ~expected trace with
+        | exception (Sys_error m) -> Failed (because m)
+        | `Failed m -> Failed (because m)
+        | `Diverge (index, expected, got) -> Diverge { index; expected; got }
+        | `Pass errors ->
+          (* D15: status 1 exactly when the run recorded a run-time error *)
+          if code = 1 && not errors then Failed (because "the implementation exited with status 1, but its trace records no run-time error")
+          else if code = 0 && errors then Failed "the implementation exited with status 0, but its trace records a run-time error (D15: status 1)"
+          else Pass)

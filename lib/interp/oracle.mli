@@ -44,9 +44,13 @@ type outcome =
 
 val run_vector :
   ?spawn:(timeout:float -> errs:string -> string -> int) ->
-  ?timeout:float -> ?keep:string -> impl:string -> vector -> outcome
-(** Runs [impl FILES ARGS --events events.jsonl --trace TMP] in the vector's
-    folder and judges what it did (docs/trace-format.md, "Conformance"):
+  ?timeout:float -> ?keep:string -> ?workdir:string -> impl:string -> vector -> outcome
+(** Runs [impl FILES ARGS --events events.jsonl --trace TMP] in [workdir]
+    (default: the vector's folder; [jadescript-ref conform] gives a fresh
+    directory holding only the program files and the events, so that no
+    expected trace lies beside the implementation) and judges what it did
+    (docs/trace-format.md, "Conformance"). The expected trace is read before
+    the implementation starts:
     - it must end within [timeout] seconds (default: 30 s plus 0.05 s per
       expected event), else it is killed and fails;
     - its exit status must be 0, or 1 exactly when its trace records a

@@ -458,6 +458,11 @@ let conform_judged () =
   let copy_here = fake "copy-here" "cp expected.jsonl \"$out\"" in
   let (status, out) = conform ("--judge --impl " ^ copy_here ^ " 047-r6-ping-pong") in
   Alcotest.(check int) ("copying the expected trace beside the program fails:\n" ^ out) 1 status;
+  (* and when traces are compared too: the implementation runs in a fresh
+     directory, not the vector's *)
+  let (status, out) = conform ("--impl " ^ copy_here ^ " 047-r6-ping-pong 001-r3b-priority-order") in
+  Alcotest.(check int) ("copying the expected trace beside the program fails, compared:\n" ^ out) 1 status;
+  Alcotest.(check bool) ("... on every vector:\n" ^ out) true (says out "2 vectors: 0 pass, 2 fail");
   let other = Filename.concat (Filename.concat dir "048-r6-three-agent-ring") "expected.jsonl" in
   let copy_other = fake "copy-other" (Printf.sprintf "cp %s \"$out\"" (Filename.quote other)) in
   let (status, out) = conform ("--judge --impl " ^ copy_other ^ " 047-r6-ping-pong") in
