@@ -236,7 +236,7 @@
     const e = JSON.parse(C.events[C.eventIndex++]);
     if (e.notify !== undefined) both("host", JSON.stringify({ kind: "notify", agent: e.agent, text: e.notify, priority: e.priority }));
     else if (e.put !== undefined) both("host", JSON.stringify({ kind: "put", agent: e.agent, text: e.put }));
-    else if (e.message !== undefined) both("host", JSON.stringify({ kind: "message", agent: e.agent, text: e.message, performative: e.performative || "inform" }));
+    else if (e.message !== undefined) both("host", JSON.stringify({ kind: "message", agent: e.agent, text: e.message, performative: e.performative || "inform", during: e.during || "" }));
     else if (e.run === "idle") both("runIdle", 100000);
     else if (typeof e.run === "number") both("rounds", e.run);
     else if (e.run && typeof e.run.rules === "number") both("rules", e.run.rules);

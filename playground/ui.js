@@ -510,7 +510,7 @@
     const e = JSON.parse(line);
     if (e.notify !== undefined) return host({ kind: "notify", agent: e.agent, text: e.notify, priority: e.priority });
     if (e.put !== undefined) return host({ kind: "put", agent: e.agent, text: e.put });
-    if (e.message !== undefined) return host({ kind: "message", agent: e.agent, text: e.message, performative: e.performative || "inform" });
+    if (e.message !== undefined) return host({ kind: "message", agent: e.agent, text: e.message, performative: e.performative || "inform", during: e.during || "" });
     if (e.run === "idle") return act("runIdle", 100000);
     if (typeof e.run === "number") return act("rounds", e.run);
     if (e.run && typeof e.run.rules === "number") return act("rules", e.run.rules);

@@ -78,7 +78,8 @@ let () =
               let agent = str_member "agent" j in
               let h = match str_member "kind" j with
                 | "put" -> Session.Put { agent; obj = str_member "text" j }
-                | "message" -> Session.Message { agent; perf = str_member "performative" j; content = str_member "text" j }
+                | "message" -> Session.Message { agent; perf = str_member "performative" j; content = str_member "text" j;
+                                               during = str_member "during" j = "step" }
                 | _ -> Session.Notify { agent; percept = str_member "text" j; priority = int_member "priority" j } in
               match Session.host t h with
               | Ok () -> state t []
