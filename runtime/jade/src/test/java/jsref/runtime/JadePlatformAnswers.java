@@ -142,7 +142,10 @@ public final class JadePlatformAnswers {
     f = waitFor("probe", m -> "conv-nobody".equals(m.getConversationId()), 2, 0);
     for (Got g : f) System.out.println("  " + describe(g.m()));
     check("exactly one answer to a message to nobody", f.size() == 1);
-    check("the answer had not arrived when send returned (asynchronous delivery)", atReturn == 0);
+    // Delivery is asynchronous: usually the answer has not arrived when send
+    // returns, but a delivery thread may win the race (a loaded machine can
+    // pause this thread right after send), so this is shown, not checked.
+    System.out.println("  answers already there when send returned: " + atReturn + " (usually 0: asynchronous delivery)");
     if (f.size() == 1) {
       ACLMessage a = f.get(0).m();
       check("it is a FAILURE", a.getPerformative() == ACLMessage.FAILURE);
