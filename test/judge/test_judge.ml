@@ -10,18 +10,6 @@ open Support
 
 module O = Interp.Oracle
 
-let write_lines path lines =
-  let oc = open_out_bin path in
-  List.iter (fun l -> output_string oc l; output_char oc '\n') lines;
-  close_out oc
-
-let lines_of path =
-  List.filter (fun l -> String.trim l <> "") (String.split_on_char '\n' (read_file path))
-
-let with_lines lines k =
-  let f = Filename.temp_file "jsref-judge" ".jsonl" in
-  write_lines f lines;
-  Fun.protect ~finally:(fun () -> Sys.remove f) (fun () -> k f)
 
 (* ------------------------------------------------------------ vectors *)
 

@@ -123,3 +123,16 @@ let tricky_text =
       (1, map utf8 (int_range 0x10000 0x10FFFF));
       (1, oneofl [ utf8 0xE9; utf8 0x2028; utf8 0xFEFF; utf8 0xFFFD; utf8 0x1F600 ]) ] in
   QCheck.make ~print:(Printf.sprintf "%S") (map (String.concat "") (list_size (int_bound 12) piece))
+
+let write_lines path lines =
+  let oc = open_out_bin path in
+  List.iter (fun l -> output_string oc l; output_char oc '\n') lines;
+  close_out oc
+
+let lines_of path =
+  List.filter (fun l -> String.trim l <> "") (String.split_on_char '\n' (read_file path))
+
+let with_lines lines k =
+  let f = Filename.temp_file "jsref-lines" ".jsonl" in
+  write_lines f lines;
+  Fun.protect ~finally:(fun () -> Sys.remove f) (fun () -> k f)

@@ -38,3 +38,12 @@ val tricky_text : string QCheck.arbitrary
 (** Valid UTF-8 texts for the escaping functions' round trips: any ASCII
     byte (control characters, NUL and DEL included), quotes, backslashes,
     and characters of 2, 3 and 4 bytes (U+2028, U+FEFF, U+FFFD among them). *)
+
+val write_lines : string -> string list -> unit
+(** Writes the lines to the file, each ended by a newline. *)
+
+val lines_of : string -> string list
+(** The file's lines that are not blank. *)
+
+val with_lines : string list -> (string -> 'a) -> 'a
+(** [with_lines lines k]: [k] on a temporary file holding [lines], removed after. *)
