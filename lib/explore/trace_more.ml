@@ -85,10 +85,29 @@ let show_effects = function
   | [] -> "none"
   | l -> String.concat ", " (List.map show_effect l)
 
-let check (_ : Trace.header) lines =
+let check (h : Trace.header) lines =
   (* per agent: the effects its running step declared (the orders
      allowed) and the effects its body events showed, with the step's line *)
   let open_steps : (string, int * Trace.effect list list * Trace.effect list) Hashtbl.t = Hashtbl.create 8 in
+  (* R5e, R6: a step's messages leave when the step ends. Per agent, the
+     line of its running step (its last line that is not a body line); per
+     receiver, the messages sent to it and not yet delivered, oldest first,
+     each with the sender and the line of the step that sent it; per agent,
+     the line at which a message of its running step was delivered, after
+     which that step can write nothing more. *)
+  let step_line : (string, int) Hashtbl.t = Hashtbl.create 8 in
+  let in_flight : (string, (string * int) Queue.t) Hashtbl.t = Hashtbl.create 8 in
+  let left : (string, int * string) Hashtbl.t = Hashtbl.create 8 in
+  let names = List.map fst h.agents in
+  let queue r = match Hashtbl.find_opt in_flight r with
+    | Some q -> q
+    | None -> let q = Queue.create () in Hashtbl.replace in_flight r q; q in
+  let body_line n agent what =
+    match Hashtbl.find_opt left agent with
+    | Some (at, receiver) ->
+      raise (Bad (Printf.sprintf "%d\000a %s of %s's step, but line %d delivered to %s a message that step sent: \
+                                  a step's messages leave when it ends (R5e, R6)" n what agent at receiver))
+    | None -> () in
   let arity : (string, int * int) Hashtbl.t = Hashtbl.create 8 in
   let close agent =
     match Hashtbl.find_opt open_steps agent with
@@ -112,6 +131,23 @@ let check (_ : Trace.header) lines =
       | Some _ -> () in
   match
     List.iter (fun (n, (l : Trace.line)) ->
+        (match l.event with
+         | Trace.Body { body; _ } ->
+           body_line n l.agent (Trace.event_name l.event);
+           (match body with
+            | Trace.Send { receivers; _ } ->
+              let at = Option.value (Hashtbl.find_opt step_line l.agent) ~default:0 in
+              List.iter (fun r -> if List.mem r names then Queue.push (l.agent, at) (queue r)) receivers
+            | _ -> ())
+         | Trace.Deliver { message = { from; _ }; _ } when List.mem from names ->
+           (match Queue.take_opt (queue l.agent) with
+            | Some (sender, at) when sender = from && Hashtbl.find_opt step_line sender = Some at ->
+              if not (Hashtbl.mem left sender) then Hashtbl.replace left sender (n, l.agent)
+            | _ -> ())
+         | _ -> ());
+        (match l.event with
+         | Trace.Body _ -> ()
+         | _ -> Hashtbl.replace step_line l.agent n; Hashtbl.remove left l.agent);
         match l.event with
         | Trace.Body { body = Trace.Activate b; _ } ->
           (match Hashtbl.find_opt open_steps l.agent with
