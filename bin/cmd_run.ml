@@ -46,8 +46,16 @@ let load files =
 let load_texts files =
   check (List.map (fun (f, text) -> match Parse.string ~file:f text with r -> Ok r | exception Diag.Failed d -> Error d) files)
 
-let agent_spec env spec =
-  let fail msg = prerr_endline (Printf.sprintf "--agent %s: error: %s" spec msg); raise (Stop 1) in
+(* Where an agent was given: an --agent option, or a line of an --agents file. *)
+type origin = Option of string | Line of string * int
+
+let where = function
+  | Option spec -> "--agent " ^ spec
+  | Line (file, n) -> Printf.sprintf "%s:%d:1" file n
+
+let agent_spec ?(origin : origin option) env spec =
+  let origin = Option.value origin ~default:(Option spec) in
+  let fail msg = prerr_endline (Printf.sprintf "%s: error: %s" (where origin) msg); raise (Stop 1) in
   match String.index_opt spec ':' with
   | None -> fail "expected NAME:TYPE[:ARG,...]"
   | Some i ->
@@ -74,6 +82,41 @@ let agent_spec env spec =
            | exception (Interp.Eval.Trap (_, m) | Interp.Eval.Link (_, m)) -> fail m)) (Interp.Host.split_args args) in
     (name, ty, values)
 
+(* --agents FILE: one agent per line, NAME:TYPE[:ARG,...] as --agent takes
+   it; blank lines and lines starting with # are left out. Read once, one
+   line at a time (a file, a pipe or a FIFO alike); a bad line is an error
+   at it. For runs of many agents, which a command line cannot hold. *)
+let agents_file env file =
+  let specs = ref [] in
+  (match Interp.Events.fold_lines file (fun () n line ->
+       match line with
+       | None ->
+         report_at file n 1 (Printf.sprintf "a line longer than %d bytes" Interp.Events.max_line); raise (Stop 1)
+       | Some l ->
+         let l = String.trim l in
+         if l = "" || l.[0] = '#' then `Continue ()
+         else begin
+           specs := (Line (file, n), agent_spec ~origin:(Line (file, n)) env l) :: !specs;
+           `Continue ()
+         end) () with
+   | () -> ()
+   | exception Sys_error m -> report_at file 1 1 ("cannot read the agents file: " ^ m); raise (Stop 1));
+  List.rev !specs
+
+(* The agents of --agent, then those of each --agents file, in order; names
+   unique. *)
+let all_agents env options files =
+  let specs = List.map (fun s -> (Option s, agent_spec env s)) options
+              @ List.concat_map (agents_file env) files in
+  let seen = Hashtbl.create 64 in
+  List.iter (fun (origin, (n, _, _)) ->
+      if Hashtbl.mem seen n then begin
+        prerr_endline (Printf.sprintf "%s: error: there is already an agent %s (agent names are unique)" (where origin) n);
+        raise (Stop 1)
+      end;
+      Hashtbl.replace seen n ()) specs;
+  List.map snd specs
+
 (* The events file, read once (a file, a pipe or a FIFO alike): every line
    is checked, and every bad one reported with its location, before
    anything runs; the good lines are kept for the run. *)
@@ -91,7 +134,7 @@ let flush_stdout_quietly () = try flush stdout with Sys_error _ -> close_out_noe
 let try_writes : (string -> unit) ref =
   ref (fun m -> prerr_endline ("jadescript-ref: error: " ^ m); raise (Stop 1))
 
-let run files agent_specs events_file trace_file seed max_steps variant fuel capacity max_memory defect reference level interleave =
+let run files agent_specs agent_files events_file trace_file seed max_steps variant fuel capacity max_memory defect reference level interleave =
   match
     let engine = if reference then Interp.Runtime.Reference else Interp.Runtime.Fast in
     let hooks = match defect with
@@ -101,14 +144,8 @@ let run files agent_specs events_file trace_file seed max_steps variant fuel cap
          | Some d -> d.hooks
          | None -> prerr_endline ("jadescript-ref: error: unknown defect " ^ name ^ " (jadescript-ref defects lists them)"); raise (Stop 1)) in
     let env = load files in
-    let specs = List.map (agent_spec env) agent_specs in
-    if specs = [] then (prerr_endline "error: no agent: give at least one --agent NAME:TYPE"; raise (Stop 1));
-    ignore (List.fold_left (fun seen (n, ty, _) ->
-        if List.mem n seen then begin
-          prerr_endline (Printf.sprintf "--agent %s:%s: error: there is already an agent %s (agent names are unique)" n ty n);
-          raise (Stop 1)
-        end;
-        n :: seen) [] specs);
+    let specs = all_agents env agent_specs agent_files in
+    if specs = [] then (prerr_endline "error: no agent: give at least one --agent NAME:TYPE (or --agents FILE)"; raise (Stop 1));
     let seed = number ~opt:"seed" ~lo:0 ~hi:int_max ~what:"the scheduler's seed" seed in
     let max_steps = Option.get (number ~opt:"max-steps" ~lo:0 ~hi:max_int ~what:"agent steps in the whole run" (Some max_steps)) in
     let fuel = Option.get (number ~opt:"fuel" ~lo:1 ~hi:int_max ~what:"statements per handler or step" (Some fuel)) in
@@ -200,6 +237,9 @@ let cmd =
   let agents = Arg.(value & opt_all string [] & info ["agent"] ~docv:"NAME:TYPE[:ARG,...]"
                       ~doc:"Create an agent (in the order given). Arguments are Jadescript literals, \
                             or @robome for a host object recording RoboMe commands.") in
+  let agent_files = Arg.(value & opt_all string [] & info ["agents"] ~docv:"FILE"
+                           ~doc:"Create the agents of FILE, one per line as --agent takes them (NAME:TYPE[:ARG,...]; \
+                                 blank lines and lines starting with # left out), after those of --agent.") in
   let events = Arg.(value & opt (some string) None & info ["events"] ~docv:"FILE"
                       ~doc:"Host events, JSON lines (docs/trace-format.md).") in
   let trace = Arg.(value & opt (some string) None & info ["trace"] ~docv:"FILE"
@@ -250,5 +290,5 @@ let cmd =
                      a pipe or a FIFO): every line is checked as it is read, and the run applies \
                      the events only once every line was found good (a line of at most 16 MB, \
                      a file of at most 1 GiB)."])
-    Term.(const run $ files $ agents $ events $ trace $ seed $ max_steps $ variant $ fuel $ capacity $ max_memory $ defect
+    Term.(const run $ files $ agents $ agent_files $ events $ trace $ seed $ max_steps $ variant $ fuel $ capacity $ max_memory $ defect
           $ reference $ level $ interleave)

@@ -52,7 +52,8 @@ type t = {
   env : T.t;
   opts : options;
   hooks : hooks;
-  mutable platform : P.t;
+  platform : P.t;   (* owned by the run: agents replaced in place (set_config) *)
+  index : (string, int) Hashtbl.t;   (* agent name -> its index in the platform *)
   rules : rules array;           (* each agent's, in creation order *)
   mutable steps : int;           (* agent steps so far *)
   rand : Random.State.t option;
@@ -86,12 +87,14 @@ let program_sends env =
       || Option.fold ~none:false ~some:block b.b_action
       || List.exists (fun (h : T.handler) -> block h.h_body) b.b_handlers) (T.behaviours env)
 
-let find t name = P.find t.platform name
+(* An agent's index, by its name (the names are the run's, unique). *)
+let find t name = Hashtbl.find_opt t.index name
 
+(* The run owns its platform: an agent's configuration is replaced in
+   place (a copy of the whole array at every rule made a run of n agents
+   cost n^2). Nothing keeps an older platform of the run. *)
 let set_config t i c =
-  let agents = Array.copy t.platform.agents in
-  agents.(i) <- { (agents.(i)) with config = c };
-  t.platform <- { P.agents }
+  t.platform.agents.(i) <- { (t.platform.agents.(i)) with config = c }
 
 (* The configuration with the bodies' events taken out of its agent. *)
 let take_events (c : M.t) =
@@ -117,21 +120,23 @@ let rec arrive ?(in_step = false) t ~sender ~receiver m =
   let back answer =
     if t.fine = None then arrive t ~sender:answer.Eval.sender ~receiver:sender answer
     else Queue.push (answer.Eval.sender, answer) (queue t sender) in
-  let (pl, ev) =
+  let at = find t receiver in
+  let (change, ev) =
+    let plain () = P.arrival t.opts.params t.platform at ~sender ~receiver m in
     if in_step then
-      match P.deliver_in_step t.opts.params t.platform ~sender ~receiver m with
-      | Some r -> r
-      | None -> P.deliver t.opts.params t.platform ~sender ~receiver m
-    else P.deliver t.opts.params t.platform ~sender ~receiver m in
-  t.platform <- pl;
-  match ev with
-  | P.Delivered _ ->
-    Tracer.host ~in_step t.tr ~agent:receiver pl.agents.(Option.get (find t receiver)).config
-  | P.To_platform _ -> ()
-  | P.Undeliverable { sender; receiver; message } ->
+      match P.arrival_in_step t.opts.params t.platform at ~sender ~receiver m with
+      | Some (i, c, ev) -> (Some (i, c), ev)
+      | None -> plain ()
+    else plain () in
+  Option.iter (fun (i, c) -> set_config t i c) change;
+  match ev, change with
+  | P.Delivered _, Some (_, c) -> Tracer.host ~in_step t.tr ~agent:receiver c
+  | P.Delivered _, None -> Semantics.Fault.crash "Runtime: a delivery that changed no agent"
+  | P.To_platform _, _ -> ()
+  | P.Undeliverable { sender; receiver; message }, _ ->
     Tracer.undeliverable t.tr ~sender ~receiver message;
     back (failure ~receiver)
-  | P.Step _ -> ()
+  | P.Step _, _ -> ()
 
 (* What agent [i]'s bodies sent (R5e), in order: delivered at once (the
    deterministic schedule), or in flight (D45). *)
@@ -165,7 +170,9 @@ let create ?hooks env opts specs =
       let (a, evs) = Eval.take_events a in
       Tracer.created tr ~agent:name ~agent_type:ty args behs evs;
       (name, M.init opts.params ~world:a behs)) specs in
-  let t = { env; opts; hooks; platform = P.create created;
+  let index = Hashtbl.create (List.length specs) in
+  List.iteri (fun i (name, _, _) -> Hashtbl.replace index name i) specs;
+  let t = { env; opts; hooks; platform = P.create created; index;
             rules = Array.of_list (List.map (fun (name, _, _) -> hooks.rules name) specs); steps = 0;
             rand = Option.map (fun s -> Random.State.make [| s |]) opts.seed;
             tr; sends = program_sends env;

@@ -26,18 +26,27 @@ module Make (B : Machine.BODIES) = struct
     agents.(i) <- { (agents.(i)) with config };
     { agents }
 
-  let deliver p t ~sender ~receiver message =
-    match find t receiver with
-    | Some i -> (set t i (M.send p t.agents.(i).config message), Delivered { sender; receiver; message })
-    | None when List.mem receiver platform_agents -> (t, To_platform { sender; receiver; message })
-    | None -> (t, Undeliverable { sender; receiver; message })
+  let arrival p t at ~sender ~receiver message =
+    match at with
+    | Some i -> (Some (i, M.send p t.agents.(i).config message), Delivered { sender; receiver; message })
+    | None when List.mem receiver platform_agents -> (None, To_platform { sender; receiver; message })
+    | None -> (None, Undeliverable { sender; receiver; message })
 
-  let deliver_in_step p t ~sender ~receiver message =
-    match find t receiver with
+  let deliver p t ~sender ~receiver message =
+    match arrival p t (find t receiver) ~sender ~receiver message with
+    | (Some (i, c), ev) -> (set t i c, ev)
+    | (None, ev) -> (t, ev)
+
+  let arrival_in_step p t at ~sender ~receiver message =
+    match at with
     | Some i ->
-      Option.map (fun c -> (set t i c, Delivered { sender; receiver; message }))
+      Option.map (fun c -> (i, c, Delivered { sender; receiver; message }))
         (M.send_in_step p t.agents.(i).config message)
     | None -> None
+
+  let deliver_in_step p t ~sender ~receiver message =
+    Option.map (fun (i, c, ev) -> (set t i c, ev))
+      (arrival_in_step p t (find t receiver) ~sender ~receiver message)
 
   (* Deliver what agent i's bodies sent during its last step, in order; each
      delivery is reported with the platform right after it. *)

@@ -52,6 +52,19 @@ module Make (B : Machine.BODIES) : sig
       step, during that step (the machine's SendInStep, R5d revised);
       [None] when the receiver is not such an agent. *)
 
+  val arrival : Machine.params -> t -> int option -> sender:string -> receiver:string -> B.message ->
+    (int * M.t) option * event
+  (** {!deliver} as a change: [arrival p t at ...], [at] the receiver's
+      index in [t] ({!find}), gives the receiver's index and configuration
+      after the message, if it is an agent of the run, and the event. For a
+      run that keeps its platform in place and its agents indexed by name
+      (lib/interp/runtime.ml), so that a delivery costs no copy and no
+      search of the agents. *)
+
+  val arrival_in_step : Machine.params -> t -> int option -> sender:string -> receiver:string -> B.message ->
+    (int * M.t * event) option
+  (** {!deliver_in_step} as a change, as {!arrival}. *)
+
   val iteration :
     ?max_steps:int -> ?on_event:(t -> event -> unit) ->
     ?step:(Machine.params -> M.t -> (M.lbl * M.t) list) -> ?keep:bool ->

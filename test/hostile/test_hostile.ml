@@ -169,6 +169,49 @@ let events_once () =
       Sys.remove fifo;
       Alcotest.(check (pair int string)) ("a FIFO: the same trace " ^ e2) (0, file) (s2, fifoed))
 
+(* --agents FILE: a run of many agents, given in a file (a file or a pipe
+   alike), each line as --agent takes it; a bad line is an error at it. *)
+let ring_program = {|ontology T
+    predicate tok(n as integer)
+
+agent R uses ontology T
+    property next as text = ""
+    on create with nxt as text do
+        next = nxt
+        activate behaviour Pass
+        send inform tok(1) to aid(next)
+
+cyclic behaviour Pass for agent R
+    on inform when content matches tok(n) and n < 3 do
+        send inform tok(n + 1) to aid(next of agent)
+|}
+
+let agents_from_file () =
+  let n = 5_000 in
+  let ring = String.concat "" ("# a ring\n\n" :: List.init n (fun i -> Printf.sprintf "a%d:R:\"a%d\"\n" i ((i + 1) mod n))) in
+  Test_support.Support.with_file "ring.jade" ring_program (fun prog ->
+      Test_support.Support.with_file "ring.txt" ring (fun agents ->
+          let (s, out, e) = run (Printf.sprintf "%s run %s --agents %s --trace /dev/stdout" exe (q prog) (q agents)) in
+          Alcotest.(check int) ("exit 0 " ^ e) 0 s;
+          let ls = lines out in
+          let count ev = List.length (List.filter (fun l -> has l (Printf.sprintf {|"event":"%s"|} ev)) ls) in
+          Alcotest.(check int) "every agent created" n (count "create");
+          Alcotest.(check int) "three messages each way round the ring" (3 * n) (count "deliver");
+          check "the first agent is the file's first" true
+            (List.exists (fun l -> has l {|"agent":"a0","event":"create"|}) ls);
+          (* the same from a pipe, after one agent of --agent *)
+          let (s1, out1, _) = run (Printf.sprintf "(tail -n +4 %s | %s run %s --agent 'a0:R:\"a1\"' --agents /dev/stdin --trace /dev/stdout)"
+                                     (q agents) exe (q prog)) in
+          Alcotest.(check (pair int string)) "a pipe after --agent: the same trace" (0, out) (s1, out1));
+      Test_support.Support.with_file "bad.txt" "a:R:\"b\"\n\nb R\n" (fun bad ->
+          let (s, _, e) = run (Printf.sprintf "%s run %s --agents %s" exe (q prog) (q bad)) in
+          Alcotest.(check (pair int string)) "a bad line: one located error"
+            (1, Printf.sprintf "%s:3:1: error: expected NAME:TYPE[:ARG,...]\n" bad) (s, e));
+      Test_support.Support.with_file "dup.txt" "a:R:\"b\"\nb:R:\"a\"\na:R:\"a\"\n" (fun dup ->
+          let (s, _, e) = run (Printf.sprintf "%s run %s --agents %s" exe (q prog) (q dup)) in
+          Alcotest.(check (pair int string)) "a name twice: an error at the second"
+            (1, Printf.sprintf "%s:3:1: error: there is already an agent a (agent names are unique)\n" dup) (s, e)))
+
 (* ------------------------------------------------------------ TLA+ values *)
 
 let tla_deep d = String.concat "" (List.init d (fun _ -> "<<")) ^ "1" ^ String.concat "" (List.init d (fun _ -> ">>"))
@@ -429,6 +472,7 @@ let () =
     [ "json", json_cases @ [ round_trip ];
       "stack", stack_cases;
       "events read once", [ "a file, a pipe, a FIFO", `Quick, events_once ];
+      "agents from a file", [ "5,000 agents in a ring, a pipe, bad lines", `Quick, agents_from_file ];
       "TLA+ values", tla_cases;
       "slots", slot_cases;
       "scenarios", scenario_cases;

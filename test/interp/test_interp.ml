@@ -525,7 +525,9 @@ let conform_resources () =
   Alcotest.(check int) "a hang: exit 1" 1 status;
   Alcotest.(check int) "a hang: no temporary file left" 0 (left ());
   (* SIGINT to conform alone (not its process group) while a vector runs *)
-  let hang = fake "hang2" "sleep 61.25" in
+  (* a sleep of its own (another run of this test may be under way) *)
+  let sleep = Printf.sprintf "sleep 61.%05d" (Unix.getpid () mod 100000) in
+  let hang = fake "hang2" sleep in
   let pid = Unix.create_process_env exe [| exe; "conform"; "--impl"; hang; vector |]
       (Array.append [| "TMPDIR=" ^ tmp |] (Unix.environment ())) Unix.stdin Unix.stdout Unix.stdout in
   let rec until n = if left () >= 2 || n = 0 then () else (Unix.sleepf 0.05; until (n - 1)) in
@@ -538,7 +540,7 @@ let conform_resources () =
   Alcotest.(check int) "SIGINT: no temporary file left" 0 (left ());
   let (_, ps, _) = run_command "ps -eo args" in
   Alcotest.(check bool) "SIGINT: the implementation is stopped" false
-    (List.exists (fun l -> String.trim l = "sleep 61.25") (String.split_on_char '\n' ps));
+    (List.exists (fun l -> String.trim l = sleep) (String.split_on_char '\n' ps));
   Unix.rmdir tmp;
   List.iter Sys.remove !fakes
 
