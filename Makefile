@@ -33,13 +33,16 @@ bench: build
 # The longer agreement checks: every model (full ones too) against TLC, the
 # mutant table, 200 TLC behaviours replayed and 200 OCaml runs validated per
 # model, the vectors' kill count over the bug catalogue (every vector against
-# every defect of lib/defects), then every suite with 10x the property-test
-# counts.
+# every defect of lib/defects), 1,000 generated programs judged, the judge's
+# false rejections over 20 seeds of the finer interleaving (scripts/judge-seeds:
+# every vector and 50 generated programs per seed), then every suite with 10x
+# the property-test counts.
 conformance: build
 	@dune exec --no-print-directory -- jadescript-ref explore --all --full --mutants --simulate 200 --validate 200
 	@dune exec --no-print-directory -- jadescript-ref defects
 	@dune exec --no-print-directory -- jadescript-ref conform --generated 1000 --seed 1 | tail -n 1
 	@dune exec --no-print-directory -- jadescript-ref conform --generated 1000 --seed 1 --impl "$$PWD/_build/default/bin/main.exe run --interleave 7" | tail -n 1
+	@bash scripts/judge-seeds 20 50 | tail -n 1
 	@JSREF_LONG=1 bash scripts/test
 
 # The fuzz campaign (fuzz/README.md): 1,000,000 generated inputs over
