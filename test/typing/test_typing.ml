@@ -100,6 +100,22 @@ let onto = {|ontology O
 
 (* name, program, (line, text at the error's column), message fragment *)
 let bad = [
+  (* R5e revised, D43: ams's failure carries aid("NAME"), which a handler
+     takes with on failure do but cannot match: a message's content is one
+     of the ontology's propositions and predicates *)
+  "a failure's content is not a pattern", {|ontology T
+    proposition ping
+
+agent C uses ontology T
+    on create do
+        activate behaviour Call
+
+cyclic behaviour Call for agent C
+    do
+        send inform ping to aid("ghost")
+    on failure when content matches aid(n) do
+        log "no " + n
+|}, (11, "aid(n)"), "unknown schema aid";
   "float op double", {|agent A
     property f as float = 1.5
     property d as double = 2.0
