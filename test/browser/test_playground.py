@@ -1136,6 +1136,7 @@ def concurrency_rules_interleave_by_hand_and_at_random():
     equal(sorted(set(json.loads(l)["event"] for l in shown_trace()[1:])), ["activate", "create", "send"],
           "a new seed starts the run again: only the agents' creation (the serve still in flight)")
     drawn_agents = []
+    arrivals = 0
     for k in range(40):
         before = len(shown_trace())
         click("conc-random")
@@ -1150,10 +1151,12 @@ def concurrency_rules_interleave_by_hand_and_at_random():
         if m:
             equal([(json.loads(l)["event"], json.loads(l)["agent"], json.loads(l)["action"]) for l in new],
                   [("deliver", m.group(1), "SendInStep" if m.group(2) else "Send")], "draw %d: %s" % (k, said))
+            arrivals += 1
             continue
         check("nothing can happen" in said, "draw %d: %r" % (k, said))
         break
     check("a" in drawn_agents and "b" in drawn_agents, "both agents drawn: %r" % drawn_agents)
+    check(arrivals >= 2, "the draws make messages arrive too: %d arrivals" % arrivals)
     first = shown_trace()
     # the same seed draws the same run
     click("conc-restart")
