@@ -1396,7 +1396,7 @@ def _five_5():
 def _full_1_1():
     open_page()
     tabs = B.js("return [...document.querySelectorAll('button.mode[data-mode]')].map(b => b.textContent)")
-    equal(tabs, ["Playground", "Exercises", "Side by side", "TLC's counterexamples", "RoboMe in the corridor"], "the five tabs")
+    equal(tabs, ["Playground", "Exercises", "Side by side", "TLC's counterexamples", "RoboMe in the corridor", "Concurrency"], "the six tabs")
     click("help-toggle")
     check(B.js("return document.getElementById('loop-picture').getBoundingClientRect().width > 300"), "the loop's picture")
     B.js("document.querySelector('#help a.term[data-term=R3b], #help a.term').click()")
@@ -1712,6 +1712,45 @@ def _full_9_1():
     check(B.js("return document.querySelectorAll('#corridor line.belief').length") > 0, "the map's beliefs drawn")
     if ARGS.shots:
         B.screenshot(os.path.join(ARGS.shots, "corridor.png"))
+
+
+@step("full-10.1")
+def _full_10_1():
+    click("mode-concurrent")
+    click("conc-restart")
+    flight = B.js("return [...document.querySelectorAll('#conc-flight [data-flight]')].map(e => e.dataset.flight)")
+    equal(flight, ["a>b|inform|ball(0)"], "the ball is in flight")
+    click("conc-rule-b")
+    click("conc-rule-b")
+    b = [a for a in conc_view()["agents"] if a["name"] == "b"][0]
+    check(b["blocked"] == [1] and b["ready"] == [], "Play blocks: %r" % b)
+    ACTIONS[0] += 1
+    B.js("document.querySelector('#conc-flight [data-arrive-step=b]').click()")
+    equal(json.loads(shown_trace()[-1])["action"], "SendInStep", "the ball comes during b's step")
+    b = [a for a in conc_view()["agents"] if a["name"] == "b"][0]
+    check(b["blocked"] == [] and b["ready"] == [1], "Play still in b's ready list: %r" % b)
+    click("conc-rule-b")
+    click("conc-rule-b")
+    check("b: hit 0" in text_of("output").split("\n"), "b logs hit 0: %r" % text_of("output"))
+    equal(B.js("return [...document.querySelectorAll('#conc-flight [data-flight]')].map(e => e.dataset.flight)"),
+          ["b>a|inform|ball(1)"], "ball(1) in flight to a")
+    for _ in range(4):
+        click("conc-random")
+        check(text_of("conc-message").startswith("drawn: "), "a draw: %r" % text_of("conc-message"))
+    check(text_of("conc-verdict").startswith("✓ Accepted so far"), "the judge accepts: %r" % text_of("conc-verdict"))
+    if ARGS.shots:
+        B.js("window.scrollTo(0, 0)")
+        B.screenshot(os.path.join(ARGS.shots, "concurrency.png"))
+    click("conc-paste-own")
+    lines = B.js("return document.getElementById('conc-paste').value").split("\n")
+    k = next(i for i, l in enumerate(lines) if '"event":"behaviour_step"' in l and '"content":"ball(0)"' in l)
+    check('"handler":1' in lines[k], "b's step took ball(0) with handler 1")
+    lines[k] = lines[k].replace('"handler":1', '"handler":2')
+    set_value("conc-paste", "\n".join(lines))
+    click("conc-judge")
+    equal(conc_verdict("conc-paste-verdict")[:2], ["no", str(k + 1)], "the changed line is the one rejected")
+    equal(B.js("return [...document.querySelectorAll('#conc-paste-lines .unexplained')].map(e => +e.dataset.line)"),
+          [k + 1], "that line marked")
 
 
 def tutorial_sections():
