@@ -1163,6 +1163,11 @@ def concurrency_rules_interleave_by_hand_and_at_random():
     for k in range(40):
         click("conc-random")
     equal(shown_trace(), first, "seed 5 again: the same run")
+    # the tab's run survives a reload (share.js keeps its seed and its commands)
+    open_page(fresh=False)
+    equal(B.js("return window.playground.mode"), "concurrent", "the tab, after a reload")
+    equal(shown_trace(), first, "the run, after a reload")
+    check("seed 5" in text_of("conc-counters"), "the seed, after a reload: %r" % text_of("conc-counters"))
 
 
 @test
