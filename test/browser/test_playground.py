@@ -1282,6 +1282,14 @@ def concurrency_pasted_trace_with_one_line_altered_rejected_there():
     check(said.endswith(m.group(2)), "the judge's message shown: page %r, command line %r" % (said, m.group(2)))
     why = B.js("return document.querySelector('#conc-paste-lines .why').textContent")
     check(m.group(2) in why, "the message under the marked line: %r" % why)
+    # what is not a trace is rejected at its first line, the page intact
+    for junk in ["not json at all", "", '{"trace":"jadescript-ref","version":99}\n{"step":1}']:
+        set_value("conc-paste", junk)
+        click("conc-judge")
+        acc, line, said = conc_verdict("conc-paste-verdict")
+        equal((acc, line), ("no", "1"), "%r rejected at line 1: %s" % (junk, said))
+    click("conc-rule-a")
+    check(conc_verdict()[0] == "yes", "the page goes on")
 
 
 # ------------------------------------------------ the tutorial, followed
