@@ -3,11 +3,13 @@
 out/playground/index.html from the file system, and the tests drive the page
 as a student does (pick an example, edit, notify, put, send, step, step back,
 replay a counterexample, watch the corridor, solve the exercises, compare two
-loops side by side, reload, open a shared link in a second browser, follow
-docs/tutorial.md step by step). What the page shows is compared
+loops side by side, interleave several agents' rules and messages by hand and
+at random with the judge watching, judge a pasted trace, reload, open a shared
+link in a second browser, follow docs/tutorial.md step by step). What the page shows is compared
 with the command line: the trace lines must be exactly those of
 `jadescript-ref run --trace` for the same events, the queues those the trace
-implies, the diagnostics those of `jadescript-ref check`. Screenshots for
+implies, the diagnostics those of `jadescript-ref check`, the judge's verdicts
+those of `jadescript-ref judge`. Screenshots for
 docs/tutorial.md are taken on the way (--shots), by the test that follows
 the tutorial step by step. The last line printed is "N passed, M failed".
 
