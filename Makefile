@@ -67,7 +67,7 @@ playground: setup
 	@mkdir -p out/playground
 	@cp -f $(PLAY_BUILD)/jsref.js $(PLAY_BUILD)/corridor_data.js out/playground/
 	@cp -f playground/index.html playground/style.css playground/ui.js playground/glossary.js playground/share.js \
-	  playground/exercises.js playground/compare.js playground/corridor.js out/playground/
+	  playground/exercises.js playground/compare.js playground/corridor.js playground/concurrent.js out/playground/
 	@chmod u+w out/playground/*
 	@echo "playground: out/playground/index.html ($$(du -ch out/playground/* | tail -n 1 | cut -f1) in all); open it in a browser"
 

@@ -21,11 +21,12 @@ type setup = {
   seed : int option;
   fuel : int;
   max_steps : int;
+  interleave : int option;
 }
 
 let default_setup = {
   files = []; agents = []; variant = Mc.Reference; tie = Mc.Stable; budget = 1;
-  o2a_capacity = None; seed = None; fuel = 100_000; max_steps = 1_000_000;
+  o2a_capacity = None; seed = None; fuel = 100_000; max_steps = 1_000_000; interleave = None;
 }
 
 type host_action =
@@ -37,9 +38,13 @@ type host_action =
 type outcome = Stepped | All_idle | Limit
 
 type cmd = H of host_action | R of int * bool | Round | A of int
+         | D of string * bool | Draw | Fin
 (* R (choice, refill): a rule; refill false inside run_rounds. Round: the
    start of a round of run_rounds, its rules follow. A i: one single rule of
-   agent i (run_rules, D23). *)
+   agent i (run_rules, D23; in the finer interleaving, the rule the student
+   gave agent i). The finer interleaving (D45) only: D (receiver, in_step)
+   the arrival of the oldest message in flight to the receiver; Draw one
+   event drawn from the seed; Fin the end of the run. *)
 
 type state = {
   env : T.t;
@@ -59,6 +64,15 @@ type state = {
   (* (agent, instance id) -> behaviour type, for every instance seen active:
      the label of a rule names a behaviour that may have left (a one-shot
      after its step, R5c; a deactivated one, R4b) *)
+  specs : (string * string * V.t list) list;   (* the agents: name, type, arguments *)
+  fine : Random.State.t option;
+      (* the finer interleaving (R6 revised, D45): the messages between
+         agents stay in flight until an arrival is asked for, and draws
+         come from this *)
+  mutable inflight : (string * (string * E.message)) list;
+      (* D45: (receiver, (sender, message)), oldest first: the messages sent
+         and not yet arrived; per receiver, in the order of the sends (R5e) *)
+  mutable finished : bool;              (* the run ended: every agent destroyed *)
 }
 
 type t = {
@@ -163,8 +177,18 @@ let rec arrive st ~sender ~receiver m =
   let (pl, ev) = P.deliver st.params st.platform ~sender ~receiver m in
   on_event st pl ev;
   match ev with
-  | P.Undeliverable _ -> arrive st ~sender:"ams" ~receiver:sender (Interp.Runtime.failure ~receiver)
+  | P.Undeliverable _ ->
+    let answer = Interp.Runtime.failure ~receiver in
+    (* in flight in the finer interleaving (D45), as Runtime does *)
+    if st.fine = None then arrive st ~sender:"ams" ~receiver:sender answer
+    else send st ~sender:"ams" ~receiver:sender answer
   | P.Delivered _ | P.To_platform _ | P.Step _ -> ()
+
+(* A message sent by an agent's body (R5e): it arrives at once in run's
+   schedule, and is in flight in the finer interleaving (D45). *)
+and send st ~sender ~receiver m =
+  if st.fine = None then arrive st ~sender ~receiver m
+  else st.inflight <- st.inflight @ [ (receiver, (sender, m)) ]
 
 (* A host message that reaches [receiver] during its last behaviour step
    (R5d, D42): SendInStep where its window is open, else a plain delivery. *)
@@ -232,7 +256,9 @@ let boot (s : setup) : (state, string list) result =
                    tr = Interp.Tracer.create (Trace.nowhere ()) ~on_body:(fun _ _ -> ());
                    lines = []; out = [];
                    round = []; current = None; held = []; max_steps = s.max_steps;
-                   names = Hashtbl.create 16 } in
+                   names = Hashtbl.create 16; specs;
+                   fine = Option.map (fun n -> Random.State.make [| n; 45 |]) s.interleave;
+                   inflight = []; finished = false } in
         st.tr <- tracer st;
         Interp.Tracer.header st.tr env st.params ~seed:s.seed (List.map (fun (n, ty, _) -> (n, ty)) specs);
         let created = List.map (fun (name, ty, args) ->
@@ -250,7 +276,7 @@ let boot (s : setup) : (state, string list) result =
             let agents = Array.copy st.platform.agents in
             agents.(i) <- { ag with config = { ag.config with world } };
             st.platform <- { P.agents };
-            List.iter (fun (receiver, m) -> arrive st ~sender:ag.name ~receiver m) out) st.platform.agents;
+            List.iter (fun (receiver, m) -> send st ~sender:ag.name ~receiver m) out) st.platform.agents;
         st
       with
       | st -> Ok st
@@ -273,6 +299,7 @@ let do_host st (h : host_action) : (unit, string) result =
   let agent = match h with Notify { agent; _ } | Put { agent; _ } | Message { agent; _ } -> agent in
   match P.find st.platform agent with
   | None -> Error (Printf.sprintf "host: there is no agent %s" agent)
+  | Some _ when st.finished -> Error "host: no agent is left: the run has ended"
   | Some i ->
     let c = st.platform.agents.(i).config in
     let atype = (world st i).atype.a_name in
@@ -344,7 +371,8 @@ let ends_iteration (l : M.lbl) = match l with
   | _ -> false
 
 let do_rule ?refill ?agent st choice : outcome =
-  if st.steps >= st.max_steps then Limit
+  if st.finished then All_idle
+  else if st.steps >= st.max_steps then Limit
   else match (match agent with Some i -> Some i | None -> pick ?refill ~commit:true st) with
     | None -> All_idle
     | Some i ->
@@ -358,7 +386,7 @@ let do_rule ?refill ?agent st choice : outcome =
         on_event ~before st st.platform (P.Step (name, l));
         let (w, out) = E.Bodies.take_outbox (world st i) in
         set_config st i { st.platform.agents.(i).config with world = w };
-        List.iter (fun (receiver, m) -> arrive st ~sender:name ~receiver m) out;
+        List.iter (fun (receiver, m) -> send st ~sender:name ~receiver m) out;
         st.steps <- st.steps + 1;
         (* D42: the host's messages held for this behaviour step arrive
            during it (SendInStep, R5d), as Runtime.rule delivers them *)
@@ -477,6 +505,126 @@ let run_rules t n =
         | Error m -> t.st.out <- m :: t.st.out in
   go n
 
+(* ------------------------------------- the finer interleaving (D45) *)
+
+let interleaved t = t.st.fine <> None
+
+(* The receivers with a message in flight, in name order. *)
+let receivers st =
+  List.sort_uniq compare (List.map fst st.inflight)
+
+(* Is the window of agent [name]'s last behaviour step open (R5d revised:
+   between the step and the agent's next rule)? *)
+let window st name =
+  match P.find st.platform name with
+  | Some i -> st.platform.agents.(i).config.stepped <> Mc.Not_stepped
+  | None -> false
+
+(* The oldest message in flight to [receiver] arrives: during the
+   receiver's last behaviour step (SendInStep) when [in_step] and its
+   window is open. *)
+let do_arrival st receiver in_step : (unit, string) result =
+  if st.finished then Error "the run has ended"
+  else match List.assoc_opt receiver st.inflight with
+    | None -> Error (Printf.sprintf "no message is in flight to %s" receiver)
+    | Some (sender, m) ->
+      if in_step && not (window st receiver) then
+        Error (Printf.sprintf "%s is not in the window of a behaviour step: a message can arrive during a step only between the step and the agent's next rule (R5d)" receiver)
+      else begin
+        (* the oldest to this receiver leaves; the others keep their order *)
+        let rec drop = function
+          | [] -> []
+          | (r, _) :: rest when r = receiver -> rest
+          | e :: rest -> e :: drop rest in
+        st.inflight <- drop st.inflight;
+        (if in_step then
+           match P.deliver_in_step st.params st.platform ~sender ~receiver m with
+           | Some (pl, P.Delivered _) ->
+             st.platform <- pl;
+             Interp.Tracer.host ~in_step:true st.tr ~agent:receiver pl.agents.(index st receiver).config
+           | Some (pl, ev) -> on_event st pl ev
+           | None -> arrive st ~sender ~receiver m
+         else arrive st ~sender ~receiver m);
+        Ok ()
+      end
+
+(* One event drawn from the seed, as Runtime's finer run draws them: a
+   rule of an agent that is not idle, or the arrival of the oldest message
+   in flight to some receiver (during its step, by a coin, when its window
+   is open). *)
+let do_draw st : (string, string) result =
+  match st.fine with
+  | None -> Error "not the finer interleaving"
+  | Some _ when st.finished -> Error "the run has ended"
+  | Some rand ->
+    let n = Array.length st.platform.agents in
+    let agents = List.filter (fun i -> not (idle st i)) (List.init n Fun.id) in
+    let choices = List.map (fun i -> `Rule i) agents @ List.map (fun r -> `Arrive r) (receivers st) in
+    match choices with
+    | [] -> Error "nothing can happen: every agent is idle and no message is in flight"
+    | _ ->
+      match List.nth choices (Random.State.int rand (List.length choices)) with
+      | `Rule i ->
+        let name = st.platform.agents.(i).name in
+        (match single_rule st i with
+         | Stepped -> Ok (Printf.sprintf "drawn: a rule of %s" name)
+         | All_idle -> Ok (Printf.sprintf "drawn: %s, which has no rule to take" name)
+         | Limit -> Error "the step limit is reached")
+      | `Arrive r ->
+        let in_step = window st r && Random.State.bool rand in
+        Result.map (fun () -> Printf.sprintf "drawn: a message arrives at %s%s" r
+                       (if in_step then ", during its behaviour step (SendInStep)" else ""))
+          (do_arrival st r in_step)
+
+(* The end of the run, as Runtime.finish: every message in flight arrives
+   (receivers in name order, the oldest first), then the host's messages
+   held for a step that did not come (D42), then every agent is destroyed
+   (its on destroy runs). *)
+let do_finish st =
+  if not st.finished then begin
+    let rec go () =
+      match receivers st with
+      | [] -> ()
+      | r :: _ -> ignore (do_arrival st r false); go () in
+    go ();
+    let held = List.stable_sort (fun (a, _) (b, _) -> compare a b) st.held in
+    st.held <- [];
+    List.iter (fun (a, m) -> arrive st ~sender:"host" ~receiver:a m) held;
+    Array.iter (fun (ag : P.agent) ->
+        let (_, evs) = E.take_events (E.destroy_agent ag.config.world) in
+        Interp.Tracer.destroyed st.tr ~agent:ag.name evs) st.platform.agents;
+    st.finished <- true
+  end
+
+let rule_of t name =
+  match P.find t.st.platform name with
+  | None -> Error (Printf.sprintf "there is no agent %s" name)
+  | Some i ->
+    match guarded (fun () -> Ok (single_rule t.st i)) with
+    | Ok Stepped -> record t (A i); Ok Stepped
+    | Ok o -> Ok o
+    | Error m -> t.st.out <- m :: t.st.out; Error m
+
+let arrival t ~receiver ~during =
+  match guarded (fun () -> do_arrival t.st receiver during) with
+  | Ok () -> record t (D (receiver, during)); Ok ()
+  | Error m -> Error m
+
+let draw t =
+  match guarded (fun () -> do_draw t.st) with
+  | Ok m -> record t Draw; Ok m
+  | Error m -> Error m
+
+let finish t =
+  if t.st.finished then false
+  else match guarded (fun () -> do_finish t.st; Ok ()) with
+    | Ok () -> record t Fin; true
+    | Error m -> t.st.out <- m :: t.st.out; false
+
+let finished t = t.st.finished
+let env t = t.st.env
+let agent_specs t = t.st.specs
+
 let replay t cmds =
   match boot t.setup with
   | Error _ -> ()
@@ -485,7 +633,10 @@ let replay t cmds =
         | H h -> ignore (guarded (fun () -> do_host st h))
         | R (c, refill) -> ignore (guarded (fun () -> Ok (do_rule ~refill st c)))
         | Round -> round_cmds st
-        | A i -> ignore (guarded (fun () -> Ok (single_rule st i)))) cmds;
+        | A i -> ignore (guarded (fun () -> Ok (single_rule st i)))
+        | D (r, in_step) -> ignore (guarded (fun () -> do_arrival st r in_step))
+        | Draw -> ignore (guarded (fun () -> do_draw st))
+        | Fin -> ignore (guarded (fun () -> do_finish st; Ok ()))) cmds;
     t.st <- st
 
 let back t =
@@ -504,7 +655,7 @@ let output t = List.rev t.st.out
 
 (* ------------------------------------------------------------- view *)
 
-let next_agent t = pick ~commit:false t.st
+let next_agent t = if interleaved t then None else pick ~commit:false t.st
 
 let entry_view (e : V.t Mc.entry) =
   `Assoc [ "percept", str (V.to_literal e.p); "priority", int e.prio; "seq", int e.seq ]
@@ -677,6 +828,8 @@ let agent_view t next i (ag : P.agent) =
     "last_action", str (Mc.action_name c.last);
     "props", `List props;
     "rules", `List (List.map str (next_rules t i));
+    "idle", `Bool (M.is_idle c);
+    "window", `Bool (window t.st ag.name);
   ]
 
 let view t =
@@ -692,6 +845,14 @@ let view t =
     "next", (match next with Some i -> str st.platform.agents.(i).name | None -> `Null);
     "all_idle", `Bool (P.all_idle st.platform);
     "agents", `List (Array.to_list (Array.mapi (agent_view t next) st.platform.agents));
+    "interleave", (match t.setup.interleave with Some n -> int n | None -> `Null);
+    "finished", `Bool st.finished;
+    "in_flight", `List (List.map (fun (receiver, (sender, (m : E.message))) ->
+        `Assoc [ "receiver", str receiver; "sender", str sender; "performative", str m.perf;
+                 "content", str (V.to_literal m.content);
+                 "window", `Bool (window st receiver) ]) st.inflight);
+    "held", `List (List.map (fun (a, (m : E.message)) ->
+        `Assoc [ "receiver", str a; "performative", str m.perf; "content", str (V.to_literal m.content) ]) st.held);
   ]
 
 (* ------------------------------------------------ saving and restoring *)
@@ -723,7 +884,13 @@ let export t =
     | A i :: _ as l ->
       let rec count n = function A j :: r when j = i -> count (n + 1) r | r -> (n, r) in
       let (n, rest) = count 0 l in
-      go (`Assoc [ "single", int i; "n", int n ] :: acc) rest in
+      go (`Assoc [ "single", int i; "n", int n ] :: acc) rest
+    | D (r, during) :: rest -> go (`Assoc [ "arrive", str r; "in_step", `Bool during ] :: acc) rest
+    | Draw :: _ as l ->
+      let rec count n = function Draw :: r -> count (n + 1) r | r -> (n, r) in
+      let (n, rest) = count 0 l in
+      go (`Assoc [ "draw", int n ] :: acc) rest
+    | Fin :: rest -> go (`Assoc [ "finish", `Bool true ] :: acc) rest in
   `List (go [] (List.rev t.history))
 
 let restore s (j : Yojson.Safe.t) =
@@ -746,7 +913,12 @@ let restore s (j : Yojson.Safe.t) =
       | _, Some c, _, _ -> Some [ R (c, true) ]
       | _, _, Some n, _ -> Some (Round :: times n (R (0, false)))
       | _, _, _, Some i -> Some (times (Option.value (num "n" j) ~default:1) (A i))
-      | _ -> None in
+      | _ ->
+        match text "arrive" j, num "draw" j, field "finish" j with
+        | Some r, _, _ -> Some [ D (r, field "in_step" j = Some (`Bool true)) ]
+        | _, Some n, _ -> Some (times n Draw)
+        | _, _, Some (`Bool true) -> Some [ Fin ]
+        | _ -> None in
   match j with
   | `List l ->
     let cmds = List.map cmd l in

@@ -29,11 +29,20 @@ type setup = {
   seed : int option;                (** [None]: round-robin (R6) *)
   fuel : int;                       (** statements per handler or step (R7) *)
   max_steps : int;                  (** agent rules in the whole session *)
+  interleave : int option;
+      (** [Some seed]: the finer interleaving of R6 revised (D45), for the
+          page's Concurrency tab: the student gives any agent its next rule
+          ({!rule_of}), a message between agents stays in flight until it is
+          made to arrive ({!arrival}), possibly during its receiver's
+          behaviour step (SendInStep, R5d revised), and {!draw} draws one
+          of these from the seed. [None]: run's schedule (the rest of this
+          interface) *)
 }
 
 val default_setup : setup
 (** No files, no agents, the reference loop, stable ties, budget 1, unbounded
-    O2A, round-robin, [run]'s fuel (100,000) and step limit (1,000,000). *)
+    O2A, round-robin, [run]'s fuel (100,000) and step limit (1,000,000), run's
+    schedule (no [interleave]). *)
 
 val check : (string * string) list -> string list
 (** The program's diagnostics, errors and warnings, sorted, one line each as
@@ -120,6 +129,51 @@ val history_length : t -> int
 val steps : t -> int
 (** Agent rules taken so far. *)
 
+(** {1 The finer interleaving}
+
+    With [interleave] (D45): the rules of different agents in any order and
+    each message between agents arriving when asked for, in the order of
+    the sends to its receiver (R5e), as [jadescript-ref run --interleave]
+    draws them. Every run made this way is one the rulings allow, so the
+    judge ({!Judging}) accepts its trace. In run's schedule (no
+    [interleave]) nothing is ever in flight. *)
+
+val rule_of : t -> string -> (outcome, string) result
+(** The next rule of the named agent, whatever the other agents are doing
+    (R6 revised); [All_idle] when that agent has no rule to take. The host's
+    messages held for its behaviour step (D42) arrive during that step. *)
+
+val arrival : t -> receiver:string -> during:bool -> (unit, string) result
+(** The oldest message in flight to [receiver] arrives now: between two
+    rules ([during = false]), or during the receiver's last behaviour step
+    ([during = true], SendInStep, R5d revised), which is allowed only in the
+    step's window (between the step and the agent's next rule). A message
+    to an agent that is not on the platform is reported undeliverable and
+    [ams]'s failure goes in flight to its sender (R5e, D43). [Error]
+    (nothing done) when nothing is in flight to [receiver] or its window is
+    closed. *)
+
+val draw : t -> (string, string) result
+(** One event drawn from the seed, as [run --interleave] draws them (D45):
+    a rule of an agent that is not idle, or the arrival of the oldest
+    message in flight to a receiver (during its step, by a coin, when its
+    window is open); the answer says what was drawn. [Error] when nothing
+    can happen. Drawn again the same on a replay ({!back}, {!restore}). *)
+
+val finish : t -> bool
+(** Ends the run as [run] does: every message in flight arrives, then the
+    host's held messages (D42), then every agent is destroyed; no rule or
+    host action follows. [false] when it had ended already. *)
+
+val finished : t -> bool
+
+val env : t -> Typing.Tenv.t
+(** The checked program. *)
+
+val agent_specs : t -> (string * string * Interp.Value.t list) list
+(** The agents as created: name, agent type, arguments, in creation order
+    (what the judge needs with the program). *)
+
 (** {1 What a student sees} *)
 
 val trace : t -> string list
@@ -138,7 +192,11 @@ val view : t -> Yojson.Safe.t
     that the next rule runs is written ([run_at]: the file and line of the
     handler tried next, or of the behaviour that steps next; [null] for a
     rule that runs no code). A rule's label names its behaviour also when
-    the instance has left since (a one-shot after its step, R5c). *)
+    the instance has left since (a one-shot after its step, R5c). With
+    [interleave]: no agent is the next ([next] is [null]); each agent tells
+    whether it is [idle] and whether its [window] is open (R5d); the
+    messages [in_flight] (receiver, sender, performative, content, the
+    receiver's window) and those [held] for a step, and [finished]. *)
 
 (** {1 Saving and restoring}
 
@@ -151,7 +209,10 @@ val export : t -> Yojson.Safe.t
     [{"agent": A, "message": C, "performative": F}]), and the rules as
     [{"rules": N}] (N single rules, the first choice), [{"choice": K}] (one
     rule, choice K), [{"round": N}] (a round of {!run_rounds} and its N
-    rules) and [{"single": I, "n": N}] (N rules of agent I, {!run_rules}). *)
+    rules) and [{"single": I, "n": N}] (N rules of agent I, {!run_rules},
+    or {!rule_of}); in the finer interleaving, also
+    [{"arrive": R, "in_step": B}] ({!arrival}), [{"draw": N}] (N draws) and
+    [{"finish": true}]. *)
 
 val restore : setup -> Yojson.Safe.t -> (t, string list) result
 (** A session created from [setup] with the commands of an {!export} done

@@ -32,7 +32,7 @@
     const started = w.started ? {
       files: filesOrBase(w.started.files, base), agents: w.started.agents,
       variant: w.started.variant, tie: w.started.tie, budget: w.started.budget,
-      o2a_capacity: w.started.o2a_capacity, seed: w.started.seed,
+      o2a_capacity: w.started.o2a_capacity, seed: w.started.seed, interleave: w.started.interleave,
     } : null;
     const sameAsStarted = w.started && PG.sameFiles(w.files, w.started.files);
     return {

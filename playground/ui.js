@@ -5,7 +5,8 @@
 // they answer. It is the core: the editor, a session's view, the Playground
 // and replay tabs, and the tabs' switching. The scripts loaded after it add
 // to window.PG: glossary.js (the terms explained), share.js (local storage
-// and links), exercises.js (the Exercises tab), compare.js (Side by side);
+// and links), exercises.js (the Exercises tab), compare.js (Side by side),
+// corridor.js (RoboMe in the corridor), concurrent.js (Concurrency);
 // PG.start() (index.html) runs once they are all loaded.
 "use strict";
 
@@ -188,6 +189,8 @@
       agents: agentLines(),
       fuel: S.example && S.example.fuel ? S.example.fuel : null,
       max_steps: S.example && S.example.max_steps ? S.example.max_steps : null,
+      // the Concurrency tab's sessions: the finer interleaving, its seed (D45)
+      interleave: S.wsName === "concurrent" && PG.concurrentSeed ? PG.concurrentSeed() : null,
     }, readSettings());
   }
   PG.setup = setup; PG.setSettings = setSettings; PG.readSettings = readSettings;

@@ -44,6 +44,7 @@ let setup_of j : Session.setup =
     seed = int_member "seed" j;
     fuel = Option.value (int_member "fuel" j) ~default:100_000;
     max_steps = Option.value (int_member "max_steps" j) ~default:1_000_000;
+    interleave = int_member "interleave" j;
   }
 
 let with_session f = match Hashtbl.find_opt sessions !slot with
@@ -55,6 +56,10 @@ let outcome = function
 
 let state t extra =
   json (`Assoc ([ "ok", `Bool true; "view", Session.view t ] @ extra))
+
+(* Where the judge reads its trace: a file of js_of_ocaml's file system,
+   which lives in the page's memory (the working directory is /static/). *)
+let judge_path = "/static/judge-trace.jsonl"
 
 let fn1 f = Js.Unsafe.inject (Js.wrap_callback (fun a -> protect (fun () -> f a)))
 let fn0 f = Js.Unsafe.inject (Js.wrap_callback (fun () -> protect f))
@@ -156,6 +161,29 @@ let () =
               state t [ "verdict", `Assoc [ "solved", `Bool v.solved; "says", `String v.says ] ]
             | Error e -> set_session None;
               json (`Assoc [ "ok", `Bool false; "errors", `List (List.map (fun l -> `String l) e) ]))));
+      (* the Concurrency tab: the finer interleaving (D45) and the judge *)
+      "ruleOf", fn1 (fun name ->
+          with_session (fun t ->
+              match Session.rule_of t (of_js name) with
+              | Ok o -> state t [ "outcome", `String (outcome o) ]
+              | Error m -> state t [ "error", `String m ]));
+      "arrive", fn1 (fun s ->
+          with_session (fun t ->
+              let j = Yojson.Safe.from_string (of_js s) in
+              match Session.arrival t ~receiver:(str_member "receiver" j) ~during:(member "during" j = Some (`Bool true)) with
+              | Ok () -> state t []
+              | Error m -> state t [ "error", `String m ]));
+      "draw", fn0 (fun () ->
+          with_session (fun t ->
+              match Session.draw t with
+              | Ok m -> state t [ "drawn", `String m ]
+              | Error m -> state t [ "error", `String m ]));
+      "finish", fn0 (fun () ->
+          with_session (fun t -> let b = Session.finish t in state t [ "ended", `Bool b ]));
+      "judge", fn0 (fun () ->
+          with_session (fun t -> json (Judging.to_json (Judging.session ~path:judge_path t))));
+      "judgeText", fn1 (fun s ->
+          with_session (fun t -> json (Judging.to_json (Judging.text ~path:judge_path t (of_js s)))));
       "output", fn0 (fun () ->
           with_session (fun t -> json (`List (List.map (fun l -> `String l) (Session.output t)))));
     |])

@@ -3,11 +3,13 @@
 out/playground/index.html from the file system, and the tests drive the page
 as a student does (pick an example, edit, notify, put, send, step, step back,
 replay a counterexample, watch the corridor, solve the exercises, compare two
-loops side by side, reload, open a shared link in a second browser, follow
-docs/tutorial.md step by step). What the page shows is compared
+loops side by side, interleave several agents' rules and messages by hand and
+at random with the judge watching, judge a pasted trace, reload, open a shared
+link in a second browser, follow docs/tutorial.md step by step). What the page shows is compared
 with the command line: the trace lines must be exactly those of
 `jadescript-ref run --trace` for the same events, the queues those the trace
-implies, the diagnostics those of `jadescript-ref check`. Screenshots for
+implies, the diagnostics those of `jadescript-ref check`, the judge's verdicts
+those of `jadescript-ref judge`. Screenshots for
 docs/tutorial.md are taken on the way (--shots), by the test that follows
 the tutorial step by step. The last line printed is "N passed, M failed".
 
@@ -1052,6 +1054,246 @@ def side_by_side_marks_the_first_difference():
     equal(shown_trace(), play_trace, "the Playground's session")
 
 
+# ------------------------------------------------------------ Concurrency
+
+PING_PONG = "047-r6-ping-pong"
+
+
+def conc_open():
+    """The Concurrency tab, afresh: vector 047's two players (a serves)."""
+    open_page()
+    click("mode-concurrent")
+    check(B.js("return !document.getElementById('concurrent-panel').hidden"), "the Concurrency panel is shown")
+    equal(B.js("return [...document.querySelectorAll('#conc-agents [data-agent-rule]')].map(b => b.dataset.agentRule)"),
+          ["a", "b"], "a rule button per agent")
+
+
+def conc_view():
+    return B.js("return window.playground.view")
+
+
+def conc_verdict(box="conc-verdict"):
+    return B.js("const b = document.getElementById(arguments[0]); return [b.dataset.accepted || '', b.dataset.line || '', b.textContent]", box)
+
+
+def trace_agent(line):
+    return json.loads(line).get("agent")
+
+
+def conc_files_agents():
+    files = example_program(PING_PONG)
+    agents = B.js("return window.playground.examples.find(x => x.id === arguments[0]).agents", PING_PONG)
+    return files, agents
+
+
+def cli_judge(files, agents, trace_text):
+    """`jadescript-ref judge` on a trace: (exit status, its one line)."""
+    d = tempfile.mkdtemp(prefix="jsref-judge-")
+    for name, text in files:
+        with open(os.path.join(d, name), "w", encoding="utf-8") as f:
+            f.write(text)
+    with open(os.path.join(d, "t.jsonl"), "w", encoding="utf-8") as f:
+        f.write(trace_text)
+    cmd = [ARGS.cli, "judge"] + [n for n, _ in files] + sum((["--agent", a] for a in agents), []) + ["t.jsonl"]
+    r = subprocess.run(cmd, cwd=d, capture_output=True, text=True, timeout=120)
+    return r.returncode, (r.stdout + r.stderr).strip()
+
+
+def cli_interleaved(files, agents, seed):
+    """A whole run of `jadescript-ref run --interleave SEED` (D45), its
+    destroy lines included: a trace written by something other than the
+    page."""
+    d = tempfile.mkdtemp(prefix="jsref-fine-")
+    for name, text in files:
+        with open(os.path.join(d, name), "w", encoding="utf-8") as f:
+            f.write(text)
+    cmd = [ARGS.cli, "run"] + [n for n, _ in files] + sum((["--agent", a] for a in agents), []) + \
+        ["--interleave", str(seed), "--trace", "t.jsonl"]
+    r = subprocess.run(cmd, cwd=d, capture_output=True, text=True, timeout=60)
+    equal(r.returncode, 0, "run --interleave: %s" % r.stderr[-300:])
+    return read(os.path.join(d, "t.jsonl"))
+
+
+@test
+def concurrency_rules_interleave_by_hand_and_at_random():
+    conc_open()
+    # by hand: an order no round of run's schedule makes (a's iteration is
+    # cut by b's rules, R6 revised); every line a rule writes is its agent's
+    order = ["a", "b", "a", "b", "b", "a", "b"]
+    for who in order:
+        before = len(shown_trace())
+        click("conc-rule-" + who)
+        new = shown_trace()[before:]
+        check(new, "a rule of %s wrote its line" % who)
+        equal([trace_agent(l) for l in new], [who] * len(new), "the lines of %s's rule" % who)
+    rules = [json.loads(l) for l in shown_trace()[1:]]
+    rules = [e for e in rules if e.get("event") in ("transfer", "behaviour_step", "idle", "next_iteration")]
+    equal([e["agent"] for e in rules], order, "the rules' agents, in the order chosen")
+    # a's first iteration (Transfer ... BehaviourStep) has b's Transfer inside it
+    check(rules[0]["event"] == "transfer" and rules[2]["event"] == "behaviour_step" and rules[1]["agent"] == "b",
+          "b ran between a's Transfer and its behaviour step: %r" % [(e["agent"], e["event"]) for e in rules[:3]])
+    # at random: the seed shown, each draw says what it drew and the trace shows it
+    set_value("conc-seed", "5", "change")
+    check("seed 5" in text_of("conc-counters"), "the seed is shown: %r" % text_of("conc-counters"))
+    equal(sorted(set(json.loads(l)["event"] for l in shown_trace()[1:])), ["activate", "create", "send"],
+          "a new seed starts the run again: only the agents' creation (the serve still in flight)")
+    drawn_agents = []
+    arrivals = 0
+    for k in range(40):
+        before = len(shown_trace())
+        click("conc-random")
+        said = text_of("conc-message")
+        new = shown_trace()[before:]
+        m = re.match(r"drawn: a rule of (\w+)$", said)
+        if m:
+            drawn_agents.append(m.group(1))
+            equal([trace_agent(l) for l in new], [m.group(1)] * len(new), "draw %d: %s" % (k, said))
+            continue
+        m = re.match(r"drawn: a message arrives at (\w+)(, during its behaviour step \(SendInStep\))?$", said)
+        if m:
+            equal([(json.loads(l)["event"], json.loads(l)["agent"], json.loads(l)["action"]) for l in new],
+                  [("deliver", m.group(1), "SendInStep" if m.group(2) else "Send")], "draw %d: %s" % (k, said))
+            arrivals += 1
+            continue
+        check("nothing can happen" in said, "draw %d: %r" % (k, said))
+        break
+    check("a" in drawn_agents and "b" in drawn_agents, "both agents drawn: %r" % drawn_agents)
+    check(arrivals >= 2, "the draws make messages arrive too: %d arrivals" % arrivals)
+    first = shown_trace()
+    # the same seed draws the same run
+    click("conc-restart")
+    for k in range(40):
+        click("conc-random")
+    equal(shown_trace(), first, "seed 5 again: the same run")
+    # the tab's run survives a reload (share.js keeps its seed and its commands)
+    open_page(fresh=False)
+    equal(B.js("return window.playground.mode"), "concurrent", "the tab, after a reload")
+    equal(shown_trace(), first, "the run, after a reload")
+    check("seed 5" in text_of("conc-counters"), "the seed, after a reload: %r" % text_of("conc-counters"))
+
+
+@test
+def concurrency_message_during_a_step_keeps_the_behaviour():
+    conc_open()
+    flight = lambda: B.js("return [...document.querySelectorAll('#conc-flight [data-flight]')].map(e => e.dataset.flight)")
+    during = lambda: B.js("const b = document.querySelector('#conc-flight [data-arrive-step=b]'); return b ? !b.disabled : null")
+    equal(flight(), ["a>b|inform|ball(0)"], "a's serve is in flight to b (a's on create sent it)")
+    equal(during(), False, "no step of b yet: it cannot arrive during one (R5d)")
+    click("conc-rule-b")   # Transfer
+    equal(during(), False, "after b's Transfer, no window")
+    click("conc-rule-b")   # BehaviourStep: nothing in the queue, Play blocks
+    b = [a for a in conc_view()["agents"] if a["name"] == "b"][0]
+    check(b["window"] and b["blocked"] == [1] and b["ready"] == [], "b's Play blocked after an empty step: %r" % b)
+    equal(during(), True, "right after b's step: the window is open")
+    n = len(shown_trace())
+    B.js("document.querySelector('#conc-flight [data-arrive-step=b]').click()")
+    new = [json.loads(l) for l in shown_trace()[n:]]
+    equal([(e["event"], e["agent"], e["action"], e["content"]) for e in new], [("deliver", "b", "SendInStep", "ball(0)")],
+          "the arrival during the step")
+    b = [a for a in conc_view()["agents"] if a["name"] == "b"][0]
+    equal((b["blocked"], b["ready"], b["pos"] >= 1), ([], [1], True), "Play kept its place: not blocked, still ready (R5d revised)")
+    equal(flight(), [], "nothing in flight")
+    check(conc_verdict()[0] == "yes", "the judge accepts it: %r" % conc_verdict()[2])
+    # the other way: the same message arriving between two rules is a Send
+    click("conc-back")
+    equal(flight(), ["a>b|inform|ball(0)"], "undone: in flight again")
+    B.js("document.querySelector('#conc-flight [data-arrive]').click()")
+    equal(json.loads(shown_trace()[-1])["action"], "Send", "between two rules: Send")
+    b = [a for a in conc_view()["agents"] if a["name"] == "b"][0]
+    equal((b["blocked"], b["ready"]), ([], [1]), "Play woken (R5d)")
+    # the window closes with b's next rule
+    click("conc-back")
+    click("conc-rule-b")   # b's next rule (NextIteration, or Idle)
+    equal(during(), False, "b took another rule: the window is closed")
+
+
+@test
+def concurrency_growing_trace_accepted_by_the_judge():
+    conc_open()
+    steps = ["conc-rule-a", "conc-rule-b", "conc-rule-b", "arrive-step:b", "conc-rule-a", "conc-rule-b",
+             "conc-random", "conc-random", "conc-rule-b", "arrive:a", "conc-random", "conc-random", "conc-random"]
+    for k, s in enumerate(steps):
+        if s.startswith("arrive"):
+            kind, who = s.split(":")
+            sel = "[data-arrive-step=%s]" % who if kind == "arrive-step" else "[data-arrive=%s]" % who
+            ok = B.js("const b = document.querySelector('#conc-flight ' + arguments[0]); if (!b || b.disabled) return false; b.click(); return true", sel)
+            if not ok:
+                click("conc-random")
+        else:
+            click(s)
+        acc, line, text = conc_verdict()
+        n = len(shown_trace())
+        equal(acc, "yes", "after command %d (%s), the judge: %s" % (k, s, text))
+        check(("(%d lines" % n) in text and "so far" in text, "after command %d: all %d lines judged: %r" % (k, n, text))
+    actions = [json.loads(l).get("action") for l in shown_trace()[1:] if json.loads(l).get("event") == "deliver"]
+    check("SendInStep" in actions, "an arrival during a step was judged too: %r" % actions)
+    click("conc-finish")
+    acc, line, text = conc_verdict()
+    equal(acc, "yes", "the ended run: %s" % text)
+    check("complete" in text, "the judge sees the run complete: %r" % text)
+    equal(json.loads(shown_trace()[-1])["event"], "destroy", "the run ended with the agents destroyed")
+    # the page's trace is the command line judge's too
+    files, agents = conc_files_agents()
+    rc, said = cli_judge(files, agents, "\n".join(shown_trace()) + "\n")
+    equal(rc, 0, "jadescript-ref judge on the page's trace: %s" % said)
+
+
+@test
+def concurrency_pasted_trace_accepted():
+    conc_open()
+    files, agents = conc_files_agents()
+    for seed in (3, 11):
+        text = cli_interleaved(files, agents, seed)
+        set_value("conc-paste", text)
+        click("conc-judge")
+        acc, line, said = conc_verdict("conc-paste-verdict")
+        equal(acc, "yes", "run --interleave %d's trace: %s" % (seed, said))
+        check("complete" in said and ("(%d lines" % len(text.strip().split("\n"))) in said, "every line, complete: %r" % said)
+        equal(B.js("return document.querySelectorAll('#conc-paste-lines .unexplained').length"), 0, "no line marked")
+    # the page's own run, copied into the box, is accepted too
+    click("conc-rule-b"); click("conc-rule-b"); click("conc-random")
+    click("conc-paste-own")
+    click("conc-judge")
+    equal(conc_verdict("conc-paste-verdict")[0], "yes", "this run's trace, pasted")
+
+
+@test
+def concurrency_pasted_trace_with_one_line_altered_rejected_there():
+    conc_open()
+    files, agents = conc_files_agents()
+    lines = cli_interleaved(files, agents, 3).strip().split("\n")
+    # a handler that should not have run: the step that hits ball(0) says
+    # the stop handler (2) took it, not the hit handler (1)
+    k = next(i for i, l in enumerate(lines) if json.loads(l).get("event") == "behaviour_step"
+             and (json.loads(l).get("message") or {}).get("content") == "ball(0)")
+    e = json.loads(lines[k])
+    equal(e["handler"], 1, "ball(0) is hit by the first handler")
+    lines[k] = lines[k].replace('"handler":1', '"handler":2')
+    text = "\n".join(lines) + "\n"
+    set_value("conc-paste", text)
+    click("conc-judge")
+    acc, line, said = conc_verdict("conc-paste-verdict")
+    equal((acc, line), ("no", str(k + 1)), "rejected at the altered line %d: %s" % (k + 1, said))
+    marked = B.js("return [...document.querySelectorAll('#conc-paste-lines .line.unexplained')].map(e => +e.dataset.line)")
+    equal(marked, [k + 1], "the altered line marked")
+    rc, cli_said = cli_judge(files, agents, text)
+    equal(rc, 1, "the command line rejects it too")
+    m = re.match(r"t\.jsonl:(\d+):1: error: (.*)$", cli_said)
+    check(m, "the command line's verdict: %r" % cli_said)
+    equal(line, m.group(1), "the line, as jadescript-ref judge finds it")
+    check(said.endswith(m.group(2)), "the judge's message shown: page %r, command line %r" % (said, m.group(2)))
+    why = B.js("return document.querySelector('#conc-paste-lines .why').textContent")
+    check(m.group(2) in why, "the message under the marked line: %r" % why)
+    # what is not a trace is rejected at its first line, the page intact
+    for junk in ["not json at all", "", '{"trace":"jadescript-ref","version":99}\n{"step":1}']:
+        set_value("conc-paste", junk)
+        click("conc-judge")
+        acc, line, said = conc_verdict("conc-paste-verdict")
+        equal((acc, line), ("no", "1"), "%r rejected at line 1: %s" % (junk, said))
+    click("conc-rule-a")
+    check(conc_verdict()[0] == "yes", "the page goes on")
+
+
 # ------------------------------------------------ the tutorial, followed
 
 TUTORIAL = os.path.join(ROOT, "docs", "tutorial.md")
@@ -1169,7 +1411,7 @@ def _five_5():
 def _full_1_1():
     open_page()
     tabs = B.js("return [...document.querySelectorAll('button.mode[data-mode]')].map(b => b.textContent)")
-    equal(tabs, ["Playground", "Exercises", "Side by side", "TLC's counterexamples", "RoboMe in the corridor"], "the five tabs")
+    equal(tabs, ["Playground", "Exercises", "Side by side", "TLC's counterexamples", "RoboMe in the corridor", "Concurrency"], "the six tabs")
     click("help-toggle")
     check(B.js("return document.getElementById('loop-picture').getBoundingClientRect().width > 300"), "the loop's picture")
     B.js("document.querySelector('#help a.term[data-term=R3b], #help a.term').click()")
@@ -1485,6 +1727,45 @@ def _full_9_1():
     check(B.js("return document.querySelectorAll('#corridor line.belief').length") > 0, "the map's beliefs drawn")
     if ARGS.shots:
         B.screenshot(os.path.join(ARGS.shots, "corridor.png"))
+
+
+@step("full-10.1")
+def _full_10_1():
+    click("mode-concurrent")
+    click("conc-restart")
+    flight = B.js("return [...document.querySelectorAll('#conc-flight [data-flight]')].map(e => e.dataset.flight)")
+    equal(flight, ["a>b|inform|ball(0)"], "the ball is in flight")
+    click("conc-rule-b")
+    click("conc-rule-b")
+    b = [a for a in conc_view()["agents"] if a["name"] == "b"][0]
+    check(b["blocked"] == [1] and b["ready"] == [], "Play blocks: %r" % b)
+    ACTIONS[0] += 1
+    B.js("document.querySelector('#conc-flight [data-arrive-step=b]').click()")
+    equal(json.loads(shown_trace()[-1])["action"], "SendInStep", "the ball comes during b's step")
+    b = [a for a in conc_view()["agents"] if a["name"] == "b"][0]
+    check(b["blocked"] == [] and b["ready"] == [1], "Play still in b's ready list: %r" % b)
+    click("conc-rule-b")
+    click("conc-rule-b")
+    check("b: hit 0" in text_of("output").split("\n"), "b logs hit 0: %r" % text_of("output"))
+    equal(B.js("return [...document.querySelectorAll('#conc-flight [data-flight]')].map(e => e.dataset.flight)"),
+          ["b>a|inform|ball(1)"], "ball(1) in flight to a")
+    for _ in range(4):
+        click("conc-random")
+        check(text_of("conc-message").startswith("drawn: "), "a draw: %r" % text_of("conc-message"))
+    check(text_of("conc-verdict").startswith("✓ Accepted so far"), "the judge accepts: %r" % text_of("conc-verdict"))
+    if ARGS.shots:
+        B.js("window.scrollTo(0, 0)")
+        B.screenshot(os.path.join(ARGS.shots, "concurrency.png"))
+    click("conc-paste-own")
+    lines = B.js("return document.getElementById('conc-paste').value").split("\n")
+    k = next(i for i, l in enumerate(lines) if '"event":"behaviour_step"' in l and '"content":"ball(0)"' in l)
+    check('"handler":1' in lines[k], "b's step took ball(0) with handler 1")
+    lines[k] = lines[k].replace('"handler":1', '"handler":2')
+    set_value("conc-paste", "\n".join(lines))
+    click("conc-judge")
+    equal(conc_verdict("conc-paste-verdict")[:2], ["no", str(k + 1)], "the changed line is the one rejected")
+    equal(B.js("return [...document.querySelectorAll('#conc-paste-lines .unexplained')].map(e => +e.dataset.line)"),
+          [k + 1], "that line marked")
 
 
 def tutorial_sections():

@@ -285,6 +285,78 @@ let glossary_case () =
   List.iter (fun t -> Alcotest.(check bool) (t ^ " explained") true (List.mem t terms))
     [ "R1a"; "R3b"; "R8"; "D1"; "D39"; "NoLoss"; "BoundedInversion"; "ghosts"; "MCBudgeted" ]
 
+(* The finer interleaving (the Concurrency tab, D45): the vector's host
+   actions done, then events drawn from a seed until nothing can happen, and
+   the run ended; the judge compiled into the page accepts the trace,
+   complete, after every tenth draw and at the end; export and restore give
+   the same trace; and the same trace with its arrivals' order broken (the
+   last deliver line moved before the send it answers) is rejected. *)
+let fine_case (v : Interp.Oracle.vector) =
+  Alcotest.test_case v.name `Quick (fun () ->
+      let path = Filename.temp_file "judge" ".jsonl" in
+      Fun.protect ~finally:(fun () -> Sys.remove path) (fun () ->
+          let seed = Hashtbl.hash v.name mod 1000 in
+          match S.create { (setup_of v) with interleave = Some seed } with
+          | Error e -> Alcotest.failf "%s" (String.concat "\n" e)
+          | Ok t ->
+            List.iter (fun line ->
+                match Yojson.Safe.from_string line with
+                | `Assoc f ->
+                  let text k = match List.assoc_opt k f with Some (`String x) -> Some x | _ -> None in
+                  let agent = Option.value (text "agent") ~default:"" in
+                  (match text "notify", text "put", text "message" with
+                   | Some p, _, _ ->
+                     let priority = match List.assoc_opt "priority" f with Some (`Int k) -> Some k | _ -> None in
+                     ignore (S.host t (S.Notify { agent; percept = p; priority }))
+                   | _, Some o, _ -> ignore (S.host t (S.Put { agent; obj = o }))
+                   | _, _, Some c ->
+                     ignore (S.host t (S.Message { agent; content = c; perf = Option.value (text "performative") ~default:"inform";
+                                                   during = text "during" = Some "step" }))
+                   | _ -> ())
+                | _ -> ()
+                | exception _ -> ())
+              (List.filter (fun l -> l.[0] <> '#') (lines (read (Filename.concat v.dir "events.jsonl"))));
+            let judged what =
+              match Playground_core.Judging.session ~path t with
+              | Judge.Accepted { lines; _ } ->
+                Alcotest.(check int) (what ^ ": every line judged") (List.length (S.trace t)) lines
+              | Judge.Rejected { line; message } ->
+                Alcotest.failf "%s: line %d rejected: %s\n%s" what line message (List.nth (S.trace t) (line - 1)) in
+            let rec go n =
+              if n < 600 then
+                match S.draw t with
+                | Ok _ -> if n mod 10 = 0 then judged (Printf.sprintf "after %d draws" n); go (n + 1)
+                | Error _ -> () in
+            go 0;
+            Alcotest.(check bool) "the run ends" true (S.finish t);
+            (match Playground_core.Judging.session ~path t with
+             | Judge.Accepted { complete; _ } -> Alcotest.(check bool) "complete" true complete
+             | Judge.Rejected { line; message } -> Alcotest.failf "the whole run: line %d rejected: %s" line message);
+            (match S.restore (S.setup t) (S.export t) with
+             | Ok u -> Alcotest.(check (list string)) "export and restore" (S.trace t) (S.trace u)
+             | Error e -> Alcotest.failf "restore: %s" (String.concat "\n" e));
+            let tr = Array.of_list (S.trace t) in
+            let event k = match Yojson.Safe.from_string tr.(k) with
+              | `Assoc f -> (match List.assoc_opt "event" f with Some (`String e) -> e | _ -> "")
+              | _ -> "" in
+            let last_deliver = ref None in
+            Array.iteri (fun k _ -> if event k = "deliver" then last_deliver := Some k) tr;
+            match !last_deliver with
+            | None -> ()
+            | Some d ->
+              (* moved to the first line after the header and the creations *)
+              let first = ref 1 in
+              while !first < d && List.mem (event !first) [ "create"; "activate"; "send"; "log"; "invoke" ] do incr first done;
+              if !first < d then begin
+                let l = Array.to_list tr in
+                let moved = List.filteri (fun k _ -> k <> d) l in
+                let moved = List.concat (List.mapi (fun k x -> if k = !first then [ tr.(d); x ] else [ x ]) moved) in
+                match Playground_core.Judging.text ~path t (String.concat "" (List.map (fun x -> x ^ "\n") moved)) with
+                | Judge.Rejected { line; _ } ->
+                  Alcotest.(check bool) "rejected at or before the moved line" true (line <= !first + 1)
+                | Judge.Accepted _ -> Alcotest.failf "a deliver moved from line %d to %d was accepted" (d + 1) (!first + 1)
+              end))
+
 let () =
   let vectors = Interp.Oracle.load conformance in
   Alcotest.run "playground engine" [
@@ -299,6 +371,9 @@ let () =
        million values (D21, D37), seconds per replay, and a restore and three
        steps back replay eight times; export does the same for every vector *)
     "export and restore", List.map restore_case
+      (List.filter (fun (v : Interp.Oracle.vector) ->
+           not (List.mem v.name [ "083-r7-value-too-large"; "084-r7-shared-value-compare" ])) vectors);
+    "finer interleaving judged", List.map fine_case
       (List.filter (fun (v : Interp.Oracle.vector) ->
            not (List.mem v.name [ "083-r7-value-too-large"; "084-r7-shared-value-compare" ])) vectors);
     "exercises", List.map exercise_case Playground_core.Exercises.all;
