@@ -37,9 +37,10 @@ let run_generated ds n seed =
       (d, killer)) ds in
   let killed = List.filter (fun (_, k) -> k <> None) rows in
   let survivors = List.filter (fun ((d : Defects.t), k) -> d.can_differ && k = None) rows in
-  Printf.printf "%d of %d defects killed by %d generated programs (seed %d), judged (%d defects can show in a trace; %.0f s)\n"
+  Printf.printf "%d of %d defects killed by %d generated programs (seed %d), judged (%d defects can show in a trace)\n"
     (List.length killed) (List.length rows) n seed
-    (List.length (List.filter (fun ((d : Defects.t), _) -> d.can_differ) rows)) (Unix.gettimeofday () -. t0);
+    (List.length (List.filter (fun ((d : Defects.t), _) -> d.can_differ) rows));
+  Printf.printf "(in %.0f s)\n" (Unix.gettimeofday () -. t0);
   if survivors <> [] then
     Printf.printf "survivors that a trace can show: %s\n"
       (String.concat ", " (List.map (fun ((d : Defects.t), _) -> d.name) survivors));
@@ -92,9 +93,10 @@ let run vectors first only judge generated seed =
     let killed = List.filter (fun (_, k) -> k <> []) rows in
     let must = List.filter (fun ((d : Defects.t), _) -> d.can_differ) rows in
     let survivors = List.filter (fun ((d : Defects.t), k) -> d.can_differ && k = []) rows in
-    Printf.printf "%d of %d defects killed by the vectors%s (%d vectors; %d defects can show in a trace; %.0f s)\n"
+    Printf.printf "%d of %d defects killed by the vectors%s (%d vectors; %d defects can show in a trace)\n"
       (List.length killed) (List.length rows) (if judge then ", judged" else " alone") (List.length vs)
-      (List.length must) (Unix.gettimeofday () -. t0);
+      (List.length must);
+    Printf.printf "(in %.0f s)\n" (Unix.gettimeofday () -. t0);
     if survivors <> [] then
       Printf.printf "survivors that a trace can show: %s\n"
         (String.concat ", " (List.map (fun ((d : Defects.t), _) -> d.name) survivors));
