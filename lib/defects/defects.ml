@@ -2,7 +2,8 @@
    implementer of Jadescript runtimes would plausibly make them. Each one is
    built from the outside, as mutants are (lib/explore/mutant.ml): an altered
    rule table of the reference machine, altered bodies given to the machine's
-   functor, or a platform operation wrapped around the reference's
+   functor, the evaluator's functor (Eval.Make) applied to altered
+   primitives, or a platform operation wrapped around the reference's
    ({!Interp.Runtime.hooks}). The reference rules (lib/semantics/machine.ml,
    lib/interp/eval.ml) know nothing of them. *)
 
