@@ -21,20 +21,53 @@ let short name = match String.index_opt name '-' with Some i -> String.sub name 
 let run_generated ds n seed =
   let exe = Filename.quote (self ()) in
   let t0 = Unix.gettimeofday () in
-  let rows = List.map (fun (d : Defects.t) ->
-      let impl = exe ^ " run --defect " ^ Filename.quote d.name in
-      let rec go k =
-        if k > n then None
-        else match Judged.judge_case ~spawn:Cmd_conform.spawn ~timeout:60. ~impl (Judged.generated ~seed k) with
-          | Ok () -> go (k + 1)
-          | Error _ -> Some k in
-      let killer = go 1 in
-      let verdict = match killer, d.can_differ with
-        | None, true -> "SURVIVES"
-        | None, false -> "survives (no trace can show it)"
-        | Some k, _ -> Printf.sprintf "killed by generated-%d-%d" seed k in
-      Printf.printf "%-30s %-5s %-60s %s\n%!" d.name d.ruling d.about verdict;
-      (d, killer)) ds in
+  (* a defect no trace can show is not run: nothing could kill it *)
+  let first_kill (d : Defects.t) =
+    let impl = exe ^ " run --defect " ^ Filename.quote d.name in
+    let rec go k =
+      if k > n then None
+      else match Judged.judge_case ~spawn:Cmd_conform.spawn ~timeout:60. ~impl (Judged.generated ~seed k) with
+        | Ok () -> go (k + 1)
+        | Error _ -> Some k in
+    if d.can_differ then go 1 else None in
+  let row (d : Defects.t) killer =
+    let verdict = match killer, d.can_differ with
+      | None, true -> "SURVIVES"
+      | None, false -> "survives (no trace can show it)"
+      | Some k, _ -> Printf.sprintf "killed by generated-%d-%d" seed k in
+    Printf.printf "%-30s %-5s %-60s %s\n%!" d.name d.ruling d.about verdict in
+  (* two workers (the machine's two cores): this process takes the defects
+     of even place, a child the others, each printing its rows as they end;
+     the child hands its results back in a file *)
+  let indexed = List.mapi (fun i d -> (i, d)) ds in
+  let (mine, theirs) = List.partition (fun (i, _) -> i mod 2 = 0) indexed in
+  let results = Filename.temp_file "jsref_defects" ".txt" in
+  flush stdout;
+  let child = match Unix.fork () with
+    | 0 ->
+      let oc = open_out results in
+      List.iter (fun (i, d) ->
+          let k = first_kill d in
+          row d k;
+          Printf.fprintf oc "%d %d\n%!" i (Option.value k ~default:0)) theirs;
+      close_out oc;
+      Unix._exit 0
+    | pid -> pid in
+  let own = List.map (fun (i, d) -> let k = first_kill d in row d k; (i, k)) mine in
+  let rec wait () = match Unix.waitpid [] child with
+    | _ -> ()
+    | exception Unix.Unix_error (Unix.EINTR, _, _) -> wait () in
+  wait ();
+  let others =
+    let ic = open_in results in
+    let rec read acc = match input_line ic with
+      | l -> (match String.split_on_char ' ' l with
+          | [ i; k ] -> let k = int_of_string k in read ((int_of_string i, if k = 0 then None else Some k) :: acc)
+          | _ -> read acc)
+      | exception End_of_file -> acc in
+    let l = read [] in close_in ic; Sys.remove results; l in
+  let rows = List.map (fun (i, d) ->
+      (d, match List.assoc_opt i own with Some k -> k | None -> Option.join (List.assoc_opt i others))) indexed in
   let killed = List.filter (fun (_, k) -> k <> None) rows in
   let survivors = List.filter (fun ((d : Defects.t), k) -> d.can_differ && k = None) rows in
   Printf.printf "%d of %d defects killed by %d generated programs (seed %d), judged (%d defects can show in a trace)\n"
