@@ -29,12 +29,13 @@ let run_generated ds n seed =
       else match Judged.judge_case ~spawn:Cmd_conform.spawn ~timeout:60. ~impl (Judged.generated ~seed k) with
         | Ok () -> go (k + 1)
         | Error _ -> Some k in
-    if d.can_differ then go 1 else None in
+    if d.can_differ && d.blind = None then go 1 else None in
   let row (d : Defects.t) killer =
-    let verdict = match killer, d.can_differ with
-      | None, true -> "SURVIVES"
-      | None, false -> "survives (no trace can show it)"
-      | Some k, _ -> Printf.sprintf "killed by generated-%d-%d" seed k in
+    let verdict = match killer, d.can_differ, d.blind with
+      | None, true, Some why -> "survives (the judge cannot see it: " ^ why ^ ")"
+      | None, true, None -> "SURVIVES"
+      | None, false, _ -> "survives (no trace can show it)"
+      | Some k, _, _ -> Printf.sprintf "killed by generated-%d-%d" seed k in
     Printf.printf "%-30s %-5s %-60s %s\n%!" d.name d.ruling d.about verdict in
   (* two workers (the machine's two cores): this process takes the defects
      of even place, a child the others, each printing its rows as they end;
@@ -69,7 +70,7 @@ let run_generated ds n seed =
   let rows = List.map (fun (i, d) ->
       (d, match List.assoc_opt i own with Some k -> k | None -> Option.join (List.assoc_opt i others))) indexed in
   let killed = List.filter (fun (_, k) -> k <> None) rows in
-  let survivors = List.filter (fun ((d : Defects.t), k) -> d.can_differ && k = None) rows in
+  let survivors = List.filter (fun ((d : Defects.t), k) -> d.can_differ && d.blind = None && k = None) rows in
   Printf.printf "%d of %d defects killed by %d generated programs (seed %d), judged (%d defects can show in a trace)\n"
     (List.length killed) (List.length rows) n seed
     (List.length (List.filter (fun ((d : Defects.t), _) -> d.can_differ) rows));
@@ -116,16 +117,18 @@ let run vectors first only judge generated seed =
           | (v : O.vector) :: rest ->
             if not (kills v) then go acc rest
             else if first then [ v.name ] else go (v.name :: acc) rest in
-        let killers = go [] vs in
-        let verdict = match killers, d.can_differ with
-          | [], true -> "SURVIVES"
-          | [], false -> "survives (no trace can show it)"
-          | l, _ -> "killed by " ^ String.concat " " (List.map short l) ^ (if first then " (first found)" else "") in
+        (* judged, a defect the judge cannot see is not run *)
+        let killers = match judge, d.blind with true, Some _ -> [] | _ -> go [] vs in
+        let verdict = match killers, d.can_differ, d.blind with
+          | [], true, Some why when judge -> "survives (the judge cannot see it: " ^ why ^ ")"
+          | [], true, _ -> "SURVIVES"
+          | [], false, _ -> "survives (no trace can show it)"
+          | l, _, _ -> "killed by " ^ String.concat " " (List.map short l) ^ (if first then " (first found)" else "") in
         Printf.printf "%-30s %-5s %-60s %s\n%!" d.name d.ruling d.about verdict;
         (d, killers)) ds in
     let killed = List.filter (fun (_, k) -> k <> []) rows in
     let must = List.filter (fun ((d : Defects.t), _) -> d.can_differ) rows in
-    let survivors = List.filter (fun ((d : Defects.t), k) -> d.can_differ && k = []) rows in
+    let survivors = List.filter (fun ((d : Defects.t), k) -> d.can_differ && k = [] && not (judge && d.blind <> None)) rows in
     Printf.printf "%d of %d defects killed by the vectors%s (%d vectors; %d defects can show in a trace)\n"
       (List.length killed) (List.length rows) (if judge then ", judged" else " alone") (List.length vs)
       (List.length must);
@@ -133,9 +136,8 @@ let run vectors first only judge generated seed =
     if survivors <> [] then
       Printf.printf "survivors that a trace can show: %s\n"
         (String.concat ", " (List.map (fun ((d : Defects.t), _) -> d.name) survivors));
-    (* one test per defect: killed, or no trace can show it; judged, a
-       survivor may be a schedule the rulings allow (R6): counted, not
-       failed *)
+    (* one test per defect: killed, or no trace can show it; judged, the
+       survivors are counted, not failed *)
     if judge then 0
     else begin
       Printf.printf "%d passed, %d failed\n" (List.length rows - List.length survivors) (List.length survivors);

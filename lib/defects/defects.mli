@@ -24,6 +24,12 @@ type t = {
   can_differ : bool;
       (** whether its trace can differ from the reference's at all; [false]
           for a defect no trace can show (the vectors need not kill it) *)
+  blind : string option;
+      (** why the judge cannot see it, when it cannot: the defect changes
+          only what the rulings leave free (the order of the agents' rules,
+          of different receivers' messages, R6) or a host operation the
+          judge reads from the trace itself; [defects --judge] and
+          [--generated] count it as a survivor without running it *)
   hooks : Interp.Runtime.hooks;   (** how a run takes it *)
 }
 

@@ -86,7 +86,11 @@ let judged_counts () =
   Alcotest.(check int) "generated: exit 0" 0 status;
   Alcotest.(check bool) ("generated, reported:\n" ^ out) true
     (List.mem "1 of 2 defects killed by 12 generated programs (seed 1), judged (2 defects can show in a trace)" (lines out)
-     && List.mem "survivors that a trace can show: seed-ignored" (lines out));
+     (* a change of schedule alone: counted as a survivor the judge cannot see, not run *)
+     && List.exists (fun l -> String.length l > 12 && String.sub l 0 12 = "seed-ignored"
+                              && Option.is_some (String.index_opt l '(')
+                              && List.mem "survives" (String.split_on_char ' ' l)) (lines out)
+     && not (List.exists (fun l -> String.length l > 9 && String.sub l 0 9 = "survivors") (lines out)));
   (* one vector, judged: the lowest priority first is not what the program does *)
   let dir = Filename.concat (Filename.get_temp_dir_name ()) "jsref_one_vector" in
   let v = Filename.concat dir "001-r3b-priority-order" in
