@@ -32,14 +32,18 @@ bench: build
 
 # The longer agreement checks: every model (full ones too) against TLC, the
 # mutant table, 200 TLC behaviours replayed and 200 OCaml runs validated per
-# model, the vectors' kill count over the bug catalogue (every vector against
-# every defect of lib/defects), 1,000 generated programs judged, the judge's
-# false rejections over 20 seeds of the finer interleaving (scripts/judge-seeds:
-# every vector and 50 generated programs per seed), then every suite with 10x
-# the property-test counts.
+# model, the three kill counts over the bug catalogue (lib/defects,
+# conformance/README.md: the vectors compared exactly, the vectors judged,
+# 1000 generated programs judged; each defect's row ends at its first
+# killing case), 1,000 generated programs judged on the reference and under
+# --interleave, the judge's false rejections over 20 seeds of the finer
+# interleaving (scripts/judge-seeds: every vector and 50 generated programs
+# per seed), then every suite with 10x the property-test counts.
 conformance: build
 	@dune exec --no-print-directory -- jadescript-ref explore --all --full --mutants --simulate 200 --validate 200
-	@dune exec --no-print-directory -- jadescript-ref defects
+	@dune exec --no-print-directory -- jadescript-ref defects --first
+	@dune exec --no-print-directory -- jadescript-ref defects --judge
+	@dune exec --no-print-directory -- jadescript-ref defects --generated 1000 --seed 1
 	@dune exec --no-print-directory -- jadescript-ref conform --generated 1000 --seed 1 | tail -n 1
 	@dune exec --no-print-directory -- jadescript-ref conform --generated 1000 --seed 1 --impl "$$PWD/_build/default/bin/main.exe run --interleave 7" | tail -n 1
 	@bash scripts/judge-seeds 20 50 | tail -n 1

@@ -2,7 +2,8 @@
    implementer of Jadescript runtimes would plausibly make them. Each one is
    built from the outside, as mutants are (lib/explore/mutant.ml): an altered
    rule table of the reference machine, altered bodies given to the machine's
-   functor, or a platform operation wrapped around the reference's
+   functor, the evaluator's functor (Eval.Make) applied to altered
+   primitives, or a platform operation wrapped around the reference's
    ({!Interp.Runtime.hooks}). The reference rules (lib/semantics/machine.ml,
    lib/interp/eval.ml) know nothing of them. *)
 
@@ -19,6 +20,7 @@ type t = {
   ruling : string;
   about : string;
   can_differ : bool;
+  blind : string option;
   hooks : R.hooks;
 }
 
@@ -348,7 +350,261 @@ module Guard_twice = struct
 end
 module Mg = Semantics.Machine.Make (Guard_twice)
 
-let d name ruling about ?(can_differ = true) hooks = { name; ruling; about; can_differ; hooks }
+
+(* ------------------------------------------ the evaluator's primitives *)
+
+module E = Interp_eval.Eval
+module V = Interp_eval.Value
+module Ty = Typing.Types
+module Ep = E.Primitives
+
+(* The evaluator over altered primitives (Eval.Make), for every body: the
+   machine's rules over its bodies, the agents' on create and on destroy. *)
+let evaluator (module Pr : E.PRIMITIVES) =
+  let module Ev = E.Make (Pr) in
+  let module Mv = Semantics.Machine.Make (Ev.Bodies) in
+  { (with_step Mv.step) with
+    create_agent = (fun ~config env ~name ~atype ~args -> Ev.create_agent ~config env ~name ~atype ~args);
+    destroy_agent = Ev.destroy_agent }
+
+(* D8: integer division rounds toward negative infinity, as Python's //
+   (Java's rounds toward zero), and % takes the divisor's sign. *)
+module Floor_division = struct
+  include Ep
+  let arith at (op : Syntax.Ast.binop) a b = match op, a, b with
+    | Div, V.Int x, V.Int y when y <> 0 -> V.int32 (int_of_float (Float.floor (float_of_int x /. float_of_int y)))
+    | Mod, V.Int x, V.Int y when y <> 0 -> V.int32 (((x mod y) + y) mod y)
+    | _ -> Ep.arith at op a b
+end
+
+(* D8: integers are 64-bit: + - * never wrap at 2^31. *)
+module Wide_integers = struct
+  include Ep
+  let arith at (op : Syntax.Ast.binop) a b = match op, a, b with
+    | Add, V.Int x, V.Int y -> V.Int (x + y)
+    | Sub, V.Int x, V.Int y -> V.Int (x - y)
+    | Mul, V.Int x, V.Int y -> V.Int (x * y)
+    | _ -> Ep.arith at op a b
+end
+
+(* R1c: an integer given to a real slot, parameter or property stays an
+   integer. *)
+module No_widening = struct
+  include Ep
+  let coerce_param ty v = match Ty.repr ty, v with
+    | (Ty.Double | Ty.Float), V.Int _ -> Some v
+    | _ -> Ep.coerce_param ty v
+end
+
+(* D9: a real printed as OCaml prints it (21. where Java writes 21.0). *)
+module Ocaml_reals = struct
+  include Ep
+  let text v = match v with V.Double f | V.Float f -> string_of_float f | _ -> Ep.text v
+end
+
+(* R8: log and + write a value's literal: a text with its quotes. *)
+module Literal_text = struct
+  include Ep
+  let text = V.to_literal
+end
+
+(* R1c: an integer never equals a real (Java's Integer.equals(Double)). *)
+module Int_real_unequal = struct
+  include Ep
+  let equal_values at a b = match a, b with
+    | V.Int _, (V.Double _ | V.Float _) | (V.Double _ | V.Float _), V.Int _ -> false
+    | _ -> Ep.equal_values at a b
+end
+
+(* R1c: schema values compared by identity (Java's default equals). *)
+module Schema_identity = struct
+  include Ep
+  let equal_values at a b = match a, b with
+    | V.Schema _, V.Schema _ -> a == b
+    | _ -> Ep.equal_values at a b
+end
+
+(* R1a: a type is a subtype of itself and of its parent, not of its
+   grandparent: the extends chain is not followed. *)
+module Direct_parent_only = struct
+  include Ep
+  let subschema env a b =
+    String.equal a b
+    || (match Typing.Tenv.schema env a with Some s -> s.s_super = Some b | None -> false)
+end
+
+(* ------------------------------------------------ more host and rules *)
+
+(* R2b: the priority queue numbers each transfer's percepts from 1 (the
+   seq is the place in the batch, not the notification's number). *)
+let seq_per_transfer p (c : M.t) =
+  match r.transfer p c with
+  | [] -> []
+  | res ->
+    let moved = List.filter_map (function O_percept e -> Some e | O_object _ -> None) (Fqueue.to_list c.o2a) in
+    let renumbered = List.mapi (fun i (e : _ entry) -> { e with seq = i + 1 }) moved in
+    List.map (fun (l, (c' : M.t)) ->
+        (l, { c' with pq = List.fold_left (fun q e -> Pqueue.insert e q) c.pq renumbered })) res
+
+(* R3b, R2b: equal percepts of one priority are one: the queue is a set
+   (a transfer adds a percept equal to one already queued no more). *)
+let duplicates_merged p (c : M.t) =
+  match r.transfer p c with
+  | [] -> []
+  | res ->
+    let moved = List.filter_map (function O_percept e -> Some e | O_object _ -> None) (Fqueue.to_list c.o2a) in
+    let same (a : _ entry) (b : _ entry) = a.prio = b.prio && V.equal a.p b.p in
+    let pq = List.fold_left (fun q e ->
+        if List.exists (same e) (Pqueue.to_sorted_list q) then q else Pqueue.insert e q) c.pq moved in
+    List.map (fun (l, (c' : M.t)) -> (l, { c' with pq })) res
+
+(* R3b: ties go to the percept whose text comes first (a queue ordered by
+   priority, then by the percept), not to the smallest seq. *)
+let ties_by_text p (c : M.t) =
+  match r.dequeue p c with
+  | [] -> []
+  | _ ->
+    let all = Pqueue.to_sorted_list c.pq in
+    let top = List.fold_left (fun m (e : _ entry) -> max m e.prio) min_int all in
+    let ties = List.filter (fun (e : _ entry) -> e.prio = top) all in
+    let key (e : _ entry) = V.to_literal e.p in
+    let e = List.fold_left (fun b e -> if compare (key e) (key b) < 0 then e else b) (List.hd ties) ties in
+    List.map (fun (l, (c' : M.t)) -> (l, { c' with pq = Pqueue.remove e c.pq }))
+      (r.dequeue p { c with pq = Pqueue.insert e Pqueue.empty })
+
+(* R5a: the position does not wrap: after the last ready behaviour, the
+   last one runs again. *)
+let position_clamps =
+  map_results (fun _ (c : M.t) _ (c' : M.t) ->
+      if c.ready <> [] && c.pos = List.length c.ready && c'.ready = c.ready then { c' with pos = c.pos } else c')
+    r.behaviour_step
+
+(* R5f: behaviours woken by one message join the end of ready newest
+   blocked first (a stack of blocked behaviours). As woken_at_front: the
+   ids that joined ready since the agent's last rule, reversed. *)
+let ready_before : (string, int list) Hashtbl.t = Hashtbl.create 8
+
+let woken_reversed p (c : M.t) =
+  let name = c.world.E.name in
+  let c = match Hashtbl.find_opt ready_before name with
+    | Some before ->
+      let (kept, woken) = List.partition (fun id -> List.mem id before) c.ready in
+      if List.length woken < 2 then c else { c with ready = kept @ List.rev woken }
+    | None -> c in
+  let res = M.step p c in
+  (match res with (_, (c' : M.t)) :: _ -> Hashtbl.replace ready_before name c'.ready | [] -> ());
+  res
+
+(* D1: a one-shot behaviour without an action block whose step took no
+   message blocks (and waits for one) instead of being deactivated. *)
+let oneshot_blocks p (c : M.t) =
+  match r.behaviour_step p c with
+  | [ (Behaviour_step { id; msg = None } as l, (c' : M.t)) ] ->
+    (match M.find_instance id c.active with
+     | Some b when not (B.cyclic b) && not (B.has_action b) ->
+       let pos = (c.pos mod List.length c.ready) + 1 in
+       let stepped = Stepped_blocked { active = c.active; ready = c.ready; blocked = c.blocked; pos } in
+       [ (l, { c' with active = c.active; blocked = c'.blocked @ [ id ]; stepped }) ]
+     | _ -> [ (l, c') ])
+  | res -> res
+
+(* The behaviour a step would run, when BehaviourStep is enabled. *)
+let stepping p (c : M.t) =
+  if c.phase = Dispatch_phase && M.dispatch_over p c && c.ready <> [] then
+    let id = List.nth c.ready (c.pos - 1) in
+    Option.map (fun b -> (id, b)) (M.find_instance id c.active)
+  else None
+
+(* R5b: the step takes the oldest message that some handler accepts (the
+   messages in order, each tried with every handler), not the first
+   message of the first handler that accepts one. *)
+let oldest_message_first p (c : M.t) =
+  match stepping p c with
+  | None -> r.behaviour_step p c
+  | Some (id, b) ->
+    let entries = Fqueue.to_list c.msgq in
+    let accepted = function
+      | M_message { m; _ } ->
+        List.exists (fun h -> snd (B.message_accepted c.world ~id b h m) <> None)
+          (List.init (B.message_handlers b) (fun j -> j + 1))
+      | M_percept _ -> false in
+    match List.find_opt accepted entries with
+    | None -> r.behaviour_step p c
+    | Some x ->
+      let rest = List.filter (fun y -> y != x) entries in
+      List.map (fun (l, (c' : M.t)) -> match l with
+          | Behaviour_step { msg = Some _; _ } ->
+            (l, { c' with msgq = Fqueue.of_list (rest @ Fqueue.to_list c'.msgq) })
+          | _ -> (l, { c' with msgq = Fqueue.of_list entries }))
+        (r.behaviour_step p { c with msgq = Fqueue.of_list [ x ] })
+
+(* R5b: a step takes the head message of the queue and drops it when no
+   handler of the behaviour accepts it (JADE's receive() without a
+   template). *)
+let unmatched_dropped p (c : M.t) =
+  match stepping p c with
+  | Some (_, b) when B.message_handlers b > 0 ->
+    List.map (fun (l, (c' : M.t)) -> match l with
+        | Behaviour_step { msg = None; _ } ->
+          (l, { c' with msgq = (match Fqueue.pop c'.msgq with Some (_, q) -> q | None -> c'.msgq) })
+        | _ -> (l, c')) (r.behaviour_step p c)
+  | _ -> r.behaviour_step p c
+
+(* R5g: a new instance's id comes from a counter (the agent's largest id
+   so far, plus one), never reused, not the smallest free. *)
+let highest : (string, int) Hashtbl.t = Hashtbl.create 8
+let counter = ref 0
+let ids_counted =
+  let rules = renumber (fun taken reserved ->
+      let n = 1 + List.fold_left max !counter (taken @ reserved) in counter := n; n) in
+  fun p (c : M.t) ->
+    let name = c.world.E.name in
+    let seen = List.fold_left (fun m (a : _ instance) -> max m a.id)
+        (Option.value ~default:0 (Hashtbl.find_opt highest name)) c.active in
+    counter := seen;
+    let res = M.step_by rules p c in
+    Hashtbl.replace highest name !counter;
+    res
+
+(* R2b, R2d: a refused percept still takes a seq number (the counter
+   moves before the capacity is checked). *)
+let refused : (int, int) Hashtbl.t = Hashtbl.create 8
+let refused_takes_seq p pl i (c : M.t) v ~default ~priority =
+  let lost = Option.value ~default:0 (Hashtbl.find_opt refused i) in
+  match ref_hooks.notify_event p pl i { c with next_seq = c.next_seq + lost } v ~default ~priority with
+  | Error O2a_full as e -> Hashtbl.replace refused i (lost + 1); e
+  | Ok _ as ok -> Hashtbl.replace refused i 0; ok
+  | e -> e
+
+(* R7, R3b: an error in a percept handler's body ends the dispatch of that
+   percept: the handlers after it are not tried. *)
+let has_error (w : E.agent) = List.exists (function E.Error _ -> true | _ -> false) w.events
+let error_ends_dispatch =
+  map_results (fun _ _ l (c' : M.t) -> match l, c'.cur with
+      | Handle _, Some d when has_error c'.world -> { c' with cur = Some { d with todo = [] } }
+      | _ -> c') r.handle_or_skip
+
+(* R7, R5g: an error in the agent's on create discards the behaviours it
+   had activated before it (the creation undone, the agent kept). *)
+let create_drops_behaviours ~config env ~name ~atype ~args =
+  let (a, behs) = E.create_agent ~config env ~name ~atype ~args in
+  if has_error a then (a, []) else (a, behs)
+
+(* R5e: messages of one rule go out receiver by receiver (in name order),
+   not in the order of the sends. *)
+let by_receiver rule =
+  map_results (fun _ _ _ (c' : M.t) ->
+      let (a : E.agent) = c'.world in
+      let oldest_first = List.rev a.outbox in
+      let sorted = List.stable_sort (fun (x, _) (y, _) -> compare x y) oldest_first in
+      { c' with world = { a with outbox = List.rev sorted } }) rule
+
+let d name ruling about ?(can_differ = true) ?blind hooks = { name; ruling; about; can_differ; blind; hooks }
+
+(* what the judge is not given (bin/judged.ml, test/judge) *)
+let schedule = "R6: any order of the agents' rules is a valid run"
+let receivers = "R6, R5e: messages to different receivers arrive in any order"
+let host_notify = "the judge reads the host's notify from the trace: one without an override"
 
 let all = [
   d "matches-exact-type" "R1a" "content matches S refuses percepts of the types that extend S"
@@ -364,19 +620,19 @@ let all = [
                      put = (fun p -> ref_hooks.put (one_more p)) };
   d "objects-take-no-room" "R2d" "objects in O2A do not count against the capacity"
     { ref_hooks with notify_event = objects_take_no_room_notify; put = objects_take_no_room_put };
-  d "override-ignored" "R2a" "notifyEvent(p, k) uses the type's default priority"
+  d "override-ignored" "R2a" "notifyEvent(p, k) uses the type's default priority" ~blind:host_notify
     { ref_hooks with notify_event = (fun p pl i c v ~default ~priority:_ ->
           ref_hooks.notify_event p pl i c v ~default ~priority:None) };
-  d "override-zero-is-none" "R2a" "an override of 0 is taken as no override"
+  d "override-zero-is-none" "R2a" "an override of 0 is taken as no override" ~blind:host_notify
     { ref_hooks with notify_event = (fun p pl i c v ~default ~priority ->
           ref_hooks.notify_event p pl i c v ~default ~priority:(if priority = Some 0 then None else priority)) };
   d "put-wakes-idle" "D3" "putting an object wakes an idle agent"
     { ref_hooks with put = (fun p pl i c v ->
           Result.map (fun (c' : M.t) -> if c.phase = Idle_phase then { c' with phase = Transfer_phase } else c')
             (ref_hooks.put p pl i c v)) };
-  d "rounds-reversed" "R6" "a round runs the agents in reverse creation order"
+  d "rounds-reversed" "R6" "a round runs the agents in reverse creation order" ~blind:schedule
     { ref_hooks with round = (fun rs pl -> List.rev (P.round rs pl)) };
-  d "seed-ignored" "R6" "--seed is ignored: every round is in creation order"
+  d "seed-ignored" "R6" "--seed is ignored: every round is in creation order" ~blind:schedule
     { ref_hooks with round = (fun _ pl -> P.round None pl) };
   d "ties-largest-seq" "R3b" "among equal priorities the newest percept goes first"
     (with_rules { r with dequeue = A.ties_to_largest_seq });
@@ -448,6 +704,57 @@ let all = [
     ~can_differ:false (with_step (fun p -> M.step { p with ghosts = true }));
   d "guard-evaluated-twice" "R7" "a percept guard is evaluated twice (an error in it is recorded twice)"
     (with_rules { r with handle_or_skip = Mg.handle_or_skip });
+  d "int-division-floors" "D8" "integer division rounds toward negative infinity, not toward zero"
+    (evaluator (module Floor_division));
+  d "integers-64-bit" "D8" "integer + - * do not wrap at 32 bits"
+    (evaluator (module Wide_integers));
+  d "no-widening" "R1c" "an integer given to a real slot, parameter or property stays an integer"
+    (evaluator (module No_widening));
+  d "reals-printed-ocaml" "D9" "a real is printed as 21. rather than Java's 21.0"
+    (evaluator (module Ocaml_reals));
+  d "log-writes-literals" "R8" "log and + write texts with their quotes"
+    (evaluator (module Literal_text));
+  d "int-real-unequal" "R1c" "an integer never equals a real (1 = 1.0 is false)"
+    (evaluator (module Int_real_unequal));
+  d "schema-identity" "R1c" "schema values are equal only when they are the same object"
+    (evaluator (module Schema_identity));
+  d "subtype-one-level" "R1a" "matches and patterns follow extends one level only"
+    (evaluator (module Direct_parent_only));
+  d "seq-per-transfer" "R2b" "the priority queue numbers each transfer's percepts from 1"
+    (with_rules { r with transfer = seq_per_transfer });
+  d "duplicates-merged" "R3b" "a percept equal to one already queued, same priority, is dropped"
+    (with_rules { r with transfer = duplicates_merged });
+  d "ties-by-text" "R3b" "among equal priorities the percept whose text sorts first goes first"
+    (with_rules { r with dequeue = ties_by_text });
+  d "position-clamps" "R5a" "after the last ready behaviour the position stays there (no wrap)"
+    (with_rules { r with behaviour_step = position_clamps });
+  d "woken-reversed" "R5f" "behaviours woken by one message join ready newest blocked first"
+    (with_step woken_reversed);
+  d "oneshot-blocks" "D1" "a one-shot that took no message blocks instead of ending"
+    (with_rules { r with behaviour_step = oneshot_blocks });
+  d "oldest-message-first" "R5b" "a step takes the oldest message any handler accepts"
+    (with_rules { r with behaviour_step = oldest_message_first });
+  d "unmatched-message-dropped" "R5b" "a step drops the head message when no handler takes it"
+    (with_rules { r with behaviour_step = unmatched_dropped });
+  d "ids-counted" "R5g" "a new instance's id is one more than the largest ever given"
+    (with_step ids_counted);
+  d "create-error-drops-behaviours" "R7" "an error in on create discards the behaviours it activated"
+    { ref_hooks with create_agent = create_drops_behaviours };
+  d "refused-notify-takes-seq" "R2b" "a refused percept still takes a seq number"
+    { ref_hooks with notify_event = refused_takes_seq };
+  d "fuel-off-by-one" "R7" "--fuel N lets N + 1 statements run"
+    { ref_hooks with create_agent = (fun ~config -> E.create_agent ~config:{ config with fuel = config.fuel + 1 }) };
+  d "error-ends-dispatch" "R7" "an error in a percept handler skips the later handlers of that percept"
+    (with_rules { r with handle_or_skip = error_ends_dispatch });
+  d "on-destroy-skipped" "D14" "on destroy never runs"
+    { ref_hooks with destroy_agent = Fun.id };
+  d "failure-from-receiver" "D43" "the failure for an absent receiver comes from it, not from ams"
+    { ref_hooks with failure = (fun ~receiver -> { (R.failure ~receiver) with sender = receiver }) };
+  d "during-step-ignored" "D42" "a message during a step is delivered as after it"
+    { ref_hooks with in_step = (fun _ _ ~sender:_ ~receiver:_ _ -> None) };
+  d "sends-by-receiver" "R5e" "a rule's messages go out receiver by receiver, in name order" ~blind:receivers
+    (with_rules { r with behaviour_step = by_receiver r.behaviour_step;
+                         handle_or_skip = by_receiver r.handle_or_skip });
 ]
 
 let find name = List.find_opt (fun d -> d.name = name) all

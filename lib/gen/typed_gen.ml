@@ -79,7 +79,8 @@ let rec expr rs env t d : expr =
             ph (Call (ph f, List.map (fun p -> expr rs env p (d / 2)) ps)));
   (match t with
    | GInt ->
-     add 3 (fun () -> ilit (int rs 100));
+     (* now and then an integer near the 32-bit bound, so that + - * wrap (D8) *)
+     add 3 (fun () -> ilit (if chance rs 0.1 then pick rs [2147483647; 65536; 1000000007] else int rs 100));
      if not leafy then begin
        add 2 (fun () -> bin (pick rs [Add; Sub; Mul]) (expr rs env GInt (d - 1)) (expr rs env GInt (d - 1)));
        add 1 (fun () -> bin (pick rs [Div; Mod]) (expr rs env GInt (d - 1)) (ilit (1 + int rs 9)));
@@ -264,7 +265,10 @@ let ontology rs =
   let r1 = { sname = "r1"; kind = Proposition; percept = true; slots = [] } in
   let act1 = { sname = "act1"; kind = Action; percept = false;
                slots = ("n", GInt) :: (if chance rs 0.5 then [("what", GText)] else []) } in
-  let infos = concepts @ [q1; q2; r1; act1] in
+  (* sometimes q3 extends q2 extends q1: a q1 pattern matches it through two
+     extends (R1a) *)
+  let q3 = if chance rs 0.5 then [{ sname = "q3"; kind = Predicate; percept = true; slots = q2.slots }] else [] in
+  let infos = concepts @ [q1; q2] @ q3 @ [r1; act1] in
   let own sc super = match super with
     | Some p -> List.filter (fun (x, _) -> not (List.mem_assoc x p.slots)) sc.slots
     | None -> sc.slots in
@@ -277,7 +281,9 @@ let ontology rs =
   let prio () = [(ph "priority", ilit (int rs 11))] in
   let schemas =
     List.map (fun c -> mk c None []) concepts
-    @ [mk q1 None (prio ()); mk q2 (Some q1) (if chance rs 0.5 then prio () else []);
+    @ [mk q1 None (prio ()); mk q2 (Some q1) (if chance rs 0.5 then prio () else [])]
+    @ List.map (fun q -> mk q (Some q2) []) q3
+    @ [
        mk r1 None (prio ()); mk act1 None []] in
   (infos, ph (DOntology { oname = ph "Onto"; oextends = None; schemas }))
 
@@ -327,8 +333,11 @@ let program_rs rs =
     env := { !env with procs = (p, List.map snd ps) :: !env.procs }
   done;
   let agent_env = !env in
-  (* Behaviour C: one shot, no for agent, uses the ontology. *)
+  (* Behaviour C: one shot, no for agent, uses the ontology; its single step
+     runs its action block, or (no action block) takes a cfp if one is
+     queued, which B never takes (D1: either way, the step ends it). *)
   let c_params = [("c1p", prim rs)] in
+  let c_action = chance rs 0.7 in
   let c_env0 = { base with sources = []; vars = [] } in
   let c_env = List.fold_left (fun e (x, t) -> add_local e x t) c_env0 [("note", GText)] in
   let c_decl = ph (DBehaviour {
@@ -338,9 +347,13 @@ let program_rs rs =
         ph (Property { name = ph "note"; ty = None; init = Some (lit (Text "c")) });
         ph (OnCreate { params = List.map param c_params;
                        body = [ph (Log (bin Add (name "note") (name "c1p")))] });
-        ph (ActionSection (block rs c_env ~loop:false 1 (1 + int rs 2)
-                           @ [ph (Send (ph "request", expr rs c_env (GSchema "act1") 1,
-                                        [expr rs c_env GAid 0]))]));
+        (if c_action then
+           ph (ActionSection (block rs c_env ~loop:false 1 (1 + int rs 2)
+                              @ [ph (Send (ph "request", expr rs c_env (GSchema "act1") 1,
+                                           [expr rs c_env GAid 0]))]))
+         else
+           ph (OnMessage { perf = Some (ph "cfp"); guard = None;
+                           body = [ph (Log (bin Add (name "note") (lit (Text " took a cfp"))))] }));
       ] }) in
   (* Behaviour B: cyclic, for agent Ag. *)
   let b_params = [("b1", GInt)] @ (if chance rs 0.5 then [("b2", prim rs)] else []) in
@@ -423,11 +436,17 @@ let program_rs rs =
     [ph (Assign (ph (LName "iface"), name "iface0"));
      ph (Assign (ph (LIndex (name "seen", lit (Text "start"))), ilit 0))]
     @ block rs cenv ~loop:false 2 (1 + int rs 3)
-    @ [ph (Activate (ph "B", List.map (fun (x, t) -> (ph x, expr rs cenv t 1)) b_params))] in
+    @ [ph (Activate (ph "B", List.map (fun (x, t) -> (ph x, expr rs cenv t 1)) b_params))]
+    (* sometimes an error after the activation: the agent keeps B (R7) *)
+    @ (if chance rs 0.2 then [ph (Log (ph (Index (name "seen", lit (Text "absent")))))] else []) in
+  (* on destroy (D14): the agent's count as the run left it *)
+  let destroy = if chance rs 0.7 then [ph (OnDestroy [ph (Log (bin Add (lit (Text "destroyed with ")) (name "count")))])]
+    else [] in
   let agent = ph (DAgent {
       aname = ph "Ag"; aextends = None; aontologies = [ph "Onto"];
       afeatures = prop_features
                   @ [ph (OnCreate { params = List.map param create_params; body = create_body })]
+                  @ destroy
                   @ List.rev !routines }) in
   { module_name = []; decls = [onto; agent; b_decl; c_decl] }
 

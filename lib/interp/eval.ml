@@ -225,59 +225,6 @@ let coerce_param (ty : Ty.t) (v : V.t) : V.t option =
   | (Ty.Var _ | Ty.Error), _ -> Some v
   | _ -> None
 
-let coerce ty v = match coerce_param ty v with Some v -> v | None -> v
-
-(* ------------------------------------------------------------ names *)
-
-(* The property a name denotes where no local has it: the running
-   behaviour's, else the agent's. *)
-let prop_cell (f : frame) x =
-  match (match f.beh with Some b -> Names.find_opt b.bprops x | None -> None) with
-  | Some _ as c -> c
-  | None -> Names.find_opt f.ag.props x
-
-let lookup (f : frame) at x =
-  match local_cell x f.locals with
-  | Some r -> !r
-  | None ->
-    match prop_cell f x with
-    | Some c -> c.v
-    | None ->
-      match T.schema f.ag.env x with
-      | Some s when s.s_slots = [] -> V.Schema { sname = s.s_name; slots = [||] }
-      | _ -> err at "unknown name %s" x
-
-let set_cell c v = c.v <- coerce c.ty v
-
-let assign_name (f : frame) x v =
-  match local_cell x f.locals with
-  | Some r -> r := v
-  | None ->
-    match prop_cell f x with
-    | Some c -> set_cell c v
-    | None -> local_set f.locals x v
-
-(* ------------------------------------------------------- schemas *)
-
-let construct (env : T.t) at name (args : V.t list) =
-  match T.schema env name with
-  | None -> err at "unknown schema %s" name
-  | Some s ->
-    if List.length args <> List.length s.s_slots then
-      err at "%s takes %d argument%s, not %d" name (List.length s.s_slots)
-        (if List.length s.s_slots = 1 then "" else "s") (List.length args);
-    let slots = List.map2 (fun (n, ty) v ->
-        match coerce_param ty v with
-        | Some v -> (n, ref v)
-        | None -> err at "slot %s of %s is a %s, not a %s" n name (Ty.to_string ty) (V.type_name v))
-        s.s_slots args in
-    V.Schema { sname = s.s_name; slots = Array.of_list slots }
-
-let slot at (s : V.schema_v) x =
-  match Array.find_opt (fun (n, _) -> String.equal n x) s.slots with
-  | Some (_, r) -> r
-  | None -> err at "%s has no slot %s" s.sname x
-
 (* ------------------------------------------------------ arithmetic *)
 
 let num_kind a b = match a, b with
@@ -336,26 +283,25 @@ let literal = function
   | Ast.Text s -> V.Text s
   | Ast.Bool b -> V.Bool b
 
-(* Does [v] match [p]? A name that is a schema tests the value's schema
-   (itself or a subschema); any other name is a variable and binds; a
-   constructor pattern tests the schema, then matches the slots it names,
-   in its order. The bindings go into [binds], newest first. *)
-let rec pattern (env : T.t) binds (p : Ast.pattern) (v : V.t) : bool =
-  match p.it, v with
-  | PWild, _ -> true
-  | PLit l, _ -> V.equal (literal l) v
-  | PName x, _ ->
-    (match T.schema env x with
-     | Some _ -> (match v with V.Schema s -> T.subschema env s.sname x | _ -> false)
-     | None -> binds := (x, v) :: !binds; true)
-  | PCons (c, ps), V.Schema s ->
-    T.subschema env s.sname c.it
-    && (match T.schema env c.it with
-        | Some sc ->
-          List.length ps = List.length sc.s_slots
-          && List.for_all2 (fun (q : Ast.pattern) (n, _) -> pattern env binds q !(slot q.at s n)) ps sc.s_slots
-        | None -> false)
-  | PCons _, _ -> false
+(* ------------------------------------------------------------ names *)
+
+(* The property a name denotes where no local has it: the running
+   behaviour's, else the agent's. *)
+let prop_cell (f : frame) x =
+  match (match f.beh with Some b -> Names.find_opt b.bprops x | None -> None) with
+  | Some _ as c -> c
+  | None -> Names.find_opt f.ag.props x
+
+let lookup (f : frame) at x =
+  match local_cell x f.locals with
+  | Some r -> !r
+  | None ->
+    match prop_cell f x with
+    | Some c -> c.v
+    | None ->
+      match T.schema f.ag.env x with
+      | Some s when s.s_slots = [] -> V.Schema { sname = s.s_name; slots = [||] }
+      | _ -> err at "unknown name %s" x
 
 (* ------------------------------------------------ sends and invokes *)
 
@@ -387,6 +333,93 @@ let invoke_values (f : frame) at (i : Ast.invoke) target vs =
        add_event f (Invoke { meth = i.meth.it; cls = n.cls; args; result });
        result)
   | v -> err i.target.at "invoke needs a host object (any), not a %s" (V.type_name v)
+
+(* ------------------------------------------------------ primitives *)
+
+(* The evaluator's primitives: what it does with numbers, texts and schema
+   types, the one seam between the rules below and what a value means. The
+   rules are a functor over them ({!Make}), applied once, at the end of this
+   file, to these, the reference's; the bug catalogue (lib/defects) applies
+   it to altered ones. *)
+module type PRIMITIVES = sig
+  val arith : Source.region -> Ast.binop -> V.t -> V.t -> V.t
+  val compare_values : Source.region -> Ast.binop -> V.t -> V.t -> V.t
+  val equal_values : Source.region -> V.t -> V.t -> bool
+  val coerce_param : Ty.t -> V.t -> V.t option
+  val text : V.t -> string
+  val subschema : T.t -> string -> string -> bool
+end
+
+module Primitives = struct
+  let arith = arith
+  let compare_values = compare_values
+  let equal_values = equal_values
+  let coerce_param = coerce_param
+  let text = V.to_text
+  let subschema = T.subschema
+end
+
+(* The rules of evaluation, over the primitives. *)
+module Make (P : PRIMITIVES) = struct
+
+let arith = P.arith
+let compare_values = P.compare_values
+let equal_values = P.equal_values
+let coerce_param = P.coerce_param
+
+let coerce ty v = match coerce_param ty v with Some v -> v | None -> v
+
+let set_cell c v = c.v <- coerce c.ty v
+
+let assign_name (f : frame) x v =
+  match local_cell x f.locals with
+  | Some r -> r := v
+  | None ->
+    match prop_cell f x with
+    | Some c -> set_cell c v
+    | None -> local_set f.locals x v
+
+(* ------------------------------------------------------- schemas *)
+
+let construct (env : T.t) at name (args : V.t list) =
+  match T.schema env name with
+  | None -> err at "unknown schema %s" name
+  | Some s ->
+    if List.length args <> List.length s.s_slots then
+      err at "%s takes %d argument%s, not %d" name (List.length s.s_slots)
+        (if List.length s.s_slots = 1 then "" else "s") (List.length args);
+    let slots = List.map2 (fun (n, ty) v ->
+        match coerce_param ty v with
+        | Some v -> (n, ref v)
+        | None -> err at "slot %s of %s is a %s, not a %s" n name (Ty.to_string ty) (V.type_name v))
+        s.s_slots args in
+    V.Schema { sname = s.s_name; slots = Array.of_list slots }
+
+let slot at (s : V.schema_v) x =
+  match Array.find_opt (fun (n, _) -> String.equal n x) s.slots with
+  | Some (_, r) -> r
+  | None -> err at "%s has no slot %s" s.sname x
+
+(* Does [v] match [p]? A name that is a schema tests the value's schema
+   (itself or a subschema); any other name is a variable and binds; a
+   constructor pattern tests the schema, then matches the slots it names,
+   in its order. The bindings go into [binds], newest first. *)
+let rec pattern (env : T.t) binds (p : Ast.pattern) (v : V.t) : bool =
+  match p.it, v with
+  | PWild, _ -> true
+  | PLit l, _ -> V.equal (literal l) v
+  | PName x, _ ->
+    (match T.schema env x with
+     | Some _ -> (match v with V.Schema s -> P.subschema env s.sname x | _ -> false)
+     | None -> binds := (x, v) :: !binds; true)
+  | PCons (c, ps), V.Schema s ->
+    P.subschema env s.sname c.it
+    && (match T.schema env c.it with
+        | Some sc ->
+          List.length ps = List.length sc.s_slots
+          && List.for_all2 (fun (q : Ast.pattern) (n, _) -> pattern env binds q !(slot q.at s n)) ps sc.s_slots
+        | None -> false)
+  | PCons _, _ -> false
 
 (* ---------------------------------------------------- expressions *)
 
@@ -449,7 +482,7 @@ let rec expr (f : frame) (e : Ast.expr) : V.t =
     let b = expr f r in
     (match a, b with
      | V.Text _, _ | _, V.Text _ ->
-       let a = V.to_text (bounded_text ~quote:false e.at a) and b = V.to_text (bounded_text ~quote:false e.at b) in
+       let a = P.text (bounded_text ~quote:false e.at a) and b = P.text (bounded_text ~quote:false e.at b) in
        if String.length a + String.length b > max_text then too_big e.at "the text would be too long";
        if String.length a + String.length b > 65536 then check_memory f.ag e.at;
        V.Text (a ^ b)
@@ -557,7 +590,7 @@ and stmt (f : frame) (s : Ast.stmt) =
     let content = bounded_text ~quote:true c.at (expr f c) in
     let receivers = List.concat_map (fun (r : Ast.expr) -> receivers_of r.at (expr f r)) rs in
     post_send f perf.it content receivers
-  | Log e -> let v = bounded_text ~quote:false e.at (expr f e) in add_event f (Log (V.to_text v))
+  | Log e -> let v = bounded_text ~quote:false e.at (expr f e) in add_event f (Log (P.text v))
   | If (branches, els) ->
     let rec go = function
       | [] -> (match els with Some b -> block f b | None -> ())
@@ -818,7 +851,7 @@ let agent_frame (f : frame) =
   { f with beh = None; id = 0; locals = { vars = [] }; content = None; message = None }
 let activate_at (f : frame) ~depth at name kvs = activate { f with depth } at name kvs
 let deactivate_at (f : frame) at = deactivate f at
-let log_value (f : frame) at v = add_event f (Log (V.to_text (bounded_text ~quote:false at v)))
+let log_value (f : frame) at v = add_event f (Log (P.text (bounded_text ~quote:false at v)))
 let run_effects (r : run) = List.rev r.effects
 
 (* The end of handler [h] (0: an action block) that ran in [r], on the
@@ -870,3 +903,15 @@ module Bodies = struct
     | [] -> (a, [])
     | o -> ({ a with outbox = [] }, List.rev o)
 end
+end
+
+module type S = sig
+  val create_agent :
+    ?config:config -> T.t -> name:string -> atype:string -> args:V.t list -> agent * beh list
+  val destroy_agent : agent -> agent
+  module Bodies : Semantics.Machine.BODIES
+    with type percept = V.t and type message = message and type obj = V.t
+     and type beh = beh and type world = agent and type bindings = (string * V.t) list
+end
+
+include Make (Primitives)

@@ -331,3 +331,53 @@ val deactivate_at : frame -> Syntax.Source.region -> unit
 
 val log_value : frame -> Syntax.Source.region -> Value.t -> unit
 (** [log e], once [e] is evaluated (at its own region). *)
+
+(** {1 The rules over their primitives}
+
+    What the evaluator does with numbers, texts and schema types is one
+    small module, {!PRIMITIVES}; the rules of this file are a functor over
+    it, applied once to {!Primitives}, the reference's: every value above is
+    of that application. The bug catalogue (lib/defects) applies {!Make} to
+    primitives with one function changed (integer division, widening,
+    equality, the text of a real...), and runs the machine on the bodies
+    that come out; the reference knows nothing of them. *)
+
+module type PRIMITIVES = sig
+  val arith : Syntax.Source.region -> Syntax.Ast.binop -> Value.t -> Value.t -> Value.t
+  (** [+ - * / %] on numbers (D8: integers are 32-bit) *)
+
+  val compare_values : Syntax.Source.region -> Syntax.Ast.binop -> Value.t -> Value.t -> Value.t
+  (** [< > <= >=] *)
+
+  val equal_values : Syntax.Source.region -> Value.t -> Value.t -> bool
+  (** [=] and [!=] *)
+
+  val coerce_param : Typing.Types.t -> Value.t -> Value.t option
+  (** a value as a slot, parameter or property of a type takes it (R1c:
+      integers widen) *)
+
+  val text : Value.t -> string
+  (** the text of a value: what [log] writes and [+] appends to a text *)
+
+  val subschema : Typing.Tenv.t -> string -> string -> bool
+  (** [subschema env s t]: a value of schema [s] is one of [t] (R1a), for
+      patterns and [matches] *)
+end
+
+module Primitives : PRIMITIVES
+(** The reference's: {!arith}, {!compare_values}, {!equal_values},
+    {!coerce_param}, {!Value.to_text}, {!Typing.Tenv.subschema}. *)
+
+(** What an application of {!Make} gives: the bodies, and the agent's own
+    code. *)
+module type S = sig
+  val create_agent :
+    ?config:config -> Typing.Tenv.t -> name:string -> atype:string -> args:Value.t list -> agent * beh list
+  val destroy_agent : agent -> agent
+  module Bodies : Semantics.Machine.BODIES
+    with type percept = Value.t and type message = message and type obj = Value.t
+     and type beh = beh and type world = agent and type bindings = (string * Value.t) list
+end
+
+module Make (_ : PRIMITIVES) : S
+(** The rules of evaluation over the primitives [P]. *)

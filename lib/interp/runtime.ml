@@ -30,6 +30,11 @@ type hooks = {
     (M.t, Mc.refusal) result;
   put : Mc.params -> P.t -> int -> M.t -> Value.t -> (M.t, Mc.refusal) result;
   round : Random.State.t option -> P.t -> int list;
+  create_agent : config:Eval.config -> T.t -> name:string -> atype:string -> args:Value.t list ->
+    Eval.agent * Eval.beh list;
+  destroy_agent : Eval.agent -> Eval.agent;
+  failure : receiver:string -> Eval.message;
+  in_step : Mc.params -> P.t -> sender:string -> receiver:string -> Eval.message -> (P.t * P.event) option;
 }
 
 let reference_rules = { step = M.step; dispatch = None }
@@ -38,12 +43,21 @@ let engine_rules () =
   let module E = (val Engine.for_agent () : Engine.INTERP) in
   { step = E.step; dispatch = Some E.dispatch }
 
+(* R5e, D43: the failure ams sends the sender of a message to an agent that
+   is not on the platform, its content the receiver's aid. (A message to ams
+   or df themselves is never answered: D44.) *)
+let failure ~receiver = { Eval.perf = "failure"; content = Value.Aid receiver; sender = "ams" }
+
 let hooks_of engine = {
   rules = (match engine with Reference -> (fun _ -> reference_rules) | Fast -> (fun _ -> engine_rules ()));
   notify_event = (fun p _ _ c v ~default ~priority -> M.notify_event p c v ~default ~priority);
   (* R2d: a put into a full O2A queue is refused and changes nothing *)
   put = (fun p _ _ c v -> if M.o2a_has_room p c then Ok (M.put p c v) else Error Mc.O2a_full);
   round = P.round;
+  create_agent = (fun ~config env ~name ~atype ~args -> Eval.create_agent ~config env ~name ~atype ~args);
+  destroy_agent = Eval.destroy_agent;
+  failure;
+  in_step = (fun p pl ~sender ~receiver m -> P.deliver_in_step p pl ~sender ~receiver m);
 }
 
 let reference_hooks = hooks_of Reference
@@ -102,10 +116,6 @@ let take_events (c : M.t) =
   | (_, []) -> (c, [])
   | (world, evs) -> ({ c with world }, evs)
 
-(* R5e, D43: the failure ams sends the sender of a message to an agent that
-   is not on the platform, its content the receiver's aid. (A message to ams
-   or df themselves is never answered: D44.) *)
-let failure ~receiver = { Eval.perf = "failure"; content = Value.Aid receiver; sender = "ams" }
 
 let queue t r = match Hashtbl.find_opt t.inflight r with
   | Some q -> q
@@ -124,8 +134,10 @@ let rec arrive ?(in_step = false) t ~sender ~receiver m =
   let (change, ev) =
     let plain () = P.arrival t.opts.params t.platform at ~sender ~receiver m in
     if in_step then
-      match P.arrival_in_step t.opts.params t.platform at ~sender ~receiver m with
-      | Some (i, c, ev) -> (Some (i, c), ev)
+      (* the hooks' SendInStep answers a platform: the receiver's
+         configuration is taken from it *)
+      match t.hooks.in_step t.opts.params t.platform ~sender ~receiver m with
+      | Some (pl, ev) -> (Option.map (fun i -> (i, pl.P.agents.(i).config)) at, ev)
       | None -> plain ()
     else plain () in
   Option.iter (fun (i, c) -> set_config t i c) change;
@@ -135,7 +147,7 @@ let rec arrive ?(in_step = false) t ~sender ~receiver m =
   | P.To_platform _, _ -> ()
   | P.Undeliverable { sender; receiver; message }, _ ->
     Tracer.undeliverable t.tr ~sender ~receiver message;
-    back (failure ~receiver)
+    back (t.hooks.failure ~receiver)
   | P.Step _, _ -> ()
 
 (* What agent [i]'s bodies sent (R5e), in order: delivered at once (the
@@ -166,7 +178,7 @@ let create ?hooks env opts specs =
   let config = { Eval.default_config with fuel = opts.fuel; max_memory = opts.max_memory;
                                           record_effects = Trace.writes w } in
   let created = List.map (fun (name, ty, args) ->
-      let (a, behs) = Eval.create_agent ~config env ~name ~atype:ty ~args in
+      let (a, behs) = hooks.create_agent ~config env ~name ~atype:ty ~args in
       let (a, evs) = Eval.take_events a in
       Tracer.created tr ~agent:name ~agent_type:ty args behs evs;
       (name, M.init opts.params ~world:a behs)) specs in
@@ -425,7 +437,7 @@ let deliver_in_flight t =
 let finish t =
   deliver_in_flight t;
   Array.iter (fun (ag : P.agent) ->
-      let (_, evs) = Eval.take_events (Eval.destroy_agent ag.config.world) in
+      let (_, evs) = Eval.take_events (t.hooks.destroy_agent ag.config.world) in
       Tracer.destroyed t.tr ~agent:ag.name evs) t.platform.agents;
   (* the lines the writer holds, then the channel *)
   Trace.flush (Tracer.writer t.tr)

@@ -55,6 +55,15 @@ type hooks = {
     (P.M.t, Semantics.Machine.refusal) result;
       (** putO2AObject into agent [i] (R2c, R2d) *)
   round : Random.State.t option -> P.t -> int list;   (** the order of one round (R6) *)
+  create_agent : config:Eval.config -> Typing.Tenv.t -> name:string -> atype:string ->
+    args:Value.t list -> Eval.agent * Eval.beh list;
+      (** an agent made, its [on create] run (R5g): {!Eval.create_agent} *)
+  destroy_agent : Eval.agent -> Eval.agent;   (** its [on destroy]: {!Eval.destroy_agent} *)
+  failure : receiver:string -> Eval.message;   (** ams's answer to a send to [receiver]: {!failure} *)
+  in_step : Semantics.Machine.params -> P.t -> sender:string -> receiver:string -> Eval.message ->
+    (P.t * P.event) option;
+      (** a delivery during the receiver's behaviour step (R5d revised, D42):
+          {!P.deliver_in_step} *)
 }
 
 val failure : receiver:string -> Eval.message

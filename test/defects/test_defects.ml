@@ -76,6 +76,33 @@ let defects_command () =
     (List.mem "0 of 1 defects killed by the vectors alone (0 vectors; 1 defects can show in a trace)" (lines out)
      && List.mem "0 passed, 1 failed" (lines out))
 
+(* The judged kill counts: a defect the judge rejects is killed by the
+   first case that shows it, a bad count is one line. *)
+let judged_counts () =
+  let (status, _, err) = run_command (Printf.sprintf "%s defects --generated 0" exe) in
+  Alcotest.(check int) "--generated 0: exit 1" 1 status;
+  Alcotest.(check int) ("one line: " ^ err) 1 (List.length (lines err));
+  let (status, out, _) = run_command (Printf.sprintf "%s defects --generated 12 lowest-priority-first seed-ignored" exe) in
+  Alcotest.(check int) "generated: exit 0" 0 status;
+  Alcotest.(check bool) ("generated, reported:\n" ^ out) true
+    (List.mem "1 of 2 defects killed by 12 generated programs (seed 1), judged (2 defects can show in a trace)" (lines out)
+     (* a change of schedule alone: counted as a survivor the judge cannot see, not run *)
+     && List.exists (fun l -> String.length l > 12 && String.sub l 0 12 = "seed-ignored"
+                              && Option.is_some (String.index_opt l '(')
+                              && List.mem "survives" (String.split_on_char ' ' l)) (lines out)
+     && not (List.exists (fun l -> String.length l > 9 && String.sub l 0 9 = "survivors") (lines out)));
+  (* one vector, judged: the lowest priority first is not what the program does *)
+  let dir = Filename.concat (Filename.get_temp_dir_name ()) "jsref_one_vector" in
+  let v = Filename.concat dir "001-r3b-priority-order" in
+  let src = Filename.concat root "conformance/001-r3b-priority-order" in
+  ignore (Sys.command (Printf.sprintf "rm -rf %s && mkdir -p %s && cp %s/* %s/" (Filename.quote dir) (Filename.quote v)
+                         (Filename.quote src) (Filename.quote v)));
+  let (status, out, _) = run_command (Printf.sprintf "%s defects --judge --vectors %s lowest-priority-first" exe dir) in
+  ignore (Sys.command ("rm -rf " ^ Filename.quote dir));
+  Alcotest.(check int) "judged: exit 0" 0 status;
+  Alcotest.(check bool) ("judged, reported:\n" ^ out) true
+    (List.mem "1 of 1 defects killed by the vectors, judged (1 vectors; 1 defects can show in a trace)" (lines out))
+
 (* a defect changes the run: the same events, a different trace *)
 let defect_changes_run () =
   let ev = "{\"agent\": \"a\", \"notify\": \"job\"}\n{\"agent\": \"a\", \"notify\": \"alarm\"}\n{\"run\": \"idle\"}\n" in
@@ -163,7 +190,8 @@ let () =
         Alcotest.test_case "one typed table, 30 or more" `Quick catalogue;
         Alcotest.test_case "an unknown defect is one line" `Quick unknown_defect;
         Alcotest.test_case "defects: bad inputs, a survivor fails" `Quick defects_command;
-        Alcotest.test_case "a defect changes the run" `Quick defect_changes_run ]);
+        Alcotest.test_case "a defect changes the run" `Quick defect_changes_run;
+        Alcotest.test_case "defects --judge, --generated: judged kills" `Quick judged_counts ]);
     ("refused", [
         Alcotest.test_case "R2d a refused put is in the trace" `Quick refused_put;
         Alcotest.test_case "R2d a refused notify names agent and percept" `Quick refused_notify_names_agent;

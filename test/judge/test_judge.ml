@@ -172,6 +172,7 @@ let not_the_program = [
   "rounds-reversed", "R6: any order of the agents' rules is a schedule";
   "seed-ignored", "R6: any order of the agents' rules is a schedule";
   "sends-reversed", "R6, R5e: messages to different receivers arrive in any order";
+  "sends-by-receiver", "R6, R5e: messages to different receivers arrive in any order";
   "override-ignored", "the host's notify: a notify with no override";
   "override-zero-is-none", "the host's notify: a notify with no override";
 ]
