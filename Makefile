@@ -51,8 +51,10 @@ conformance: build
 FUZZ_INPUTS ?= 1000000
 FUZZ_SEED ?= 1
 FUZZ_JOBS ?= 2
+# programs run on the interpreter and on JADE (the differential target; a JVM each)
+FUZZ_DIFFERENTIAL ?= 20
 fuzz: build
-	@dune exec --no-print-directory ./fuzz/fuzz.exe -- --inputs $(FUZZ_INPUTS) --seed $(FUZZ_SEED) --jobs $(FUZZ_JOBS) $(if $(FUZZ_SECONDS),--seconds $(FUZZ_SECONDS))
+	@dune exec --no-print-directory ./fuzz/fuzz.exe -- --inputs $(FUZZ_INPUTS) --seed $(FUZZ_SEED) --jobs $(FUZZ_JOBS) --differential $(FUZZ_DIFFERENTIAL) $(if $(FUZZ_SECONDS),--seconds $(FUZZ_SECONDS))
 
 # The students' playground (playground/, docs/tutorial.md): out/playground/,
 # index.html and its scripts, compiled from the project's libraries with
