@@ -230,7 +230,8 @@ let campaign ~seed ~jobs ~deadline ~sample (plan : (I.target * int * int) list) 
    ["trace FILE"] (a trace the run writes: if it exists, it must be valid
    UTF-8 and JSON, line by line, and read by lib/trace), and fragments that
    standard error must contain, one per line. Lines starting with # are
-   comments. Files the run writes are removed afterwards. *)
+   comments; a line ["line PREFIX"]: some line of standard error starts
+   with PREFIX. Files the run writes are removed afterwards. *)
 let regressions dir =
   let cases = try List.sort compare (Array.to_list (Sys.readdir dir)) with Sys_error _ -> [] in
   let cases = List.filter (fun c -> Sys.is_directory (Filename.concat dir c)) cases in
@@ -248,7 +249,8 @@ let regressions dir =
                                        else []) expect in
       let statuses = if statuses = [] then [ 0 ] else statuses in
       let traces = List.filter_map (fun l -> if word "trace" l then Some (Filename.concat d (rest "trace" l)) else None) expect in
-      let fragments = List.filter (fun l -> not (word "status" l || word "trace" l)) expect in
+      let starts = List.filter_map (fun l -> if word "line" l then Some (rest "line" l) else None) expect in
+      let fragments = List.filter (fun l -> not (word "status" l || word "trace" l || word "line" l)) expect in
       let argv = [| "/bin/sh"; "-c"; "cd " ^ Filename.quote d ^ " && exec " ^ Filename.quote exe ^ " "
                                         ^ String.concat " " (List.map Filename.quote args) |] in
       let (st, _, err) = I.run_command ~timeout:30.0 argv in
@@ -262,6 +264,11 @@ let regressions dir =
           else match List.find_opt (fun f -> not (I.contains err f)) fragments with
             | Some f -> Error (Printf.sprintf "standard error lacks %S: %s" f (String.trim err))
             | None ->
+              let lines = String.split_on_char '\n' err in
+              let starts_with p l = String.length l >= String.length p && String.sub l 0 (String.length p) = p in
+              match List.find_opt (fun p -> not (List.exists (starts_with p) lines)) starts with
+              | Some p -> Error (Printf.sprintf "no line of standard error starts with %S: %s" p (String.trim err))
+              | None ->
               match List.find_map (fun t -> if Sys.file_exists t then I.trace_problem t else None) traces with
               | Some m -> Error m
               | None -> Ok () in

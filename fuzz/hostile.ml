@@ -321,7 +321,14 @@ let hostile_target ~keep ~seed index =
          write_file (Filename.concat v "vector.json") body;
          let argv = [ exe; "conform"; "--vectors"; vd; "--timeout"; "20" ] in
          cmd_file argv;
-         ignore (command ~timeout:90.0 (Printf.sprintf "conform, a vector.json nested %d deep" dp) argv)
+         let what = Printf.sprintf "conform, a vector.json nested %d deep" dp in
+         (* conform's verdict on a vector it cannot use is a FAIL line on
+            standard output and exit 1, with nothing on standard error *)
+         let (st, out, err) = I.run_command ~timeout:90.0 ~memory:3_000_000_000 (Array.of_list argv) in
+         if not (st = Unix.WEXITED 1 && String.trim err = "" && I.contains out "001-x" && I.contains out "FAIL") then
+           (match I.judge_process ~status:st ~stderr:err () with
+            | I.Pass -> ()
+            | I.Finding f -> raise (Found (I.Finding { f with message = what ^ ": " ^ f.message })))
        | "scenario" ->
          (* a scenario for sim: nested JSON, or a range passed by one *)
          let sc = Filename.concat d "scenario.json" in
