@@ -355,13 +355,13 @@ let () =
           (List.length (List.filter (fun (_, v) -> v <> Ok ()) rs));
         List.length (List.filter (fun (_, v) -> v <> Ok ()) rs), List.length rs
       end else (0, 0) in
-    Printf.printf "\n  %-9s %9s %8s %6s %9s %6s %9s\n" "target" "inputs" "crashes" "hangs" "accepted" "other" "findings";
+    Printf.printf "\n  %-12s %9s %8s %6s %9s %6s %9s\n" "target" "inputs" "crashes" "hangs" "accepted" "other" "findings";
     let total = ref 0 in
     List.iter (fun ((t : I.target), _, _) ->
         let s = stat t.name in
         total := !total + s.inputs;
         let distinct = Hashtbl.fold (fun _ f a -> if f.f_target = t.name then a + 1 else a) findings 0 in
-        Printf.printf "  %-9s %9d %8d %6d %9d %6d %9d\n" t.name s.inputs s.crashes s.hangs s.wrong s.other distinct) plan;
+        Printf.printf "  %-12s %9d %8d %6d %9d %6d %9d\n" t.name s.inputs s.crashes s.hangs s.wrong s.other distinct) plan;
     let keys = List.rev !finding_order in
     (try
        if not (Sys.file_exists !out) then Unix.mkdir !out 0o755;
