@@ -50,7 +50,10 @@ conformance: build
 	@JSREF_LONG=1 bash scripts/test
 
 # The fuzz campaign (fuzz/README.md): 1,000,000 generated inputs over
-# parse, check, run, limits, cli, validate and conform, each in a child with
+# parse, check, run, limits, cli, validate and conform, and the hostile
+# classes (hostile: every documented limit in every input format, hostile
+# names, big programs, pipes; jade: javac on compile's Java; differential:
+# the interpreter against JADE, FUZZ_DIFFERENTIAL programs), each in a child with
 # bounded memory and time; a table of counts per target, then
 # "fuzz: N inputs, K findings" (exit 1 on any finding). The budget is a
 # parameter: make fuzz FUZZ_INPUTS=200000, or FUZZ_SECONDS=600 (then it stops
@@ -58,8 +61,10 @@ conformance: build
 FUZZ_INPUTS ?= 1000000
 FUZZ_SEED ?= 1
 FUZZ_JOBS ?= 2
+# programs run on the interpreter and on JADE (the differential target; a JVM each)
+FUZZ_DIFFERENTIAL ?= 20
 fuzz: build
-	@dune exec --no-print-directory ./fuzz/fuzz.exe -- --inputs $(FUZZ_INPUTS) --seed $(FUZZ_SEED) --jobs $(FUZZ_JOBS) $(if $(FUZZ_SECONDS),--seconds $(FUZZ_SECONDS))
+	@dune exec --no-print-directory ./fuzz/fuzz.exe -- --inputs $(FUZZ_INPUTS) --seed $(FUZZ_SEED) --jobs $(FUZZ_JOBS) --differential $(FUZZ_DIFFERENTIAL) $(if $(FUZZ_SECONDS),--seconds $(FUZZ_SECONDS))
 
 # The students' playground (playground/, docs/tutorial.md): out/playground/,
 # index.html and its scripts, compiled from the project's libraries with

@@ -881,6 +881,7 @@ let () =
   | "jade" -> jade_backend_bench (); print_newline (); Goals.print ()
   | "count" -> count_bench ()
   | "floods" -> floods_bench ()
+  | "limits" -> Limits.run (List.tl (List.tl (Array.to_list Sys.argv)))
   | "all" -> parser_bench (); print_newline (); explorer_bench (); print_newline (); interp_bench ();
     print_newline (); jade_backend_bench (); print_newline (); sim_bench (); print_newline (); Goals.print ()
-  | other -> Printf.eprintf "bench: unknown benchmark %s (known: parser, explorer, interp, jade, sim, all, count, floods)\n" other; exit 2
+  | other -> Printf.eprintf "bench: unknown benchmark %s (known: parser, explorer, interp, jade, sim, all, count, floods, limits)\n" other; exit 2

@@ -92,7 +92,13 @@ and run_vectors impl vectors update only timeout keep judge =
   | _ ->
   let dir = find_vectors vectors in
   match O.load dir with
-  | exception Failure m -> prerr_endline (dir ^ ":1:1: error: " ^ m); 1
+  | exception Failure m ->
+    (* Oracle.load's failures are located at the vector.json already: one
+       location, not the folder's before it *)
+    let located = match String.split_on_char ':' m with
+      | _ :: l :: c :: " error" :: _ -> int_of_string_opt l <> None && int_of_string_opt c <> None
+      | _ -> false in
+    prerr_endline (if located then m else dir ^ ":1:1: error: " ^ m); 1
   | exception Sys_error m -> prerr_endline (dir ^ ":1:1: error: " ^ m); 1
   | vs ->
     let vs = if only = [] then vs else List.filter (fun (v : O.vector) -> List.mem v.name only) vs in

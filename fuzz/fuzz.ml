@@ -16,6 +16,10 @@
 
 module I = Inputs
 
+(* every target: those of inputs.ml and the hostile classes of hostile.ml *)
+let all_targets = I.targets @ Hostile.targets
+let find_target n = List.find_opt (fun (t : I.target) -> t.name = n) all_targets
+
 type stats = {
   mutable inputs : int;
   mutable crashes : int;
@@ -153,7 +157,7 @@ let campaign ~seed ~jobs ~deadline ~sample (plan : (I.target * int * int) list) 
       while !k < n do Queue.add (t, !k, min n (!k + chunk)) queue; k := !k + chunk done) plan;
   (* interleave: the slow targets first, so that they overlap the others *)
   let chunks = List.of_seq (Queue.to_seq queue) in
-  let weight (t : I.target) = match t.name with "validate" | "conform" | "engine" -> 0 | "cli" | "limits" -> 1 | _ -> 2 in
+  let weight (t : I.target) = match t.name with "differential" | "jade" | "hostile" | "validate" | "conform" | "engine" -> 0 | "cli" | "limits" -> 1 | _ -> 2 in
   let chunks = List.stable_sort (fun (a, _, _) (b, _, _) -> compare (weight a) (weight b)) chunks in
   let pending = ref chunks and running = ref [] in
   let t0 = Unix.gettimeofday () in
@@ -226,7 +230,8 @@ let campaign ~seed ~jobs ~deadline ~sample (plan : (I.target * int * int) list) 
    ["trace FILE"] (a trace the run writes: if it exists, it must be valid
    UTF-8 and JSON, line by line, and read by lib/trace), and fragments that
    standard error must contain, one per line. Lines starting with # are
-   comments. Files the run writes are removed afterwards. *)
+   comments; a line ["line PREFIX"]: some line of standard error starts
+   with PREFIX. Files the run writes are removed afterwards. *)
 let regressions dir =
   let cases = try List.sort compare (Array.to_list (Sys.readdir dir)) with Sys_error _ -> [] in
   let cases = List.filter (fun c -> Sys.is_directory (Filename.concat dir c)) cases in
@@ -244,7 +249,8 @@ let regressions dir =
                                        else []) expect in
       let statuses = if statuses = [] then [ 0 ] else statuses in
       let traces = List.filter_map (fun l -> if word "trace" l then Some (Filename.concat d (rest "trace" l)) else None) expect in
-      let fragments = List.filter (fun l -> not (word "status" l || word "trace" l)) expect in
+      let starts = List.filter_map (fun l -> if word "line" l then Some (rest "line" l) else None) expect in
+      let fragments = List.filter (fun l -> not (word "status" l || word "trace" l || word "line" l)) expect in
       let argv = [| "/bin/sh"; "-c"; "cd " ^ Filename.quote d ^ " && exec " ^ Filename.quote exe ^ " "
                                         ^ String.concat " " (List.map Filename.quote args) |] in
       let (st, _, err) = I.run_command ~timeout:30.0 argv in
@@ -258,6 +264,11 @@ let regressions dir =
           else match List.find_opt (fun f -> not (I.contains err f)) fragments with
             | Some f -> Error (Printf.sprintf "standard error lacks %S: %s" f (String.trim err))
             | None ->
+              let lines = String.split_on_char '\n' err in
+              let starts_with p l = String.length l >= String.length p && String.sub l 0 (String.length p) = p in
+              match List.find_opt (fun p -> not (List.exists (starts_with p) lines)) starts with
+              | Some p -> Error (Printf.sprintf "no line of standard error starts with %S: %s" p (String.trim err))
+              | None ->
               match List.find_map (fun t -> if Sys.file_exists t then I.trace_problem t else None) traces with
               | Some m -> Error m
               | None -> Ok () in
@@ -269,7 +280,7 @@ let regressions dir =
 let () =
   let inputs = ref 1_000_000 and seconds = ref None and seed = ref 1 and jobs = ref 2 in
   let only = ref [] and sample = ref false and replay = ref None and keep = ref None in
-  let regr = ref None and out = ref "_fuzz" in
+  let regr = ref None and out = ref "_fuzz" and differential = ref None in
   let spec = [
     "--inputs", Arg.Int (fun n -> inputs := n), "N  inputs in all (default 1000000)";
     "--seconds", Arg.Float (fun s -> seconds := Some s), "S  stop starting new chunks after S seconds";
@@ -277,6 +288,8 @@ let () =
     "--jobs", Arg.Int (fun j -> jobs := max 1 j), "J  children at once (default 2)";
     "--only", Arg.String (fun s -> only := String.split_on_char ',' s), "T,...  only these targets";
     "--tlc-every", Arg.Int (fun k -> I.tlc_every := k), "K  one run trace in K goes to TLC (0: none)";
+    "--differential", Arg.Int (fun k -> differential := Some (max 0 k)),
+    "N  programs run on the interpreter and on JADE (default 20; each starts a JVM)";
     "--out", Arg.String (fun d -> out := d), "DIR  where findings.txt is written (default _fuzz)";
     "--sample", Arg.Set sample, " the short sample of make test";
     "--replay", Arg.String (fun s -> replay := Some s), "TARGET:SEED:INDEX  one input, in this process";
@@ -289,7 +302,7 @@ let () =
   | Some r, _ ->
     (match String.split_on_char ':' r with
      | [ t; s; i ] ->
-       (match I.find t, int_of_string_opt s, int_of_string_opt i with
+       (match find_target t, int_of_string_opt s, int_of_string_opt i with
         | Some t, Some s, Some i ->
           (match t.run ~keep:!keep ~seed:s i with
            | I.Pass -> print_endline "pass"; exit 0
@@ -305,7 +318,7 @@ let () =
     Printf.printf "%d passed, %d failed\n" (List.length rs - List.length bad) (List.length bad);
     exit (if bad = [] then 0 else 1)
   | None, None ->
-    let share name n chunk = match I.find name with
+    let share name n chunk = match find_target name with
       | Some t when !only = [] || List.mem name !only -> [ (t, n, chunk) ]
       | _ -> [] in
     let n = !inputs in
@@ -318,8 +331,12 @@ let () =
       end else begin
         let v = scaled 30 and c = max 12 (scaled 24) and cl = scaled 3_000 and l = scaled 300
         and r = scaled 20_000 and ch = scaled 340_000 and tm = scaled 3_000 in
-        let p = max 1 (n - v - tm - c - scaled 500 - cl - l - r - ch) in
-        share "validate" v 3 @ share "tamper" tm 100 @ share "conform" c 6 @ share "engine" (scaled 500) 25 @ share "cli" cl 50 @ share "limits" l 10
+        (* the hostile classes (hostile.ml); JADE's JVM costs seconds an
+           input, so the jade and differential targets have few *)
+        let h = max 90 (scaled 4_500) and jv = max 10 (scaled 60)
+        and df = match !differential with Some k -> k | None -> 20 in
+        let p = max 1 (n - v - tm - c - scaled 500 - cl - l - r - ch - h - jv - df) in
+        share "differential" df 2 @ share "jade" jv 5 @ share "hostile" h 18 @ share "validate" v 3 @ share "tamper" tm 100 @ share "conform" c 6 @ share "engine" (scaled 500) 25 @ share "cli" cl 50 @ share "limits" l 10
         @ share "run" r 200 @ share "check" ch 1000 @ share "parse" p 4000
       end in
     Printf.printf "fuzz: seed %d, %d jobs, %s\n%!" !seed !jobs
@@ -338,13 +355,13 @@ let () =
           (List.length (List.filter (fun (_, v) -> v <> Ok ()) rs));
         List.length (List.filter (fun (_, v) -> v <> Ok ()) rs), List.length rs
       end else (0, 0) in
-    Printf.printf "\n  %-9s %9s %8s %6s %9s %6s %9s\n" "target" "inputs" "crashes" "hangs" "accepted" "other" "findings";
+    Printf.printf "\n  %-12s %9s %8s %6s %9s %6s %9s\n" "target" "inputs" "crashes" "hangs" "accepted" "other" "findings";
     let total = ref 0 in
     List.iter (fun ((t : I.target), _, _) ->
         let s = stat t.name in
         total := !total + s.inputs;
         let distinct = Hashtbl.fold (fun _ f a -> if f.f_target = t.name then a + 1 else a) findings 0 in
-        Printf.printf "  %-9s %9d %8d %6d %9d %6d %9d\n" t.name s.inputs s.crashes s.hangs s.wrong s.other distinct) plan;
+        Printf.printf "  %-12s %9d %8d %6d %9d %6d %9d\n" t.name s.inputs s.crashes s.hangs s.wrong s.other distinct) plan;
     let keys = List.rev !finding_order in
     (try
        if not (Sys.file_exists !out) then Unix.mkdir !out 0o755;

@@ -21,6 +21,7 @@ type target = {
 external setrlimit : int -> int -> bool = "fuzz_setrlimit"
 
 let memory_bound = ref 0
+let run_memory_bound () = !memory_bound
 external die_with_parent : unit -> bool = "fuzz_die_with_parent"
 let bound_memory bytes =
   memory_bound := bytes; ignore (setrlimit 0 bytes); ignore (setrlimit 2 0); ignore (die_with_parent ())

@@ -82,6 +82,9 @@ val bound_memory : int -> unit
     lifted while TLC runs), disables core dumps, and has the process killed
     when its parent dies: for the children that run the inputs. *)
 
+val run_memory_bound : unit -> int
+(** The bound {!bound_memory} set in this process (0: none). *)
+
 val remove_leftovers : int -> unit
 (** Removes what the child of this process id left in the temporary folder
     (killed in the middle of an input, it could not clean up). *)
