@@ -119,7 +119,10 @@ public final class Batch {
       throw new IllegalArgumentException("incomplete request");
     try (PrintStream out = new PrintStream(new FileOutputStream(outFile), false, StandardCharsets.UTF_8);
          PrintStream err = new PrintStream(new FileOutputStream(errFile), true, StandardCharsets.UTF_8)) {
-      if (javac != null && !compile(Path.of(javac), Path.of(classes), err)) {
+      long tc = System.nanoTime();
+      boolean compiled = javac == null || compile(Path.of(javac), Path.of(classes), err);
+      if (javac != null) serverErr.printf("jsref batch: javac %.0f ms%n", (System.nanoTime() - tc) / 1e6);
+      if (!compiled) {
         err.println("jade-run: error: javac failed on the generated sources");
         return 2;
       }
@@ -213,23 +216,30 @@ public final class Batch {
   private static final java.util.concurrent.Semaphore DYING = new java.util.concurrent.Semaphore(16);
 
   private static JavaCompiler compiler;
+  /** One file manager for every compilation: the class path's jars and the
+      JDK's modules are opened and indexed once. */
+  private static javax.tools.StandardJavaFileManager files;
 
   /** javac -Xlint:all -encoding UTF-8, in this JVM, into a fresh folder
       moved to {@code dest} (another run may have made it meanwhile). */
   private static boolean compile(Path src, Path dest, PrintStream err) throws Exception {
     if (Files.isDirectory(dest)) return true;
-    if (compiler == null) compiler = ToolProvider.getSystemJavaCompiler();
-    List<String> files;
+    if (compiler == null) {
+      compiler = ToolProvider.getSystemJavaCompiler();
+      files = compiler.getStandardFileManager(null, null, StandardCharsets.UTF_8);
+    }
+    List<java.io.File> sources;
     try (Stream<Path> w = Files.walk(src)) {
-      files = w.filter(p -> p.toString().endsWith(".java")).map(Path::toString).sorted().toList();
+      sources = w.filter(p -> p.toString().endsWith(".java")).sorted().map(Path::toFile).toList();
     }
     Path work = dest.resolveSibling("." + dest.getFileName() + ".batch" + ProcessHandle.current().pid());
     Files.createDirectories(work);
-    List<String> opts = new ArrayList<>(List.of("-Xlint:all", "-encoding", "UTF-8", "-d", work.toString(),
+    List<String> opts = new ArrayList<>(List.of("-Xlint:all", "-proc:none", "-encoding", "UTF-8", "-d", work.toString(),
         "-cp", System.getProperty("java.class.path")));
-    opts.addAll(files);
-    int rc = compiler.run(null, err, err, opts.toArray(new String[0]));
-    if (rc != 0) { deleteTree(work); return false; }
+    java.io.PrintWriter ew = new java.io.PrintWriter(new OutputStreamWriter(err, StandardCharsets.UTF_8), true);
+    boolean ok = compiler.getTask(ew, files, null, opts, null, files.getJavaFileObjectsFromFiles(sources)).call();
+    ew.flush();
+    if (!ok) { deleteTree(work); return false; }
     try {
       Files.move(work, dest, java.nio.file.StandardCopyOption.ATOMIC_MOVE);
     } catch (java.io.IOException e) {
