@@ -138,6 +138,14 @@ public final class Batch {
           argv[i] = a.substring(0, eq + 1) + resolve(cwd, a.substring(eq + 1));
         }
       }
+      // Two containers: JADE's IMTP has one command dispatcher a JVM, which
+      // a platform still shutting down shares ("No skeleton for object-id
+      // 0" when the peripheral joins): a run with a peripheral container
+      // boots when no other platform is left in this JVM, and its own is
+      // shut down before the next run
+      boolean twoContainers = false;
+      for (String a : argv) twoContainers |= a.equals("--split") || a.equals("--peripheral") || a.startsWith("--peripheral=");
+      if (twoContainers) { DYING.acquire(PLATFORMS); DYING.release(PLATFORMS); }
       System.setErr(err);
       Main.lastContainer = null;
       Thread watchdog = new Thread(() -> {
@@ -168,7 +176,7 @@ public final class Batch {
         } finally {
           out.flush();
           long t1 = System.nanoTime();
-          shutDown();
+          shutDown(twoContainers);
           serverErr.printf("jsref batch: run %.0f ms, %d threads%n", (t1 - t0) / 1e6, Thread.activeCount());
         }
       } finally {
@@ -188,11 +196,16 @@ public final class Batch {
       thread of its own: JADE shuts no container down before it is 3 s old
       ({@code AgentContainerImpl.checkCreationTime}), and the next run boots
       a platform of its own on another port meanwhile. At most a few
-      platforms are going at once. */
-  private static void shutDown() {
+      platforms are going at once. @param wait shut down now, before the
+      next run (a run with two containers) */
+  private static void shutDown(boolean wait) {
     jade.wrapper.ContainerController cc = Main.lastContainer;
     Main.lastContainer = null;
     if (cc == null) return;
+    if (wait) {
+      try { cc.kill(); } catch (Exception e) { /* already gone */ }
+      return;
+    }
     try {
       DYING.acquire();
     } catch (InterruptedException e) {
@@ -213,7 +226,8 @@ public final class Batch {
   }
 
   /** Platforms being shut down at most at once. */
-  private static final java.util.concurrent.Semaphore DYING = new java.util.concurrent.Semaphore(16);
+  private static final int PLATFORMS = 16;
+  private static final java.util.concurrent.Semaphore DYING = new java.util.concurrent.Semaphore(PLATFORMS);
 
   private static JavaCompiler compiler;
   /** One file manager for every compilation: the class path's jars and the

@@ -444,16 +444,21 @@ public final class Main {
   /** A JADE main container in this JVM: no GUI, no MTP, IMTP on a free
       port of 127.0.0.1 only. @return its controller @throws Exception if JADE fails */
   public static ContainerController boot() throws Exception {
-    Profile p = loopbackProfile("jsref-jade");
-    p.setParameter(Profile.MAIN, "true");
-    p.setParameter(Profile.PLATFORM_ID, "jsref");
-    jade.core.Runtime rt = jade.core.Runtime.instance();
-    rt.setCloseVM(false);
-    ContainerController cc = rt.createMainContainer(p);
-    lastContainer = cc;
-    mainPort = Integer.parseInt(p.getParameter(Profile.LOCAL_PORT, "0"));
-    if (cc == null) throw new IllegalStateException("JADE's main container did not start");
-    return cc;
+    // the free port is found by opening and closing a socket, and another
+    // process may take it before JADE binds it: then another port, at most 3 tries
+    for (int attempt = 1; ; attempt++) {
+      Profile p = loopbackProfile("jsref-jade");
+      p.setParameter(Profile.MAIN, "true");
+      p.setParameter(Profile.PLATFORM_ID, "jsref");
+      jade.core.Runtime rt = jade.core.Runtime.instance();
+      rt.setCloseVM(false);
+      ContainerController cc = rt.createMainContainer(p);
+      if (cc == null && attempt < 3) continue;
+      lastContainer = cc;
+      mainPort = Integer.parseInt(p.getParameter(Profile.LOCAL_PORT, "0"));
+      if (cc == null) throw new IllegalStateException("JADE's main container did not start");
+      return cc;
+    }
   }
 
   // ---------------------------------------------------------------- input
