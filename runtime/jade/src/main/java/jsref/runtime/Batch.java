@@ -148,6 +148,7 @@ public final class Batch {
       if (twoContainers) { DYING.acquire(PLATFORMS); DYING.release(PLATFORMS); }
       System.setErr(err);
       Main.lastContainer = null;
+      Messaging.forgetRuns();
       Thread watchdog = new Thread(() -> {
         try {
           Thread.sleep(limitMs);
@@ -182,7 +183,6 @@ public final class Batch {
       } finally {
         watchdog.interrupt();
       }
-      Messaging.onRemoteArrival(null);
       return code;
     }
   }
