@@ -33,13 +33,19 @@ bench: build
 # The longer agreement checks: every model (full ones too) against TLC, the
 # mutant table, 200 TLC behaviours replayed and 200 OCaml runs validated per
 # model, the vectors' kill count over the bug catalogue (every vector against
-# every defect of lib/defects), then every suite with 10x the property-test
-# counts.
+# every defect of lib/defects), 1,000 generated programs (seeds 1 and 2, 500
+# each) run freely on JADE and judged (and the first 150 of seed 1 in two
+# containers; docs/jade.md,
+# "Generated programs, running freely"), then every suite with 10x the
+# property-test counts.
 conformance: build
 	@dune exec --no-print-directory -- jadescript-ref explore --all --full --mutants --simulate 200 --validate 200
 	@dune exec --no-print-directory -- jadescript-ref defects
 	@dune exec --no-print-directory -- jadescript-ref conform --generated 1000 --seed 1 | tail -n 1
 	@dune exec --no-print-directory -- jadescript-ref conform --generated 1000 --seed 1 --impl "$$PWD/_build/default/bin/main.exe run --interleave 7" | tail -n 1
+	@bash scripts/jade-generated --seed 1 500 | tail -n 25
+	@bash scripts/jade-generated --seed 2 500 | tail -n 25
+	@bash scripts/jade-generated --split --seed 1 150 | tail -n 25
 	@JSREF_LONG=1 bash scripts/test
 
 # The fuzz campaign (fuzz/README.md): 1,000,000 generated inputs over

@@ -27,7 +27,7 @@ import javax.tools.ToolProvider;
     Starting a JVM, JADE and javac costs seconds a program; here each run
     still boots its own fresh JADE main container (a new platform on a new
     port), creates its agents through JADE and runs them on JADE's threads,
-    and the container is killed when the run ends; only the JVM, the JIT's
+    and the container is killed when the run ends, before the next boots; only the JVM, the JIT's
     work and the Java compiler are shared. Each program's classes are loaded
     by a class loader of their own (every program's classes are in package
     {@code jsgen}), and compiled in this JVM by the JDK's compiler when not
@@ -50,6 +50,13 @@ import javax.tools.ToolProvider;
     ended after {@code --limit} seconds halts the server with status 3 (its
     JADE threads cannot be stopped): the client then sees the connection
     close, and later runs fall back to a JVM of their own.
+
+    <p>Runs with two containers are not served ({@code scripts/jade-run}
+    keeps them in JVMs of their own): JADE's IMTP keeps one command
+    dispatcher a JVM, and once a platform has run and shut down in this JVM,
+    a later platform manager is not its object 0, which a peripheral
+    container asks for when it joins ("No skeleton for object-id 0"), even
+    with no other platform left.
 
     <pre>java -cp RUNTIME:JADE jsref.runtime.Batch --port-file F [--limit S]</pre> */
 public final class Batch {
@@ -138,14 +145,6 @@ public final class Batch {
           argv[i] = a.substring(0, eq + 1) + resolve(cwd, a.substring(eq + 1));
         }
       }
-      // Two containers: JADE's IMTP has one command dispatcher a JVM, which
-      // a platform still shutting down shares ("No skeleton for object-id
-      // 0" when the peripheral joins): a run with a peripheral container
-      // boots when no other platform is left in this JVM, and its own is
-      // shut down before the next run
-      boolean twoContainers = false;
-      for (String a : argv) twoContainers |= a.equals("--split") || a.equals("--peripheral") || a.startsWith("--peripheral=");
-      if (twoContainers) { DYING.acquire(PLATFORMS); DYING.release(PLATFORMS); }
       System.setErr(err);
       Main.lastContainer = null;
       Messaging.forgetRuns();
@@ -177,7 +176,7 @@ public final class Batch {
         } finally {
           out.flush();
           long t1 = System.nanoTime();
-          shutDown(twoContainers);
+          shutDown();
           serverErr.printf("jsref batch: run %.0f ms, %d threads%n", (t1 - t0) / 1e6, Thread.activeCount());
         }
       } finally {
@@ -192,42 +191,35 @@ public final class Batch {
     return q.isAbsolute() ? p : Path.of(cwd).resolve(q).toString();
   }
 
-  /** Kill the run's main container, which shuts its platform down, on a
-      thread of its own: JADE shuts no container down before it is 3 s old
-      ({@code AgentContainerImpl.checkCreationTime}), and the next run boots
-      a platform of its own on another port meanwhile. At most a few
-      platforms are going at once. @param wait shut down now, before the
-      next run (a run with two containers) */
-  private static void shutDown(boolean wait) {
+  /** Kill the run's main container, which shuts its platform down, and
+      wait for it, so that platforms of this JVM never overlap (JADE's
+      {@code Runtime} is one a JVM: overlapping shutdowns stopped its shared
+      timer under a platform still running, and left the AMS and DF threads
+      of the old ones behind). JADE shuts no container down before it is
+      3 s old ({@code AgentContainerImpl.checkCreationTime} sleeps until
+      then), which was most of a run: the run has ended, every agent is
+      idle or stopped and no message is on its way, so its creation time is
+      set back first. */
+  private static void shutDown() {
     jade.wrapper.ContainerController cc = Main.lastContainer;
     Main.lastContainer = null;
     if (cc == null) return;
-    if (wait) {
-      try { cc.kill(); } catch (Exception e) { /* already gone */ }
-      return;
+    try {
+      java.lang.reflect.Field impl = jade.wrapper.ContainerController.class.getDeclaredField("myImpl");
+      impl.setAccessible(true);
+      Object container = impl.get(cc);
+      java.lang.reflect.Field created = container.getClass().getDeclaredField("creationTime");
+      created.setAccessible(true);
+      created.setLong(container, 0L);
+    } catch (ReflectiveOperationException | RuntimeException e) {
+      /* then JADE waits its 3 s */
     }
     try {
-      DYING.acquire();
-    } catch (InterruptedException e) {
-      Thread.currentThread().interrupt();
-      return;
+      cc.kill();
+    } catch (Exception e) {
+      /* already gone */
     }
-    Thread t = new Thread(() -> {
-      try {
-        cc.kill();
-      } catch (Exception e) {
-        /* already gone */
-      } finally {
-        DYING.release();
-      }
-    }, "jsref-batch-shutdown");
-    t.setDaemon(true);
-    t.start();
   }
-
-  /** Platforms being shut down at most at once. */
-  private static final int PLATFORMS = 16;
-  private static final java.util.concurrent.Semaphore DYING = new java.util.concurrent.Semaphore(PLATFORMS);
 
   private static JavaCompiler compiler;
   /** One file manager for every compilation: the class path's jars and the
