@@ -46,7 +46,12 @@ import javax.tools.ToolProvider;
     run
     </pre>
     answered by one line {@code exit N} (N as {@link Main#main}'s status; 2
-    when javac fails). Runs are served one at a time. A run that has not
+    when javac fails), or {@code retry} when the harness failed inside (an
+    exception out of {@code Main.run}, which in this JVM may be JADE's worn
+    state rather than the program): the client then makes the run in a JVM
+    of its own. Runs are served one at a time; after {@code --runs} of them
+    (default 40), or a {@code retry}, the server deletes its port file and
+    stops, and scripts/jade-serve starts a fresh one. A run that has not
     ended after {@code --limit} seconds halts the server with status 3 (its
     JADE threads cannot be stopped): the client then sees the connection
     close, and later runs fall back to a JVM of their own.
@@ -58,18 +63,21 @@ import javax.tools.ToolProvider;
     container asks for when it joins ("No skeleton for object-id 0"), even
     with no other platform left.
 
-    <pre>java -cp RUNTIME:JADE jsref.runtime.Batch --port-file F [--limit S]</pre> */
+    <pre>java -cp RUNTIME:JADE jsref.runtime.Batch --port-file F [--limit S] [--runs N]</pre> */
 public final class Batch {
   private Batch() {}
 
-  /** Serves runs until killed. @param argv {@code --port-file F [--limit S]} */
+  /** Serves runs (see above). @param argv {@code --port-file F [--limit S] [--runs N]}
+      @throws Exception if the server's socket fails */
   public static void main(String[] argv) throws Exception {
     String portFile = null;
     long limit = 120;
+    int runs = 40;
     for (int i = 0; i + 1 < argv.length; i += 2) {
       switch (argv[i]) {
         case "--port-file" -> portFile = argv[i + 1];
         case "--limit" -> limit = Long.parseLong(argv[i + 1]);
+        case "--runs" -> runs = Integer.parseInt(argv[i + 1]);
         default -> { System.err.println("jsref batch: error: unknown option " + argv[i]); System.exit(1); }
       }
     }
@@ -82,7 +90,7 @@ public final class Batch {
     } else System.out.println(server.getLocalPort());
     final long limitMs = limit * 1000;
     PrintStream serverErr = System.err;
-    while (true) {
+    for (int served = 0; ; ) {
       try (Socket s = server.accept()) {
         s.setSoTimeout(30_000);
         BufferedReader in = new BufferedReader(new InputStreamReader(s.getInputStream(), StandardCharsets.UTF_8));
@@ -95,11 +103,29 @@ public final class Batch {
           code = 2;
         }
         System.setErr(serverErr);
-        w.write("exit " + code + "\n");
+        // the JVM's JADE is worn after a few dozen platforms (each leaves
+        // threads behind, and JADE's one Runtime a JVM then stops booting
+        // main containers): after --runs runs, or when the harness failed
+        // inside (it may be JADE's state, not the program), this server
+        // stops and scripts/jade-serve starts another; a failed run is
+        // made again by scripts/jade-run in a JVM of its own ("retry")
+        boolean last = ++served >= runs || code == RETRY;
+        if (last && portFile != null) Files.deleteIfExists(Path.of(portFile));
+        w.write(code == RETRY ? "retry\n" : "exit " + code + "\n");
         w.flush();
+        if (last) {
+          s.close();
+          server.close();
+          System.out.flush();
+          System.err.flush();
+          Runtime.getRuntime().halt(0);
+        }
       }
     }
   }
+
+  /** The run failed inside the harness: made again in a JVM of its own. */
+  private static final int RETRY = -1;
 
   private static String decode(String field) {
     return new String(Base64.getDecoder().decode(field), StandardCharsets.UTF_8);
@@ -171,8 +197,8 @@ public final class Batch {
           code = 1;
         } catch (Throwable t) {
           out.flush();
-          err.println("jsref: error: " + t);
-          code = 2;
+          t.printStackTrace(serverErr);
+          code = RETRY;
         } finally {
           out.flush();
           long t1 = System.nanoTime();
