@@ -103,10 +103,11 @@ public final class Batch {
           code = 2;
         }
         System.setErr(serverErr);
-        // the JVM's JADE is worn after a few dozen platforms (each leaves
-        // threads behind, and JADE's one Runtime a JVM then stops booting
-        // main containers): after --runs runs, or when the harness failed
-        // inside (it may be JADE's state, not the program), this server
+        // JADE is not made for many platforms one after another in a JVM
+        // (its Runtime restarts the same timer thread object when a platform
+        // boots after the last ended, which now and then fails, and each
+        // platform leaves threads behind): after --runs runs, or when the
+        // harness failed inside (it may be JADE's state, not the program), this server
         // stops and scripts/jade-serve starts another; a failed run is
         // made again by scripts/jade-run in a JVM of its own ("retry")
         boolean last = ++served >= runs || code == RETRY;
