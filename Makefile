@@ -38,7 +38,10 @@ bench: build
 # killing case), 1,000 generated programs judged on the reference and under
 # --interleave, the judge's false rejections over 20 seeds of the finer
 # interleaving (scripts/judge-seeds: every vector and 50 generated programs
-# per seed), then every suite with 10x the property-test counts.
+# per seed), 1,000 generated programs (seeds 1 and 2, 500 each) run freely
+# on JADE and judged (and the first 150 of seed 1 in two containers;
+# docs/jade.md, "Generated programs, running freely"), then every suite
+# with 10x the property-test counts.
 conformance: build
 	@dune exec --no-print-directory -- jadescript-ref explore --all --full --mutants --simulate 200 --validate 200
 	@dune exec --no-print-directory -- jadescript-ref defects --first
@@ -47,6 +50,9 @@ conformance: build
 	@dune exec --no-print-directory -- jadescript-ref conform --generated 1000 --seed 1 | tail -n 1
 	@dune exec --no-print-directory -- jadescript-ref conform --generated 1000 --seed 1 --impl "$$PWD/_build/default/bin/main.exe run --interleave 7" | tail -n 1
 	@bash scripts/judge-seeds 20 50 | tail -n 1
+	@bash scripts/jade-generated --seed 1 500 | tail -n 25
+	@bash scripts/jade-generated --seed 2 500 | tail -n 25
+	@bash scripts/jade-generated --split --seed 1 150 | tail -n 25
 	@JSREF_LONG=1 bash scripts/test
 
 # The fuzz campaign (fuzz/README.md): 1,000,000 generated inputs over

@@ -106,6 +106,20 @@ final class AgentLoop {
     }
   }
 
+  /** A rule's line, then the events of the bodies it ran (a Skip's: the
+      error of its {@code when}, R3b), all at once in the trace (its
+      monitor): running freely, the host's thread writes its own lines (a
+      notify, a put) whenever they happen, and one between a rule's line and
+      its body's events is a run no rule explains (the judge rejects it:
+      docs/jade.md, "Running freely"). @param action the rule's action
+      @param line writes the rule's line, or null */
+  private void written(String action, Runnable line) {
+    synchronized (agent.cfg.trace) {
+      if (line != null) line.run();
+      ruleWritten(action);
+    }
+  }
+
   /** The rule's line is written: remember the instances' types, then write
       the events of the bodies it ran. */
   private void ruleWritten(String action) {
@@ -125,8 +139,7 @@ final class AgentLoop {
   private void commit(String action, Runnable line) {
     boolean sends = !agent.cfg.lockStep && agent.messaging.hasSent();
     if (!sends && !agent.body.hasJadeEffects()) {
-      if (line != null) line.run();
-      ruleWritten(action);
+      written(action, line);
       return;
     }
     finish(action, line, sends, null);
@@ -158,8 +171,7 @@ final class AgentLoop {
   private void atOnce(String action, Runnable line, List<Messaging.Prepared> out, Runnable then) {
     synchronized (agent.hooks.queue) {
       synchronized (agent.hooks.sched) {
-        if (line != null) line.run();
-        ruleWritten(action);
+        written(action, line);
         if (out != null) out.addAll(agent.messaging.prepareSent());
         agent.body.applyJade();
         if (then != null) then.run();
@@ -320,8 +332,8 @@ final class AgentLoop {
       deactivated since. */
   private void skip(JadescriptBehaviour b, int h) {
     Trace trace = agent.cfg.trace;
-    if (trace.writes()) trace.skip(agent.getLocalName(), b.id(), known.getOrDefault(b.id(), "?"), h);
-    ruleWritten(Action.SKIP);
+    written(Action.SKIP, !trace.writes() ? null
+        : () -> trace.skip(agent.getLocalName(), b.id(), known.getOrDefault(b.id(), "?"), h));
   }
 
   /** The ids of a dispatch snapshot's instances from position {@code from}

@@ -300,7 +300,9 @@ public abstract class JadescriptAgent extends jade.core.Agent implements HostedA
   /** Running freely: is the agent asleep, with nothing ready and no message
       of the run on its way anywhere? @return true if so */
   public final boolean isQuiet() {
-    if (lockStep.parked()) return true;
+    // stopped for good (--max-steps), it still receives: what was sent to it
+    // and the platform's failures for its sends arrive before the run ends (D26)
+    if (lockStep.parked()) return Messaging.noneOnItsWay();
     synchronized (hooks.sched) { return hooks.idle && hooks.sched.readyCount() == 0 && Messaging.noneOnItsWay(); }
   }
 

@@ -83,6 +83,17 @@ public final class Main {
   }
 
   static int run(String[] argv, PrintStream out) throws Exception {
+    return run(argv, out, null, null);
+  }
+
+  /** One run, as {@link #main} makes it; the batch server ({@link Batch})
+      gives each program its own class loader and class path.
+      @param argv the command line @param out where the program's log goes
+      @param loader the program's classes (null: this class's loader)
+      @param programPath the program's classes as a class path entry, for a
+             peripheral container's JVM (null: this JVM's class path has them)
+      @return the exit status @throws Exception on bad input ({@link Stop}) or JADE's failure */
+  static int run(String[] argv, PrintStream out, ClassLoader loader, String programPath) throws Exception {
     String programClass = null;
     List<String> agentSpecs = new ArrayList<>();
     String events = null, tracePath = null, variantName = "reference", level = "full";
@@ -120,7 +131,8 @@ public final class Main {
     if (programClass == null) throw new Stop("error: no program: give --program CLASS");
     ProgramInfo program;
     try {
-      program = (ProgramInfo) Class.forName(programClass).getDeclaredConstructor().newInstance();
+      program = (ProgramInfo) Class.forName(programClass, true, loader != null ? loader : Main.class.getClassLoader())
+          .getDeclaredConstructor().newInstance();
     } catch (ReflectiveOperationException | ClassCastException | LinkageError e) {
       throw new Stop("error: cannot load the program " + programClass + ": " + e);
     }
@@ -163,7 +175,7 @@ public final class Main {
     for (String n : peripheral)
       if (!names.contains(n)) throw new Stop("--peripheral " + n + ": error: there is no agent " + n);
     Link link = peripheral.isEmpty() ? null
-        : startPeripheral(programClass, variant, budget, capacity, fuel, trace, names, free, maxSteps);
+        : startPeripheral(programClass, programPath, variant, budget, capacity, fuel, trace, names, free, maxSteps);
     List<HostedAgent> agents = new ArrayList<>();
     for (Spec s : specs) {
       if (link != null && peripheral.contains(s.name())) {
@@ -179,7 +191,14 @@ public final class Main {
       args[0] = cfg;
       for (int i = 0; i < s.args().size(); i++) args[i + 1] = s.args().get(i);
       try {
-        cc.createNewAgent(s.name(), program.agentClass(s.type()).getName(), args).start();
+        if (loader == null) cc.createNewAgent(s.name(), program.agentClass(s.type()).getName(), args).start();
+        else {
+          // JADE loads an agent class by name with its own loader, which
+          // does not see a program of the batch server: the instance instead
+          jade.core.Agent a = (jade.core.Agent) program.agentClass(s.type()).getDeclaredConstructor().newInstance();
+          a.setArguments(args);
+          cc.acceptNewAgent(s.name(), a).start();
+        }
       } catch (jade.wrapper.StaleProxyException e) {
         // JADE's own agents (ams, df) hold their names in every platform
         trace.flush();
@@ -245,18 +264,21 @@ public final class Main {
 
   /** The port of this JVM's main container (a peripheral joins it there). */
   private static int mainPort;
+  /** The main container {@link #boot} started last (the batch server kills it after each run). */
+  static volatile ContainerController lastContainer;
 
   /** Start the peripheral container's JVM (jsref.runtime.Peripheral, the
       same class path) and take its connection: its trace events are
       numbered and written here, in the order they come, and deliveries and
       syncs between the two JVMs go over it (docs/jade.md, "Two containers"). */
-  private static Link startPeripheral(String programClass, Variant variant, int budget, Integer capacity,
+  private static Link startPeripheral(String programClass, String programPath, Variant variant, int budget, Integer capacity,
                                       int fuel, Trace trace, java.util.Collection<String> runAgents,
                                       boolean free, int maxSteps) throws Exception {
     ServerSocket server = new ServerSocket(0, 1, java.net.InetAddress.getLoopbackAddress());
     List<String> cmd = new ArrayList<>(List.of(
         Path.of(System.getProperty("java.home"), "bin", "java").toString(),
-        "-cp", System.getProperty("java.class.path"), "jsref.runtime.Peripheral",
+        "-cp", (programPath == null ? "" : programPath + java.io.File.pathSeparator) + System.getProperty("java.class.path"),
+        "jsref.runtime.Peripheral",
         "--control", Integer.toString(server.getLocalPort()), "--main-port", Integer.toString(mainPort),
         "--program", programClass, "--variant", variant.traceName(),
         "--budget", Integer.toString(budget), "--fuel", Integer.toString(fuel),
@@ -422,15 +444,21 @@ public final class Main {
   /** A JADE main container in this JVM: no GUI, no MTP, IMTP on a free
       port of 127.0.0.1 only. @return its controller @throws Exception if JADE fails */
   public static ContainerController boot() throws Exception {
-    Profile p = loopbackProfile("jsref-jade");
-    p.setParameter(Profile.MAIN, "true");
-    p.setParameter(Profile.PLATFORM_ID, "jsref");
-    jade.core.Runtime rt = jade.core.Runtime.instance();
-    rt.setCloseVM(false);
-    ContainerController cc = rt.createMainContainer(p);
-    mainPort = Integer.parseInt(p.getParameter(Profile.LOCAL_PORT, "0"));
-    if (cc == null) throw new IllegalStateException("JADE's main container did not start");
-    return cc;
+    // the free port is found by opening and closing a socket, and another
+    // process may take it before JADE binds it: then another port, at most 3 tries
+    for (int attempt = 1; ; attempt++) {
+      Profile p = loopbackProfile("jsref-jade");
+      p.setParameter(Profile.MAIN, "true");
+      p.setParameter(Profile.PLATFORM_ID, "jsref");
+      jade.core.Runtime rt = jade.core.Runtime.instance();
+      rt.setCloseVM(false);
+      ContainerController cc = rt.createMainContainer(p);
+      if (cc == null && attempt < 3) continue;
+      lastContainer = cc;
+      mainPort = Integer.parseInt(p.getParameter(Profile.LOCAL_PORT, "0"));
+      if (cc == null) throw new IllegalStateException("JADE's main container did not start");
+      return cc;
+    }
   }
 
   // ---------------------------------------------------------------- input

@@ -473,4 +473,15 @@ final class Messaging {
 
   /** @return is no message of the run on its way, from any agent of this JVM? */
   static boolean noneOnItsWay() { return PENDING.isEmpty(); }
+
+  /** Forget every message of the runs so far (the batch server, before a
+      run: a message of an earlier run that never arrived would otherwise
+      count as on its way in this one). */
+  static void forgetRuns() {
+    CONTENTS.clear();
+    PERCEPTS.clear();
+    PENDING.clear();
+    TO_PLATFORM.clear();
+    remoteArrival = null;
+  }
 }
