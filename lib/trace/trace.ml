@@ -757,6 +757,10 @@ let fast_line s =
     lit ",\"seq\":"; let seq = int 1 in
     { percept; priority; seq } in
   let effects key = lit key; List.map effect_of_string (strs ()) in
+  (* does the text go on with [k]? *)
+  let key k =
+    let m = String.length k in
+    !i + m <= n && (let rec go j = j >= m || (String.unsafe_get s (!i + j) = String.unsafe_get k j && go (j + 1)) in go 0) in
   match
     lit "{\"step\":"; let step = int 1 in
     lit ",\"agent\":"; let agent = str () in
@@ -793,22 +797,19 @@ let fast_line s =
         let taken =
           if peek () = 'n' then (lit "null"; None)
           else begin
-            lit "{";
-            if peek () = '"' && !i + 2 < n && String.unsafe_get s (!i + 1) = 'p'
-               && String.unsafe_get s (!i + 2) = 'e' then begin
-              lit "\"performative\":"; let performative = str () in
+            if key "{\"performative\":" then begin
+              lit "{\"performative\":"; let performative = str () in
               lit ",\"content\":"; let content = str () in
               lit ",\"from\":"; let from = str () in
               lit ",\"seq\":"; let seq = int 1 in
               lit "}"; Some (Took_message ({ performative; content; from }, seq))
             end else begin
-              decr i; lit "{\"percept\":"; let percept = str () in
+              lit "{\"percept\":"; let percept = str () in
               lit ",\"priority\":"; let priority = int 0 in
               lit ",\"seq\":"; let seq = int 1 in
               lit "}"; Some (Took_percept { percept; priority; seq })
             end
           end in
-        let key k = !i + String.length k <= n && String.sub s !i (String.length k) = k in
         let action_effects =
           if key ",\"action_effects\":" then Some (effects ",\"action_effects\":") else None in
         let handler =
