@@ -690,7 +690,7 @@ let last_agent = ref ""
 (* Is [o] byte for byte [s]? *)
 let same_bytes o s =
   let n = String.length s in
-  o.p = n && (let rec go j = j >= n || (Bytes.unsafe_get o.b j = String.unsafe_get s j && go (j + 1)) in go 0)
+  o.p = n && String.equal (Bytes.sub_string o.b 0 n) s
 
 let fast_line s =
   let n = String.length s in
@@ -989,8 +989,10 @@ let bounded_line r n =
       last_had_newline := false;
       if Buffer.length r.acc = 0 then None else Some (Buffer.contents r.acc)
     end else
-      match Bytes.index_from_opt r.buf r.pos '\n' with
-      | Some k when k < r.lim ->
+      let b = r.buf and lim = r.lim in
+      let rec nl k = if k >= lim then -1 else if Bytes.unsafe_get b k = '\n' then k else nl (k + 1) in
+      match nl r.pos with
+      | k when k >= 0 ->
         let len = k - r.pos in
         if Buffer.length r.acc + len > max_line then too_long ();
         let line =
