@@ -14,7 +14,16 @@
    of an agent, a candidate may take any of them first, so the candidates
    are every configuration those hidden steps reach; each line keeps those
    that explain it. The candidates share the program's data (the agents'
-   properties, which no hidden step changes) and are bounded in number. *)
+   properties, which no hidden step changes) and are bounded in number;
+   bodies change lists and maps in place, so a body tried on several
+   candidates (or run while searching the hidden steps) starts each time
+   from a deep copy of the data (snapshot, restore), and a full trace's
+   one candidate runs on the data itself.
+
+   Speed: the trace's lines come from Trace's reader (most of them read
+   without a JSON tree, Trace.fast_line); a line is compared with the
+   program's event as a structure, trying only the rules that write lines
+   of its kind (rules_of_event). *)
 
 module Mc = Semantics.Machine
 module P = Interp.Runtime.P
