@@ -488,6 +488,90 @@ let run_command_timed prog args =
   let cpu = (c1.tms_cutime -. c0.tms_cutime) +. (c1.tms_cstime -. c0.tms_cstime) in
   (status, t1 -. t0, cpu)
 
+(* A command's wall-clock time and its maximum resident set in kilobytes
+   (GNU time's %M; [None] without /usr/bin/time). *)
+let run_command_rss prog args =
+  if Sys.file_exists "/usr/bin/time" then begin
+    let out = Filename.temp_file "jsref_bench" ".rss" in
+    (* its verdict, on standard output, is not the bench's *)
+    let null = Unix.openfile "/dev/null" [ Unix.O_WRONLY ] 0 in
+    let t0 = Unix.gettimeofday () and c0 = Unix.times () in
+    let pid = Unix.create_process "/usr/bin/time" (Array.of_list ([ "/usr/bin/time"; "-f"; "%M"; "-o"; out; prog ] @ args))
+        Unix.stdin null Unix.stderr in
+    let (_, status) = Unix.waitpid [] pid in
+    let t1 = Unix.gettimeofday () and c1 = Unix.times () in
+    Unix.close null;
+    let wall = t1 -. t0 and cpu = (c1.tms_cutime -. c0.tms_cutime) +. (c1.tms_cstime -. c0.tms_cstime) in
+    let rss = try let ic = open_in out in
+        let l = input_line ic in close_in ic; int_of_string_opt (String.trim l) with _ -> None in
+    (try Sys.remove out with Sys_error _ -> ());
+    (status, wall, cpu, rss)
+  end else let (status, wall, cpu) = run_command_timed prog args in (status, wall, cpu, None)
+
+(* An events file of [n] notifies as interp_end_to_end writes them: the
+   four percept types in turn, a {"run":"idle"} after every 1,024. *)
+let write_events percept n path =
+  let oc = open_out_bin path in
+  for k = 0 to n - 1 do
+    let (p, default) = percept k in
+    output_string oc (Interp.Events.to_line (Notify { agent = "l"; percept = p; default; priority = None }));
+    output_char oc '\n';
+    if k land 1023 = 1023 then (output_string oc (Interp.Events.to_line Run_idle); output_char oc '\n')
+  done;
+  close_out oc
+
+(* The judge (lib/judge) on the trace [run --trace] wrote, against that
+   run's time [run_wall] (the median round): at most 5x; its memory at
+   [n] and at [n / 10] notifies: flat. Then validate on the trace of
+   20,000 notifies, given the program (the judge on every line, TLC on the
+   window): under 60 s. *)
+let interp_judge ~exe ~program ~percept ~n ~events ~trace ~run_wall =
+  let judge tr = run_command_rss exe [ "judge"; program; "--agent"; "l:Loader"; "--events"; events; tr ] in
+  let (st, wall, _, rss) = judge trace in
+  let small_n = n / 10 in
+  let ev_small = Filename.temp_file "jsref_bench" ".jsonl" and tr_small = Filename.temp_file "jsref_bench" ".trace" in
+  write_events percept small_n ev_small;
+  let (st_run, _, _) = run_command_timed exe [ "run"; program; "--agent"; "l:Loader"; "--events"; ev_small;
+                                               "--max-steps"; "1000000000"; "--trace"; tr_small ] in
+  let (st_small, _, _, rss_small) =
+    if st_run = Unix.WEXITED 0 then judge tr_small else (st_run, 0., 0., None) in
+  let kb = function Some k -> Printf.sprintf "%d MB" (k / 1024) | None -> "?" in
+  if st <> Unix.WEXITED 0 then begin
+    Printf.printf "  %-46s failed\n%!" "judge";
+    Goals.record ~met:false "3 end to end: judge at most 5x run --trace" "the judge failed"
+  end else begin
+    let ratio = wall /. run_wall in
+    Printf.printf "  %-46s %.2f s wall, %.1fx run --trace's median round (%.2f s); max RSS %s (%s at %d notifies)\n%!"
+      (Printf.sprintf "  judge, the same trace") wall ratio run_wall (kb rss) (kb rss_small) small_n;
+    Goals.record ~met:(ratio <= 5.) "3 end to end: judge at most 5x run --trace"
+      (Printf.sprintf "%.1fx (%.2f s against %.2f s, %d notifies)" ratio wall run_wall n);
+    (match rss, rss_small with
+     | Some big, Some small when st_small = Unix.WEXITED 0 ->
+       let flat = float_of_int big /. float_of_int small in
+       Goals.record ~met:(flat <= 1.25) "3 end to end: judge's memory flat (10x the trace, within 1.25)"
+         (Printf.sprintf "max RSS %s at %d, %s at %d notifies: %.2f" (kb rss) n (kb rss_small) small_n flat)
+     | _ -> Goals.record "3 end to end: judge's memory flat (10x the trace, within 1.25)" "not measured (no /usr/bin/time)")
+  end;
+  (* validate on 20,000 notifies, the program given *)
+  let ev_v = Filename.temp_file "jsref_bench" ".jsonl" and tr_v = Filename.temp_file "jsref_bench" ".trace" in
+  write_events percept 20_000 ev_v;
+  let (st_run, _, _) = run_command_timed exe [ "run"; program; "--agent"; "l:Loader"; "--events"; ev_v;
+                                               "--max-steps"; "1000000000"; "--trace"; tr_v ] in
+  let (st_v, wall_v, _, rss_v) =
+    if st_run = Unix.WEXITED 0 then
+      run_command_rss exe [ "validate"; "--program"; program; "--agent"; "l:Loader"; tr_v ]
+    else (st_run, 0., 0., None) in
+  if st_v <> Unix.WEXITED 0 then begin
+    Printf.printf "  %-46s failed\n%!" "validate, 20,000 notifies";
+    Goals.record ~met:false "3 end to end: validate on 20,000 notifies under 60 s" "validate failed"
+  end else begin
+    Printf.printf "  %-46s %.1f s wall, max RSS %s (the judge on every line, TLC on the first %d steps)\n%!"
+      "  validate --program, 20,000 notifies" wall_v (kb rss_v) Explore.Validate.default_window;
+    Goals.record ~met:(wall_v < 60.) "3 end to end: validate on 20,000 notifies under 60 s"
+      (Printf.sprintf "%.1f s" wall_v)
+  end;
+  List.iter (fun f -> try Sys.remove f with Sys_error _ -> ()) [ ev_small; tr_small; ev_v; tr_v ]
+
 let interp_end_to_end env ~n ~machine_rate =
   let program = find_program "percepts.jade" in
   let root = Filename.dirname (Filename.dirname (Filename.dirname program)) in
@@ -498,14 +582,7 @@ let interp_end_to_end env ~n ~machine_rate =
   | Some exe ->
     let percept = percept_maker env in
     let events = Filename.temp_file "jsref_bench" ".jsonl" and trace = Filename.temp_file "jsref_bench" ".trace" in
-    let oc = open_out_bin events in
-    for k = 0 to n - 1 do
-      let (p, default) = percept k in
-      output_string oc (Interp.Events.to_line (Notify { agent = "l"; percept = p; default; priority = None }));
-      output_char oc '\n';
-      if k land 1023 = 1023 then (output_string oc (Interp.Events.to_line Run_idle); output_char oc '\n')
-    done;
-    close_out oc;
+    write_events percept n events;
     let size f = (Unix.stat f).st_size in
     let run with_trace =
       let args = [ "run"; program; "--agent"; "l:Loader"; "--events"; events; "--max-steps"; "1000000000" ]
@@ -546,6 +623,7 @@ let interp_end_to_end env ~n ~machine_rate =
     let w0 = med (List.map fst rounds) and w1 = med (List.map snd rounds) in
     Printf.printf "  %-46s machine level %.0f percepts/s: %.1fx the run without a trace, %.1fx the run with one\n%!"
       "  distance" machine_rate (machine_rate *. w0 /. float_of_int n) (machine_rate *. w1 /. float_of_int n);
+    interp_judge ~exe ~program ~percept ~n ~events ~trace ~run_wall:w1;
     List.iter (fun f -> try Sys.remove f with Sys_error _ -> ()) [ events; trace ]
 
 (* The machine the figures come from: processors, CPU model, date. *)

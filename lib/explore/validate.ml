@@ -1,5 +1,5 @@
 type verdict =
-  | Accepted of { agent : string; steps : int }
+  | Accepted of { agent : string; steps : int; total : int }
   | Rejected of { agent : string; line : int; step : string; after : int }
   | Cannot of { agent : string; line : int; reason : string }
   | Invalid of { line : int; message : string }
@@ -231,7 +231,7 @@ let tlc_one ?keep agent ((_, records) as job) =
    | None -> ());
   let r = Tlc.run_text ~module_name:"TraceCheck" ~text ~cfg_lines:cfg ~options:[ "-workers"; "1" ] in
   match r.exit_code with
-  | 0 -> Accepted { agent; steps = List.length records }
+  | 0 -> Accepted { agent; steps = List.length records; total = List.length records }
   | 11 ->
     (* The last state of the counterexample says how far the trace went. *)
     rejected agent records (Option.value (last_value r.output "traceIndex") ~default:1)
@@ -317,7 +317,7 @@ let rec tlc_all ?keep jobs =
      | None -> ());
     let r = Tlc.run_text ~module_name:"TraceCheckAll" ~text ~cfg_lines:[ "INIT TraceInit"; "NEXT TraceNext" ]
         ~options:[ "-workers"; "1" ] in
-    let accepted (agent, (_, records)) = Accepted { agent; steps = List.length records } in
+    let accepted (agent, (_, records)) = Accepted { agent; steps = List.length records; total = List.length records } in
     match r.exit_code, last_value r.output "agentIdx", last_value r.output "traceIndex" with
     | 0, _, _ -> List.map accepted jobs
     | 11, Some a, Some k when a >= 1 && a <= List.length jobs ->
@@ -352,7 +352,27 @@ let check path =
   | Ok (header, lines, _) -> more header lines
 
 
-let traces ?keep ?(on_cut = fun _ _ -> ()) paths =
+(* TLC follows at most this many steps of each agent (its first ones, from
+   the spec's initial state): the model holds a percept value per notify
+   and a constant per step, and TLC's time grows faster than the trace. *)
+let default_window = 300
+
+(* The model of [agent] on its first [window] steps: the lines up to its
+   [window]-th step (the step's own body lines after it are left out with
+   the rest); the number of its steps in the whole trace. *)
+let windowed ~window header lines ~agent =
+  match model_of_trace header lines ~agent with
+  | Error e -> Error e
+  | Ok (_, records) as whole ->
+    let total = List.length records in
+    if window <= 0 || total <= window then Result.map (fun j -> (j, total)) whole
+    else begin
+      let (_, last) = List.nth records (window - 1) in
+      let prefix = List.filter (fun (n, _) -> n <= last) lines in
+      Result.map (fun j -> (j, total)) (model_of_trace header prefix ~agent)
+    end
+
+let traces ?keep ?(window = default_window) ?(on_cut = fun _ _ -> ()) paths =
   (* per trace: Invalid, or per agent Cannot or a model for TLC *)
   let prepared = List.map (fun path ->
       match read path with
@@ -363,14 +383,20 @@ let traces ?keep ?(on_cut = fun _ _ -> ()) paths =
         | Error (line, message) -> (path, `Invalid (Invalid { line; message }))
         | Ok () ->
           (path, `Agents (List.map (fun (agent, _) ->
-               match model_of_trace header lines ~agent with
+               match windowed ~window header lines ~agent with
                | Error (line, reason) -> (agent, Error (Cannot { agent; line; reason }))
                | Ok job -> (agent, Ok job)) header.agents))) paths in
   let jobs = List.concat_map (fun (_, p) -> match p with
       | `Invalid _ -> []
-      | `Agents l -> List.filter_map (fun (agent, r) -> match r with Ok job -> Some (agent, job) | Error _ -> None) l)
+      | `Agents l -> List.filter_map (fun (agent, r) -> match r with Ok (job, _) -> Some (agent, job) | Error _ -> None) l)
       prepared in
-  let verdicts = ref (tlc_all ?keep jobs) in
+  let totals = List.concat_map (fun (_, p) -> match p with
+      | `Invalid _ -> []
+      | `Agents l -> List.filter_map (fun (_, r) -> match r with Ok (_, total) -> Some total | Error _ -> None) l)
+      prepared in
+  let verdicts = ref (List.map2 (fun v total -> match v with
+      | Accepted a -> Accepted { a with total }
+      | v -> v) (tlc_all ?keep jobs) totals) in
   List.map (fun (path, p) ->
       match p with
       | `Invalid v -> (path, [ v ])
@@ -381,4 +407,4 @@ let traces ?keep ?(on_cut = fun _ _ -> ()) paths =
                  | v :: rest -> verdicts := rest; v
                  | [] -> Semantics.Fault.crash "Validate: fewer TLC verdicts than agents")) l)) prepared
 
-let trace ?keep ?on_cut path = snd (List.hd (traces ?keep ?on_cut [ path ]))
+let trace ?keep ?window ?on_cut path = snd (List.hd (traces ?keep ?window ?on_cut [ path ]))

@@ -29,7 +29,9 @@
     spec then rejects the step). *)
 
 type verdict =
-  | Accepted of { agent : string; steps : int }
+  | Accepted of { agent : string; steps : int; total : int }
+      (** TLC follows the agent's first [steps] steps of its [total] in
+          the trace (all of them when the trace is within the window) *)
   | Rejected of { agent : string; line : int; step : string; after : int }
       (** the trace line of the first step the spec does not take *)
   | Cannot of { agent : string; line : int; reason : string }
@@ -39,16 +41,24 @@ type verdict =
           {!Trace_check} (agents, steps, literals, messages across agents, the
           O2A capacity), made before TLC runs *)
 
-val trace : ?keep:string -> ?on_cut:(string -> int -> unit) -> string -> verdict list
+val default_window : int
+(** 300: the steps of each agent TLC follows by default (docs/trace-format.md,
+    "Long traces: the window"). *)
+
+val trace : ?keep:string -> ?window:int -> ?on_cut:(string -> int -> unit) -> string -> verdict list
 (** The trace file is read and checked in OCaml; if it is [Invalid], that is
     the one verdict; otherwise one verdict per agent, from TLC. [keep]: also
-    write the generated modules into that folder. A last line with no
+    write the generated modules into that folder. [window] (default
+    {!default_window}; 0 or less: no bound): TLC follows only the first
+    [window] steps of each agent, from the spec's initial state, with the
+    constants read off those lines; the OCaml checks above still read the
+    whole trace. A last line with no
     newline that is not JSON (a run killed while it wrote it) is left out,
     the lines before it are checked, and [on_cut path line] is called with
     its number.
     @raise Tlc.Error when TLC itself fails (a one-line message) *)
 
-val traces : ?keep:string -> ?on_cut:(string -> int -> unit) -> string list -> (string * verdict list) list
+val traces : ?keep:string -> ?window:int -> ?on_cut:(string -> int -> unit) -> string list -> (string * verdict list) list
 (** {!trace} of several files, with one TLC run for every agent of every
     trace that passes the OCaml checks: each agent an instance of the trace
     spec (its own constants, steps and variables) in one generated module

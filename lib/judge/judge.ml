@@ -14,7 +14,16 @@
    of an agent, a candidate may take any of them first, so the candidates
    are every configuration those hidden steps reach; each line keeps those
    that explain it. The candidates share the program's data (the agents'
-   properties, which no hidden step changes) and are bounded in number. *)
+   properties, which no hidden step changes) and are bounded in number;
+   bodies change lists and maps in place, so a body tried on several
+   candidates (or run while searching the hidden steps) starts each time
+   from a deep copy of the data (snapshot, restore), and a full trace's
+   one candidate runs on the data itself.
+
+   Speed: the trace's lines come from Trace's reader (most of them read
+   without a JSON tree, Trace.fast_line); a line is compared with the
+   program's event as a structure, trying only the rules that write lines
+   of its kind (rules_of_event). *)
 
 module Mc = Semantics.Machine
 module P = Interp.Runtime.P
@@ -195,17 +204,62 @@ let merge st n cands =
     reject n "more than %d configurations of the agent explain the trace so far (the judge's search bound, --bound)" st.bound;
   out
 
-(* The properties of the agent and of its active behaviours as they are
-   (their cells' values), to be put back. A body that changes a list or a
-   map in place is not undone so. *)
-let save_cells (c : M.t) =
+(* The data a body can change: the cells of the agent's properties and of
+   its active behaviours' properties. Lists, maps and the slots of schema
+   values are changed in place by bodies (V: "mutable and shared by
+   reference"), so putting a cell's value back does not undo a body: a
+   snapshot holds a deep copy of every cell's value, taken in one pass so
+   that what two cells share stays shared, and each restore puts a fresh
+   copy of it back (the snapshot itself is never given to a body). *)
+let copy_values (vs : V.t list) =
+  let seen : (Obj.t * V.t) list ref = ref [] in
+  let memo o make =
+    match List.assq_opt (Obj.repr o) !seen with
+    | Some v -> v
+    | None -> make () in
+  let rec copy (v : V.t) : V.t = match v with
+    | V.List l -> memo l (fun () ->
+        let l' = { V.items = [||]; len = l.len } in
+        let v' = V.List l' in
+        seen := (Obj.repr l, v') :: !seen;
+        l'.items <- Array.map copy (Array.sub l.items 0 l.len); v')
+    | V.Map m -> memo m (fun () ->
+        let v' = V.map_empty () in
+        seen := (Obj.repr m, v') :: !seen;
+        (match v' with
+         | V.Map m' -> List.iter (fun (k, x) -> V.map_set m' (copy k) (copy x)) (V.map_bindings m)
+         | _ -> ());
+        v')
+    | V.Schema s -> memo s (fun () ->
+        let s' = { V.sname = s.sname; slots = Array.map (fun (n, r) -> (n, ref !r)) s.slots } in
+        let v' = V.Schema s' in
+        seen := (Obj.repr s, v') :: !seen;
+        Array.iter (fun (_, r) -> r := copy !r) s'.slots; v')
+    | v -> v in
+  List.map copy vs
+
+let cells_of (c : M.t) =
   let out = ref [] in
-  let add tbl = Syntax.Strtbl.iter (fun _ (cell : E.cell) -> out := (cell, cell.v) :: !out) tbl in
+  let add tbl = Syntax.Strtbl.iter (fun _ (cell : E.cell) -> out := cell :: !out) tbl in
   add c.world.props;
   List.iter (fun (i : E.beh Mc.instance) -> add i.beh.bprops) c.active;
   !out
 
-let restore_cells saved = List.iter (fun ((cell : E.cell), v) -> cell.v <- v) saved
+type snapshot = { cells : E.cell list; values : V.t list }
+
+let snapshot (cs : M.t list) =
+  let cells = List.fold_left (fun acc c ->
+      List.fold_left (fun acc cell -> if List.memq cell acc then acc else cell :: acc) acc (cells_of c)) [] cs in
+  { cells; values = copy_values (List.map (fun (cell : E.cell) -> cell.v) cells) }
+
+let restore s = List.iter2 (fun (cell : E.cell) v -> cell.v <- v) s.cells (copy_values s.values)
+
+(* The rules an observable trace may hide, each tried alone (a behaviour
+   step is never hidden: its body is not run before its line). *)
+let hidden_rules =
+  let r = M.rules in
+  [ r.transfer; r.transfer_one; r.transfer_spin; r.transfer_end; r.dequeue; r.handle_or_skip;
+    r.end_dispatch; r.next_iteration; r.idle ]
 
 (* Every configuration a candidate may be in before its next line: itself
    and, in an observable trace, those hidden steps reach (a hidden step
@@ -226,12 +280,11 @@ let expand st ag n (cands : cand list) =
       if !count > 100 * st.bound then
         reject n "agent %s: the hidden steps before this line go on past the judge's search bound" ag.name;
       if x.owed = [] && depth < 10_000 then begin
-        (* the rules enabled here include the shown ones (Handle, a
-           behaviour step), whose bodies change the shared data: undone,
-           as their lines come later *)
-        let saved = save_cells x.c in
-        let next = M.step st.params x.c in
-        restore_cells saved;
+        (* Handle or Skip decides by running the handler (a Handle runs its
+           body, whose line comes later): the data is put back after it *)
+        let saved = if x.c.phase = Mc.Handle_phase then Some (snapshot [ x.c ]) else None in
+        let next = List.concat_map (fun (rule : M.rule) -> rule st.params x.c) hidden_rules in
+        Option.iter restore saved;
         List.iter (fun (l, c') ->
             if hidden l then begin
               let (c', evs) = settle c' in
@@ -253,6 +306,28 @@ let post st ag (msgs : E.message list) receivers =
       if find_agent st r <> None then Queue.push (ag.name, m) (queue st r)
       else if List.mem r platform_agents then ()
       else ag.undeliverable <- ag.undeliverable @ [ (r, m) ]) receivers msgs
+
+(* The agent rules in the spec's order (Machine.step_by's), and those whose
+   label writes a line of this kind: only they can explain it. *)
+let all_rules =
+  let r = M.rules in
+  [ r.transfer; r.transfer_one; r.transfer_spin; r.transfer_end; r.dequeue; r.handle_or_skip;
+    r.end_dispatch; r.behaviour_step; r.next_iteration; r.idle ]
+
+let rules_of_event (ev : Trace.event) =
+  let r = M.rules in
+  match ev with
+  | Trace.Transfer _ -> [ r.transfer ]
+  | Trace.Transfer_one _ -> [ r.transfer_one ]
+  | Trace.Transfer_spin _ -> [ r.transfer_spin ]
+  | Trace.Transfer_end -> [ r.transfer_end ]
+  | Trace.Dequeue _ -> [ r.dequeue ]
+  | Trace.Handle _ | Trace.Skip _ -> [ r.handle_or_skip ]
+  | Trace.End_dispatch _ -> [ r.end_dispatch ]
+  | Trace.Behaviour_step _ -> [ r.behaviour_step ]
+  | Trace.Next_iteration -> [ r.next_iteration ]
+  | Trace.Idle -> [ r.idle ]
+  | _ -> all_rules
 
 let agent_line st n ag (ev : Trace.event) =
   match ev with
@@ -278,34 +353,51 @@ let agent_line st n ag (ev : Trace.event) =
        ag.cands <- merge st n kept)
   | _ ->
     let cands = expand st ag n ag.cands in
-    let alternatives = ref [] and after = ref [] in
+    let alternatives = ref [] in
+    let note l e = if not (st.level = Observable && hidden l) then alternatives := e :: !alternatives in
+    let rules = rules_of_event ev in
+    (* with several candidates, each one's rule runs its body on the shared
+       data: a snapshot is put back before each, and the data after the
+       first rule that explains the line kept at the end (one candidate, the
+       case of a full trace, needs none) *)
+    let ready = List.filter (fun x -> x.owed = []) cands in
+    let saved = match ready with _ :: _ :: _ -> Some (snapshot (List.map (fun x -> x.c) ready)) | _ -> None in
+    let after = ref None in
     let kept = List.concat_map (fun x ->
         if x.owed <> [] then begin
-          (match x.owed with (a, b, _) :: _ -> alternatives := show_body a b :: !alternatives | [] -> ());
+          (match x.owed with (a, b, _) :: _ -> alternatives := `Shown (show_body a b) :: !alternatives | [] -> ());
           []
         end else
         begin
-          (* each candidate's rule runs its body on the shared data: undone
-             after it, and the data after the first rule that explains the
-             line put back at the end *)
-          let saved = save_cells x.c in
+          (match saved, !after with Some s, _ -> restore s | None, _ -> ());
           let matched = List.filter_map (fun (l, c') ->
               let (c', evs) = settle c' in
               let e = expected ag ~before:x.c c' l evs in
               if e = ev then Some { c = c'; owed = owed_of ag.name (Mc.action_name l) evs }
-              else begin
-                if not (st.level = Observable && hidden l) then alternatives := show_event e :: !alternatives;
-                None
-              end) (M.step st.params x.c) in
-          if matched <> [] && !after = [] then after := List.map (fun ((cell : E.cell), _) -> (cell, cell.v)) saved;
-          restore_cells saved;
+              else (note l (`Event e); None)) (List.concat_map (fun (rule : M.rule) -> rule st.params x.c) rules) in
+          (match saved, !after with
+           | Some s, None when matched <> [] ->
+             after := Some (List.map (fun (cell : E.cell) -> cell.v) s.cells)
+           | _ -> ());
           matched
         end) cands in
-    restore_cells !after;
+    (match saved, !after with
+     | Some s, Some vs -> List.iter2 (fun (cell : E.cell) v -> cell.v <- v) s.cells vs
+     | _ -> ());
     (match kept with
      | [] ->
+       (* what the other rules take here, for the verdict (the rules of
+          this line's kind were tried above) *)
+       List.iter (fun x -> if x.owed = [] then
+                     List.iter (fun (rule : M.rule) ->
+                         if not (List.memq rule rules) then
+                           List.iter (fun (l, c') ->
+                               let (c', evs) = settle c' in
+                               note l (`Event (expected ag ~before:x.c c' l evs))) (rule st.params x.c))
+                       all_rules) cands;
+       let alternatives = List.map (function `Shown s -> s | `Event e -> show_event e) !alternatives in
        reject n "agent %s: %s" ag.name
-         (match List.sort_uniq compare !alternatives with
+         (match List.sort_uniq compare alternatives with
           | [] -> Printf.sprintf "the program takes no rule here (the agent is idle), not %s" (show_event ev)
           | [ a ] -> Printf.sprintf "the program takes %s here, not %s" a (show_event ev)
           | alts -> Printf.sprintf "the program takes one of %s here, not %s" (String.concat " or " alts) (show_event ev))
@@ -320,13 +412,21 @@ let agent_line st n ag (ev : Trace.event) =
 let host st n ag what f =
   let cands = List.filter (fun x -> x.owed = []) (expand st ag n ag.cands) in
   match List.filter_map (fun x -> Option.map (fun c -> { c; owed = [] }) (f x.c)) cands with
-  | [] -> reject n "agent %s: %s" ag.name what
+  | [] -> reject n "agent %s: %s" ag.name (what ())
   | kept -> ag.cands <- merge st n kept
 
+(* The trees of the literals read last, by their text (a run notifies the
+   same percepts again and again); emptied when full, so that it does not
+   grow with the trace. *)
+let parsed : (string, Syntax.Ast.expr) Hashtbl.t = Hashtbl.create 1024
+
 let parse_value ~file n text =
-  match Syntax.Parse.expr ~file text with
-  | e -> e
-  | exception Syntax.Diag.Failed d -> reject n "%s is not a Jadescript value: %s" text d.message
+  match Hashtbl.find_opt parsed text with
+  | Some e -> e
+  | None ->
+    match Syntax.Parse.expr ~file text with
+    | e -> if Hashtbl.length parsed >= 4096 then Hashtbl.reset parsed; Hashtbl.replace parsed text e; e
+    | exception Syntax.Diag.Failed d -> reject n "%s is not a Jadescript value: %s" text d.message
 
 let percept_of st n ag text =
   match E.percept_value st.env ~agent_type:ag.atype (parse_value ~file:"trace" n text) with
@@ -341,7 +441,7 @@ let literal_of st n text =
 let notify st n ag (entry : Trace.entry) overridden =
   let (v, default) = percept_of st n ag entry.percept in
   let priority = if overridden then Some entry.priority else None in
-  host st n ag (Printf.sprintf "the notify of %s (priority %d, seq %d) cannot be here" entry.percept entry.priority entry.seq)
+  host st n ag (fun () -> Printf.sprintf "the notify of %s (priority %d, seq %d) cannot be here" entry.percept entry.priority entry.seq)
     (fun c ->
        match M.notify_event st.params c v ~default ~priority with
        | Ok c' ->
@@ -352,19 +452,19 @@ let notify st n ag (entry : Trace.entry) overridden =
 
 let refused st n ag text =
   let (v, default) = percept_of st n ag text in
-  host st n ag (Printf.sprintf "the O2A queue has room: %s is not refused (R2d)" text) (fun c ->
+  host st n ag (fun () -> Printf.sprintf "the O2A queue has room: %s is not refused (R2d)" text) (fun c ->
       match M.notify_event st.params c v ~default ~priority:None with
       | Error Mc.O2a_full -> Some c
       | _ -> None)
 
 let refused_put st n ag text =
   ignore (literal_of st n text);
-  host st n ag (Printf.sprintf "the O2A queue has room: %s is not refused (R2d)" text) (fun c ->
+  host st n ag (fun () -> Printf.sprintf "the O2A queue has room: %s is not refused (R2d)" text) (fun c ->
       if M.o2a_has_room st.params c then None else Some c)
 
 let put st n ag text index =
   let v = literal_of st n text in
-  host st n ag (Printf.sprintf "the put of %s (index %d) cannot be here" text index) (fun c ->
+  host st n ag (fun () -> Printf.sprintf "the put of %s (index %d) cannot be here" text index) (fun c ->
       if not (M.o2a_has_room st.params c) then None
       else let c' = M.put st.params c v in if c'.puts = index then Some c' else None)
 
@@ -387,7 +487,7 @@ let deliver st n ag (m : Trace.message) seq in_step =
           ag.name msg.perf (V.to_literal msg.content) sender m.performative m.content m.from
       | None ->
         reject n "agent %s: no message sent to it waits for delivery (%s %s from %s)" ag.name m.performative m.content m.from in
-  host st n ag (Printf.sprintf "the delivery of seq %d cannot be here%s" seq
+  host st n ag (fun () -> Printf.sprintf "the delivery of seq %d cannot be here%s" seq
                   (if in_step then " (during the agent's last behaviour step: it took another rule since, R5d)" else ""))
     (fun c ->
        let c' = if in_step then M.send_in_step st.params c msg else Some (M.send st.params c msg) in
@@ -442,7 +542,10 @@ let destroy st n ag =
              (String.concat ", " (List.filter_map (fun x -> match x.owed with (a, b, _) :: _ -> Some (show_body a b) | [] -> None) ag.cands))
    | _ -> ());
   ag.destroyed <- true;
+  (* on destroy runs on each candidate: on the same data each time *)
+  let saved = match cands with _ :: _ :: _ -> Some (snapshot (List.map (fun x -> x.c) cands)) | _ -> None in
   ag.cands <- List.map (fun x ->
+      Option.iter restore saved;
       let a = E.destroy_agent x.c.world in
       let (a, evs) = E.take_events a in
       let (a, _) = E.Bodies.take_outbox a in

@@ -189,6 +189,15 @@ val stream : string -> header:(header -> unit) -> line:(int -> line -> unit) -> 
     wrote that line: the lines before it stand). [Error (line, message)] on
     the first bad line. *)
 
+val fast_line : string -> line option
+(** A line as this module's writer writes it (the writer's order of fields,
+    no space, no escape but a quote's and a backslash's) of one of the
+    frequent events, read without a JSON tree: [Some l] exactly when the
+    writer writes [l] as these bytes and the line is valid; then
+    [line_of_json] of the line's JSON is [Ok l]. [None] for any other
+    text, which the readers above read the general way (and may reject).
+    The text must be valid UTF-8 (the readers check that first). *)
+
 val stream_cut : string -> header:(header -> unit) -> line:(int -> line -> unit) ->
   (int option, int * string) result
 (** {!stream}, with [Ok (Some n)] when the last line, line [n], is cut. *)

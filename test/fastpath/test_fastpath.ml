@@ -291,6 +291,96 @@ let direct_equals_tree (l : Trace.line) =
   if direct <> tree then QCheck.Test.fail_reportf "direct: %s\ntree:   %s" direct tree;
   true
 
+(* The readers take a line the writer wrote through [Trace.fast_line],
+   without a JSON tree: it must read exactly what the general reader reads
+   ([line_of_json] of the line's JSON), or leave the line to it ([None]).
+   Checked on written lines and on the same lines with a few bytes
+   changed (a changed number, quote or key must never be read otherwise
+   than the general reader reads it, nor a line it rejects taken). *)
+let general s =
+  match Json_read.of_string s with
+  | Ok j -> Trace.line_of_json j
+  | Error e -> Error e.message
+
+let fast_agrees s =
+  match Utf8.first_invalid s with
+  | Some _ -> true
+  | None ->
+    match Trace.fast_line s, general s with
+    | None, _ -> true
+    | Some x, Ok y when x = y -> true
+    | Some _, Ok _ -> QCheck.Test.fail_reportf "fast_line reads %s otherwise than the general reader" s
+    | Some _, Error m -> QCheck.Test.fail_reportf "fast_line takes %s, which the general reader rejects: %s" s m
+
+let fast_equals_general ((l : Trace.line), changes) =
+  let b = Buffer.create 64 in
+  Trace.line_to_buffer b l;
+  let s = Buffer.contents b in
+  let changed = Bytes.of_string s in
+  List.iter (fun (at, c) -> if Bytes.length changed > 0 then Bytes.set changed (at mod Bytes.length changed) c) changes;
+  fast_agrees s && fast_agrees (Bytes.to_string changed)
+
+(* Lines of the frequent events with numbers at the bounds (0, 1, 2^31-1,
+   2^31, -1) and texts with quotes and backslashes: the ones the fast way
+   takes, or nearly. *)
+let gen_hot_line =
+  let open QCheck.Gen in
+  let int = oneofl [ 0; 1; 2; 7; 10; 0x7FFF_FFFF; 0x8000_0000; -1 ] in
+  let str = oneofl [ ""; "a"; "l"; "position(1)"; "qrCodeRead(\"A7\")"; "b\\s"; "\""; "é" ] in
+  let entry = map3 (fun percept priority seq -> { Trace.percept; priority; seq }) str int int in
+  let effects = list_size (int_range 0 2) (oneofl [ Trace.Activated "B"; Trace.Deactivated ]) in
+  let event = oneof [
+      map2 (fun entry overridden -> Trace.Notify { entry; overridden }) entry bool;
+      map (fun n -> Trace.Transfer n) int;
+      map (fun e -> Trace.Transfer_one e) entry;
+      return Trace.Transfer_end;
+      map (fun e -> Trace.Dequeue e) entry;
+      map3 (fun (instance, behaviour) (handler, percept) (seq, effects) ->
+          Trace.Handle { instance; behaviour; handler; percept; seq; effects })
+        (pair int str) (pair int str) (pair int effects);
+      map3 (fun instance behaviour handler -> Trace.Skip { instance; behaviour; handler }) int str int;
+      map2 (fun seq discarded -> Trace.End_dispatch { seq; discarded }) int bool;
+      map3 (fun (instance, behaviour) taken (action_effects, handler) ->
+          Trace.Behaviour_step { instance; behaviour; taken; action_effects; handler })
+        (pair int str)
+        (opt (oneof [ map2 (fun m s -> Trace.Took_message (m, s))
+                        (map3 (fun performative content from -> { Trace.performative; content; from }) str str str) int;
+                      map (fun e -> Trace.Took_percept e) entry ]))
+        (pair (opt effects) (opt (pair int effects)));
+      return Trace.Next_iteration; return Trace.Idle; return Trace.Destroy;
+      map2 (fun action s -> Trace.Body { action; body = Trace.Log s }) (oneofl [ "Handle"; "destroy"; "Nope" ]) str ] in
+  map3 (fun step agent event -> { Trace.step; agent; event }) int str event
+
+let arb_changed_line =
+  let open QCheck.Gen in
+  QCheck.make (pair (oneof [ gen_trace_line; gen_hot_line; gen_hot_line ])
+                 (list_size (int_range 0 2)
+                    (pair (int_range 0 400) (oneofl [ '0'; '1'; '9'; '-'; '"'; '\\'; ' '; ','; '}'; 'x'; 'n' ]))))
+
+(* Lines of the frequent events, as written, are read the fast way (the
+   judge's speed depends on it; their agreement is the property above). *)
+let hot_lines_fast () =
+  let e = { Trace.percept = "p(\"A7\")"; priority = 2; seq = 7 } in
+  List.iteri (fun i event ->
+      let l = { Trace.step = i + 1; agent = "a"; event } in
+      let b = Buffer.create 64 in
+      Trace.line_to_buffer b l;
+      match Trace.fast_line (Buffer.contents b) with
+      | Some x when x = l -> ()
+      | _ -> Alcotest.failf "not read the fast way: %s" (Buffer.contents b))
+    [ Trace.Notify { entry = e; overridden = false }; Notify { entry = e; overridden = true };
+      Transfer 5; Transfer_one e; Transfer_end; Dequeue e;
+      Handle { instance = 1; behaviour = "B"; handler = 2; percept = "p"; seq = 3; effects = [ Activated "C"; Deactivated ] };
+      Skip { instance = 1; behaviour = "B"; handler = 2 };
+      End_dispatch { seq = 3; discarded = false }; End_dispatch { seq = 3; discarded = true };
+      Behaviour_step { instance = 1; behaviour = "B"; taken = None; action_effects = Some []; handler = None };
+      Behaviour_step { instance = 1; behaviour = "B"; taken = Some (Took_percept e); action_effects = None;
+                       handler = Some (1, [ Deactivated ]) };
+      Behaviour_step { instance = 1; behaviour = "B";
+                       taken = Some (Took_message ({ performative = "inform"; content = "x"; from = "h" }, 4));
+                       action_effects = None; handler = Some (1, []) };
+      Next_iteration; Idle; Destroy; Body { action = "Handle"; body = Log "a \"q\" \\ b" } ]
+
 (* JSON has one escaping function, Yojson's [write_string]: the trace's
    direct writer copies a text that needs no escape and hands every other to
    it. A text of any bytes (valid UTF-8) written in a trace line is strict
@@ -579,6 +669,8 @@ let () =
         Alcotest.test_case "a writer numbers its lines" `Quick writer_numbers;
         Alcotest.test_case "a percept's text follows its slots" `Quick percept_text_follows_its_slots;
         qcheck ~count:3000 "trace: direct encoding = JSON tree" (QCheck.make gen_trace_line) direct_equals_tree;
+        Alcotest.test_case "trace: the frequent lines are read the fast way" `Quick hot_lines_fast;
+        qcheck ~count:5000 "trace: the fast reading = the general reading" arb_changed_line fast_equals_general;
         qcheck ~count:1000 "trace: Trace reads every text back" Support.tricky_text json_text_round_trip ]);
     ("value", [
         qcheck ~count:3000 "value: the literal and the text = the plain printer" (QCheck.make gen_value) quick_literal_equal ]);

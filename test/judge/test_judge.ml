@@ -280,6 +280,66 @@ let observable_with_loop_step () =
   let bad = match l with h :: c :: rest -> h :: c :: step :: rest | _ -> Alcotest.fail "short" in
   ignore (rejected_located "a dequeue line in an observable trace" x ~good:l bad)
 
+(* ------------------------------------------- (f) data changed in place *)
+
+(* A handler that adds to a map property in place, and says its size. The
+   judge tries its body on every candidate configuration that may explain
+   the line, and in an observable trace also while searching the hidden
+   steps (Handle or Skip is decided by running the handler): each try must
+   start from the data as the run had it, however the body changed it in
+   place. Two pings of equal priority, under the unstable tie policy, are
+   two candidates that both run the body before the Handle line picks one. *)
+let in_place_program = {|ontology O
+	proposition ping extends percept with priority = 1
+
+agent A uses ontology O
+	property seen as map of integer:integer = {}
+
+	on create do
+		activate behaviour B
+
+cyclic behaviour B for agent A
+	on percept when content matches ping do
+		seen[size of seen] = 1
+		log "seen " + size of seen
+|}
+
+(* Where [a] first occurs in [s]. *)
+let find s a =
+  let n = String.length a in
+  let rec go i = if i + n > String.length s then None else if String.sub s i n = a then Some i else go (i + 1) in
+  go 0
+
+let data_changed_in_place () =
+  let dir = Filename.concat (Filename.get_temp_dir_name ()) (Printf.sprintf "jsref-judge-inplace-%d" (Unix.getpid ())) in
+  if not (Sys.file_exists dir) then Sys.mkdir dir 0o755;
+  let file name = Filename.concat dir name in
+  write_lines (file "p.jade") [ in_place_program ];
+  write_lines (file "events.jsonl") [ {|{"agent":"a","notify":"ping"}|}; {|{"agent":"a","notify":"ping"}|} ];
+  let env = match Typing.check [ Syntax.Parse.file (file "p.jade") ] with
+    | env, [] -> env
+    | _ -> Alcotest.fail "the program does not check" in
+  List.iter (fun level ->
+      let tr = file ("trace-" ^ level ^ ".jsonl") in
+      let (status, _, err) = run_command (Printf.sprintf "%s run %s --agent a:A --events %s --trace %s --level %s"
+                                            exe (file "p.jade") (file "events.jsonl") tr level) in
+      if status <> 0 then Alcotest.failf "run --level %s: %s" level err;
+      let lines = lines_of tr in
+      (* the run logs seen 1, then seen 2: the judge must find the same *)
+      if not (List.exists (fun l -> find l "seen 2" <> None) lines) then Alcotest.failf "%s: no second log" level;
+      let unstable = match lines with
+        | h :: rest ->
+          let a = "\"tie_policy\":\"stable\"" in
+          (match find h a with
+           | Some i -> String.sub h 0 i ^ "\"tie_policy\":\"unstable\"" ^ String.sub h (i + String.length a) (String.length h - i - String.length a)
+           | None -> Alcotest.fail "no tie policy in the header") :: rest
+        | [] -> [] in
+      List.iter (fun (what, lines) ->
+          match with_lines lines (fun f -> Judge.judge env ~agents:[ ("a", "A", []) ] f) with
+          | Judge.Accepted _ -> ()
+          | r -> Alcotest.failf "%s trace, %s: %s" level what (show r))
+        [ ("stable ties", lines); ("unstable ties", unstable) ]) [ "full"; "observable" ]
+
 let () =
   Alcotest.run "judge" [
     "full", [
@@ -293,5 +353,8 @@ let () =
       Alcotest.test_case "tampered observable traces rejected at a located line" `Quick
         (tampered_rejected ~not_here:observable_valid (fun () -> Lazy.force observable));
       Alcotest.test_case "a loop step's line in an observable trace rejected" `Quick observable_with_loop_step;
+    ];
+    "data", [
+      Alcotest.test_case "a body that changes a map in place, tried on several candidates" `Quick data_changed_in_place;
     ];
   ]
