@@ -5,11 +5,11 @@
 
 open Cmdliner
 
-let judge files agent_specs trace fuel max_memory bound _seed _max_steps _variant _capacity _events =
+let judge files agent_specs agent_files trace fuel max_memory bound _seed _max_steps _variant _capacity _events =
   let module R = Cmd_run in
   match
     let env = R.load files in
-    let specs = List.map (R.agent_spec env) agent_specs in
+    let specs = R.all_agents env agent_specs agent_files in
     if specs = [] then (prerr_endline "error: no agent: give the run's agents, --agent NAME:TYPE"; raise (R.Stop 1));
     let fuel = Option.get (R.number ~opt:"fuel" ~lo:1 ~hi:R.int_max ~what:"statements per handler or step" (Some fuel)) in
     let max_memory = R.number ~opt:"max-memory" ~lo:16 ~hi:1_048_576 ~what:"megabytes of heap the run may take" max_memory in
@@ -35,6 +35,8 @@ let cmd =
   let trace = Arg.(required & pos ~rev:true 0 (some string) None & info [] ~docv:"TRACE" ~doc:"The trace to judge.") in
   let agents = Arg.(value & opt_all string [] & info ["agent"] ~docv:"NAME:TYPE[:ARG,...]"
                       ~doc:"The run's agents, as run takes them, in the order it created them.") in
+  let agent_files = Arg.(value & opt_all string [] & info ["agents"] ~docv:"FILE"
+                           ~doc:"The run's agents of run's --agents FILE, one per line, after those of --agent.") in
   let fuel = Arg.(value & opt string "100000" & info ["fuel"] ~docv:"N"
                     ~doc:"The run's --fuel: statements one handler or behaviour step may execute (R7).") in
   let max_memory = Arg.(value & opt (some string) None & info ["max-memory"] ~docv:"MB"
@@ -56,5 +58,5 @@ let cmd =
                      explain is reported as TRACE:LINE:1: error: what the program does there, and \
                      the exit status is 1. A trace of level observable (its header says so) has no \
                      line for the loop's own steps; the judge finds them (docs/trace-format.md)."])
-    Term.(const judge $ files $ agents $ trace $ fuel $ max_memory $ bound $ ignored "seed" "N"
+    Term.(const judge $ files $ agents $ agent_files $ trace $ fuel $ max_memory $ bound $ ignored "seed" "N"
           $ ignored "max-steps" "N" $ ignored "variant" "V" $ ignored "o2a-capacity" "N" $ ignored "events" "FILE")

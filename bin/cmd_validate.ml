@@ -44,14 +44,14 @@ let on_cut trace line =
 (* With the program (--program, --agent): the judge decides every line of
    each trace first (docs/trace-format.md, "Judging a run"): the status, 0
    when it accepts every trace. *)
-let judge programs agent_specs traces =
+let judge programs agent_specs agent_files traces =
   match programs with
   | [] -> 0
   | files ->
     let module R = Cmd_run in
     match
       let env = R.load files in
-      let specs = List.map (R.agent_spec env) agent_specs in
+      let specs = R.all_agents env agent_specs agent_files in
       if specs = [] then (prerr_endline "error: --program needs the run's agents, --agent NAME:TYPE"; raise (R.Stop 1));
       judged := true;
       List.fold_left (fun code trace ->
@@ -76,8 +76,8 @@ let run_one keep window trace =
    step of any trace was rejected. All the traces share one TLC run; if that
    fails, each is validated alone, so that the failure is told for its
    trace. *)
-let run traces keep window programs agents =
-  let judged = judge programs agents traces in
+let run traces keep window programs agents agent_files =
+  let judged = judge programs agents agent_files traces in
   let window = match window with
     | None -> Validate.default_window
     | Some "all" -> 0
@@ -88,8 +88,8 @@ let run traces keep window programs agents =
      | exception (Failure _ | Tlc.Error _ | Model.Error _ | Sys_error _) ->
        List.fold_left (fun code t -> max code (run_one keep window t)) 0 traces)
 
-let run traces keep window programs agents =
-  try run traces keep window programs agents with Cmd_run.Stop code -> code
+let run traces keep window programs agents agent_files =
+  try run traces keep window programs agents agent_files with Cmd_run.Stop code -> code
 
 let cmd =
   let trace = Arg.(non_empty & pos_all string [] & info [] ~docv:"TRACE"
@@ -106,6 +106,8 @@ let cmd =
                               decides every line of the trace first (docs/trace-format.md, \"Judging a run\").") in
   let agents = Arg.(value & opt_all string [] & info ["agent"] ~docv:"NAME:TYPE[:ARG,...]"
                       ~doc:"With --program: the run's agents, as run takes them, in the order it created them.") in
+  let agent_files = Arg.(value & opt_all string [] & info ["agents"] ~docv:"FILE"
+                           ~doc:"With --program: the run's agents of run's --agents FILE, after those of --agent.") in
   Cmd.v (Cmd.info "validate" ~doc:"Check traces: the format, agents, literals and messages in OCaml, then each agent against spec/AgentLoop.tla with TLC."
            ~man:[`S Manpage.s_description;
                  `P "First checks in OCaml what TLC does not see: the format (version 2 or 1, \
@@ -123,4 +125,4 @@ let cmd =
                      cannot take as $(i,TRACE:LINE:1: error: ...): every rejection is one \
                      line. Exit status 1 when a trace is rejected. docs/trace-format.md \
                      says what is checked where."])
-    Term.(const run $ trace $ keep $ window $ programs $ agents)
+    Term.(const run $ trace $ keep $ window $ programs $ agents $ agent_files)

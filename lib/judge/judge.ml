@@ -74,6 +74,10 @@ type agent = {
   mutable destroyed : bool;
   names : (int, string) Hashtbl.t;   (* instance id -> its behaviour, when last seen *)
   mutable undeliverable : (string * E.message) list;   (* sent to absent agents, oldest first *)
+  mutable holding : (E.message list * string list) list;
+      (* the messages of the send lines of the step under way, newest
+         first, with their receivers: they leave when the step ends (R5e,
+         R6 revised), not at their send line *)
 }
 
 type st = {
@@ -83,6 +87,7 @@ type st = {
   level : level;
   bound : int;
   agents : agent array;
+  by_name : (string, agent) Hashtbl.t;   (* the agents by name (a run may have thousands) *)
   inflight : (string, (string * E.message) Queue.t) Hashtbl.t;
       (* per receiver, the messages agents sent to it and not yet
          delivered, in the order of the sends (R5e) *)
@@ -99,10 +104,7 @@ type st = {
 
 let reject n fmt = Printf.ksprintf (fun m -> raise (Reject (n, m))) fmt
 
-let find_agent st name =
-  let rec go i = if i >= Array.length st.agents then None
-    else if String.equal st.agents.(i).name name then Some st.agents.(i) else go (i + 1) in
-  go 0
+let find_agent st name = Hashtbl.find_opt st.by_name name
 
 let queue_in tbl r = match Hashtbl.find_opt tbl r with
   | Some q -> q
@@ -307,6 +309,22 @@ let post st ag (msgs : E.message list) receivers =
       else if List.mem r platform_agents then ()
       else ag.undeliverable <- ag.undeliverable @ [ (r, m) ]) receivers msgs
 
+(* The step under way has ended (every candidate wrote every line it owed):
+   the messages of its send lines leave, in the order sent. Before that, no
+   delivery of them can be explained (R5e, R6 revised: a step is one rule;
+   docs/trace-format.md, "What each step writes"). *)
+let release st ag =
+  if ag.holding <> [] && List.for_all (fun x -> x.owed = []) ag.cands then begin
+    List.iter (fun (msgs, receivers) -> post st ag msgs receivers) (List.rev ag.holding);
+    ag.holding <- []
+  end
+
+(* D46: a body line as the judge compares it: all of it but an error's
+   wording (its place, [at], is normative). *)
+let same_body (b : Trace.body) (b' : Trace.body) = match b, b' with
+  | Trace.Error { at; _ }, Trace.Error { at = at'; _ } -> String.equal at at'
+  | _ -> b = b'
+
 (* The agent rules in the spec's order (Machine.step_by's), and those whose
    label writes a line of this kind: only they can explain it. *)
 let all_rules =
@@ -335,7 +353,7 @@ let agent_line st n ag (ev : Trace.event) =
     let cands = expand st ag n ag.cands in
     let posted = ref None in
     let kept = List.filter_map (fun x -> match x.owed with
-        | (a, b, msgs) :: rest when a = action && b = body -> posted := Some msgs; Some { x with owed = rest }
+        | (a, b, msgs) :: rest when a = action && same_body b body -> posted := Some msgs; Some { x with owed = rest }
         | _ -> None) cands in
     (match kept with
      | [] ->
@@ -348,9 +366,10 @@ let agent_line st n ag (ev : Trace.event) =
        (match body, !posted with
         | Trace.Send { receivers; _ }, Some msgs ->
           if action = "destroy" then st.from_destroy <- msgs @ st.from_destroy;
-          post st ag msgs receivers
+          ag.holding <- (msgs, receivers) :: ag.holding
         | _ -> ());
-       ag.cands <- merge st n kept)
+       ag.cands <- merge st n kept;
+       release st ag)
   | _ ->
     let cands = expand st ag n ag.cands in
     let alternatives = ref [] in
@@ -486,7 +505,16 @@ let deliver st n ag (m : Trace.message) seq in_step =
         reject n "agent %s: the next message to reach it is %s %s from %s (R5e: in the order of the sends), not %s %s from %s"
           ag.name msg.perf (V.to_literal msg.content) sender m.performative m.content m.from
       | None ->
-        reject n "agent %s: no message sent to it waits for delivery (%s %s from %s)" ag.name m.performative m.content m.from in
+        let held = match find_agent st m.from with
+          | Some s -> List.exists (fun ((msgs : E.message list), rs) ->
+              List.exists2 (fun (x : E.message) r -> r = ag.name && x.perf = m.performative
+                                                     && V.to_literal x.content = m.content) msgs rs) s.holding
+          | None -> false in
+        if held then
+          reject n "agent %s: %s %s from %s cannot reach it yet: the step of %s that sent it has not ended \
+                    (a step's messages leave when it ends, R5e, R6)" ag.name m.performative m.content m.from m.from
+        else
+          reject n "agent %s: no message sent to it waits for delivery (%s %s from %s)" ag.name m.performative m.content m.from in
   host st n ag (fun () -> Printf.sprintf "the delivery of seq %d cannot be here%s" seq
                   (if in_step then " (during the agent's last behaviour step: it took another rule since, R5d)" else ""))
     (fun c ->
@@ -593,10 +621,16 @@ let check_header env (h : Trace.header) specs =
   if h.behaviours <> fst expected then fail "the header's behaviours are not the program's";
   if List.sort compare h.percepts <> List.sort compare (snd expected) then fail "the header's percept types are not the program's";
   let agents = List.map (fun (n, ty, _) -> (n, ty)) specs in
-  if h.agents <> agents then
-    fail "the header's agents are [%s], the judge was given [%s]"
-      (String.concat ", " (List.map (fun (n, t) -> n ^ ":" ^ t) h.agents))
-      (String.concat ", " (List.map (fun (n, t) -> n ^ ":" ^ t) agents))
+  if h.agents <> agents then begin
+    (* the first place they differ: a run may have thousands of agents *)
+    let show = function Some (n, t) -> n ^ ":" ^ t | None -> "no agent" in
+    let rec first k a b = match a, b with
+      | x :: a', y :: b' when x = y -> first (k + 1) a' b'
+      | _ -> (k, List.nth_opt a 0, List.nth_opt b 0) in
+    let (k, x, y) = first 1 h.agents agents in
+    fail "the header's agents are not the judge's (%d in the header, %d given): agent %d is %s in the header, %s given"
+      (List.length h.agents) (List.length agents) k (show x) (show y)
+  end
 
 let params_of (h : Trace.header) =
   let variant = Option.get (Mc.variant_of_string h.variant) in
@@ -608,12 +642,14 @@ let judge env ~agents ?(options = default_options) path =
   let header (h : Trace.header) =
     check_header env h agents;
     let level = match level_of_string h.level with Some l -> l | None -> Full in
+    let all = Array.of_list (List.map (fun (name, atype, args) ->
+        { name; atype; args; cands = []; created = false; destroyed = false;
+          names = Hashtbl.create 8; undeliverable = []; holding = [] }) agents) in
+    let by_name = Hashtbl.create (Array.length all) in
+    Array.iter (fun a -> Hashtbl.replace by_name a.name a) all;
     st := Some { env; params = params_of h;
                  config = { E.default_config with fuel = options.fuel; max_memory = options.max_memory };
-                 level; bound = options.bound;
-                 agents = Array.of_list (List.map (fun (name, atype, args) ->
-                     { name; atype; args; cands = []; created = false; destroyed = false;
-                       names = Hashtbl.create 8; undeliverable = [] }) agents);
+                 level; bound = options.bound; agents = all; by_name;
                  inflight = Hashtbl.create 8; answers = Hashtbl.create 8; from_destroy = []; ncreated = 0; lines = 1 };
     () in
   let on_line n l = match !st with Some s -> line s n l | None -> () in

@@ -340,6 +340,38 @@ let data_changed_in_place () =
           | r -> Alcotest.failf "%s trace, %s: %s" level what (show r))
         [ ("stable ties", lines); ("unstable ties", unstable) ]) [ "full"; "observable" ]
 
+(* D46: an error's place is normative, its wording is not. In every
+   vector's trace that records a run-time error, the first error's message
+   reworded is accepted; its place moved one column is rejected at that
+   line. *)
+let error_wording () =
+  let module J = Yojson.Safe in
+  let field k l = match J.from_string l with `Assoc f -> List.assoc_opt k f | _ -> None in
+  let is_error l = field "event" l = Some (`String "error") in
+  let set k v l = match J.from_string l with
+    | `Assoc f -> J.to_string (`Assoc (List.map (fun (k', x) -> if k' = k then (k', v) else (k', x)) f))
+    | _ -> l in
+  let with_error = List.filter (fun x -> List.exists is_error (List.tl x.expected)) (Lazy.force vecs) in
+  Alcotest.(check bool) "some vectors record an error" true (List.length with_error >= 5);
+  List.iter (fun x ->
+      let header = List.hd x.expected and events = List.tl x.expected in
+      let i = ref (-1) in
+      List.iteri (fun k l -> if !i < 0 && is_error l then i := k) events;
+      let edit f = header :: List.mapi (fun k l -> if k = !i then f l else l) events in
+      let reworded = edit (set "message" (`String "something else went wrong")) in
+      (match judge x reworded with
+       | Judge.Accepted _ -> ()
+       | r -> Alcotest.failf "%s: the error reworded: %s" x.v.name (show r));
+      let moved = edit (fun l ->
+          let at = match field "at" l with Some (`String a) -> a | _ -> Alcotest.fail "an error without at" in
+          let k = String.rindex at ':' in
+          let col = int_of_string (String.sub at (k + 1) (String.length at - k - 1)) in
+          set "at" (`String (Printf.sprintf "%s:%d" (String.sub at 0 k) (col + 1))) l) in
+      match judge x moved with
+      | Judge.Rejected { line; _ } when line = !i + 2 -> ()
+      | r -> Alcotest.failf "%s: the error moved one column: %s (want line %d)" x.v.name (show r) (!i + 2))
+    with_error
+
 let () =
   Alcotest.run "judge" [
     "full", [
@@ -356,5 +388,8 @@ let () =
     ];
     "data", [
       Alcotest.test_case "a body that changes a map in place, tried on several candidates" `Quick data_changed_in_place;
+    ];
+    "errors", [
+      Alcotest.test_case "D46 an error's wording is not judged, its place is" `Quick error_wording;
     ];
   ]

@@ -178,6 +178,29 @@ let all = [
                 && str "content" f = str "content" e) (indexed t.events)) in
             match List.nth_opt sends d with Some (k, _) -> Some (i, k) | None -> None) (indexed t.events) in
       Option.map (fun (i, k) -> move_before t.events ~from:i ~to_:k) (pick rng cands));
+  (* R5e, R6 revised: a step's messages leave when the step ends: the
+     delivery moved to right after its send, before a later line of the
+     sender's same step *)
+  rearrange "deliver: before its sender's step ended" (fun rng t ->
+      if not (complete t) then None else
+      let es = indexed t.events in
+      let cands = List.filter_map (fun (i, e) ->
+          if not (from_agent t i e) then None
+          else
+            let sends = List.filter (fun (k, s) ->
+                k < i && event s = "send" && agent s = str "from" e && str "content" s = str "content" e
+                && (match get "to" s with Some (`List l) -> List.mem (`String (agent e)) l | _ -> false)) es in
+            let d = List.length (List.filter (fun (k, f) ->
+                k < i && event f = "deliver" && agent f = agent e && str "from" f = str "from" e
+                && str "content" f = str "content" e) es) in
+            match List.nth_opt sends d with
+            | Some (k, s) ->
+              (* the sender's next line after the send: a line of the same step *)
+              (match List.find_opt (fun (j, x) -> j > k && agent x = agent s) es with
+               | Some (j, x) when j < i && is_body x -> Some (i, k + 1)
+               | _ -> None)
+            | None -> None) es in
+      Option.map (fun (i, k) -> move_before t.events ~from:i ~to_:k) (pick rng cands));
   rearrange "deliver: before its receiver exists" (fun rng t ->
       let cands = List.filter_map (fun (i, e) ->
           if event e <> "deliver" then None
