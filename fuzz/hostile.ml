@@ -16,13 +16,7 @@ let write_file path s =
   let oc = open_out_bin path in
   Fun.protect ~finally:(fun () -> close_out_noerr oc) (fun () -> output_string oc s)
 
-let rec remove_tree p =
-  match (Unix.lstat p).st_kind with
-  | Unix.S_DIR ->
-    Array.iter (fun f -> remove_tree (Filename.concat p f)) (Sys.readdir p);
-    (try Unix.rmdir p with Unix.Unix_error _ -> ())
-  | _ -> (try Sys.remove p with Sys_error _ -> ())
-  | exception Unix.Unix_error _ -> ()
+let remove_tree = Inputs.remove_tree
 
 (* a fresh folder named as Inputs.remove_leftovers expects *)
 let in_dir keep f =

@@ -85,6 +85,10 @@ val bound_memory : int -> unit
 val run_memory_bound : unit -> int
 (** The bound {!bound_memory} set in this process (0: none). *)
 
+val remove_tree : string -> unit
+(** A file, or a folder and everything in it; what is not there, or cannot
+    be removed, is left. *)
+
 val remove_leftovers : int -> unit
 (** Removes what the child of this process id left in the temporary folder
     (killed in the middle of an input, it could not clean up). *)

@@ -239,12 +239,12 @@ let arb_line = QCheck.make ~print:(fun s -> s) gen_line
 
 (* ------------------------------------------------------ the trace *)
 
-let gen_trace_line =
+(* A trace line of any event ([hot] false), or of the frequent events only,
+   those the fast reading takes or nearly ([hot] true), with numbers from
+   [int] and texts from [str]. *)
+let gen_line_of ~hot ~int:int_gen ~str:str_gen =
   let open QCheck.Gen in
-  let str = oneof [ oneofl [ ""; "a"; "position(1)"; "seen(\"x\", true)"; "é"; "\u{1F600}" ];
-                    string_size ~gen:char (int_range 0 6);
-                    string_size ~gen:(oneofl [ '"'; '\\'; '\n'; '\t'; '\x00'; '\x1f'; '\x7f'; '/'; 'a' ]) (int_range 0 6) ] in
-  let int = oneof [ int_range 0 20; int_range min_int max_int; oneofl [ 0; -1; max_int; min_int ] ] in
+  let int = int_gen and str = str_gen in
   let strs = list_size (int_range 0 3) str in
   let entry = map3 (fun percept priority seq -> { Trace.percept; priority; seq }) str int int in
   let message = map3 (fun performative content from -> { Trace.performative; content; from }) str str str in
@@ -257,16 +257,10 @@ let gen_trace_line =
       map (fun b -> Trace.Activate b) str;
       map (fun i -> Trace.Deactivate i) int;
       map2 (fun at message -> Trace.Error { at; message }) str str ] in
-  let event = oneof [
-      map3 (fun agent_type args behaviours -> Trace.Create { agent_type; args; behaviours }) str strs strs;
+  let frequent = [
       map2 (fun entry overridden -> Trace.Notify { entry; overridden }) entry bool;
-      map2 (fun percept reason -> Trace.Refused { percept; reason }) str str;
-      map2 (fun obj index -> Trace.Put { obj; index }) str int;
-      map3 (fun message seq in_step -> Trace.Deliver { message; seq; in_step }) message int bool;
-      map3 (fun receiver performative content -> Trace.Undeliverable { receiver; performative; content }) str str str;
       map (fun n -> Trace.Transfer n) int;
       map (fun e -> Trace.Transfer_one e) entry;
-      map (fun o -> Trace.Transfer_spin o) str;
       return Trace.Transfer_end;
       map (fun e -> Trace.Dequeue e) entry;
       map3 (fun (instance, behaviour) (handler, percept) (seq, effects) ->
@@ -280,9 +274,26 @@ let gen_trace_line =
         (opt (oneof [ map2 (fun m s -> Trace.Took_message (m, s)) message int;
                       map (fun e -> Trace.Took_percept e) entry ]))
         (pair (opt effects) (opt (pair int effects)));
-      return Trace.Next_iteration; return Trace.Idle; return Trace.Destroy;
-      map2 (fun action body -> Trace.Body { action; body }) (oneofl [ "Init"; "Handle"; "destroy" ]) body ] in
+      return Trace.Next_iteration; return Trace.Idle; return Trace.Destroy ] in
+  let event = oneof (if hot then
+      frequent @ [ map2 (fun action s -> Trace.Body { action; body = Trace.Log s }) (oneofl [ "Handle"; "destroy"; "Nope" ]) str ]
+    else frequent @ [
+      map3 (fun agent_type args behaviours -> Trace.Create { agent_type; args; behaviours }) str strs strs;
+      map2 (fun percept reason -> Trace.Refused { percept; reason }) str str;
+      map2 (fun obj index -> Trace.Put { obj; index }) str int;
+      map3 (fun message seq in_step -> Trace.Deliver { message; seq; in_step }) message int bool;
+      map3 (fun receiver performative content -> Trace.Undeliverable { receiver; performative; content }) str str str;
+      map (fun o -> Trace.Transfer_spin o) str;
+      map2 (fun action body -> Trace.Body { action; body }) (oneofl [ "Init"; "Handle"; "destroy" ]) body ]) in
   map3 (fun step agent event -> { Trace.step; agent; event }) int str event
+
+let gen_trace_line =
+  let open QCheck.Gen in
+  gen_line_of ~hot:false
+    ~int:(oneof [ int_range 0 20; int_range min_int max_int; oneofl [ 0; -1; max_int; min_int ] ])
+    ~str:(oneof [ oneofl [ ""; "a"; "position(1)"; "seen(\"x\", true)"; "é"; "\u{1F600}" ];
+                  string_size ~gen:char (int_range 0 6);
+                  string_size ~gen:(oneofl [ '"'; '\\'; '\n'; '\t'; '\x00'; '\x1f'; '\x7f'; '/'; 'a' ]) (int_range 0 6) ])
 
 let direct_equals_tree (l : Trace.line) =
   let b = Buffer.create 64 in
@@ -325,31 +336,8 @@ let fast_equals_general ((l : Trace.line), changes) =
    takes, or nearly. *)
 let gen_hot_line =
   let open QCheck.Gen in
-  let int = oneofl [ 0; 1; 2; 7; 10; 0x7FFF_FFFF; 0x8000_0000; -1 ] in
-  let str = oneofl [ ""; "a"; "l"; "position(1)"; "qrCodeRead(\"A7\")"; "b\\s"; "\""; "é" ] in
-  let entry = map3 (fun percept priority seq -> { Trace.percept; priority; seq }) str int int in
-  let effects = list_size (int_range 0 2) (oneofl [ Trace.Activated "B"; Trace.Deactivated ]) in
-  let event = oneof [
-      map2 (fun entry overridden -> Trace.Notify { entry; overridden }) entry bool;
-      map (fun n -> Trace.Transfer n) int;
-      map (fun e -> Trace.Transfer_one e) entry;
-      return Trace.Transfer_end;
-      map (fun e -> Trace.Dequeue e) entry;
-      map3 (fun (instance, behaviour) (handler, percept) (seq, effects) ->
-          Trace.Handle { instance; behaviour; handler; percept; seq; effects })
-        (pair int str) (pair int str) (pair int effects);
-      map3 (fun instance behaviour handler -> Trace.Skip { instance; behaviour; handler }) int str int;
-      map2 (fun seq discarded -> Trace.End_dispatch { seq; discarded }) int bool;
-      map3 (fun (instance, behaviour) taken (action_effects, handler) ->
-          Trace.Behaviour_step { instance; behaviour; taken; action_effects; handler })
-        (pair int str)
-        (opt (oneof [ map2 (fun m s -> Trace.Took_message (m, s))
-                        (map3 (fun performative content from -> { Trace.performative; content; from }) str str str) int;
-                      map (fun e -> Trace.Took_percept e) entry ]))
-        (pair (opt effects) (opt (pair int effects)));
-      return Trace.Next_iteration; return Trace.Idle; return Trace.Destroy;
-      map2 (fun action s -> Trace.Body { action; body = Trace.Log s }) (oneofl [ "Handle"; "destroy"; "Nope" ]) str ] in
-  map3 (fun step agent event -> { Trace.step; agent; event }) int str event
+  gen_line_of ~hot:true ~int:(oneofl [ 0; 1; 2; 7; 10; 0x7FFF_FFFF; 0x8000_0000; -1 ])
+    ~str:(oneofl [ ""; "a"; "l"; "position(1)"; "qrCodeRead(\"A7\")"; "b\\s"; "\""; "é" ])
 
 let arb_changed_line =
   let open QCheck.Gen in
