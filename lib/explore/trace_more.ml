@@ -98,7 +98,8 @@ let check (h : Trace.header) lines =
   let step_line : (string, int) Hashtbl.t = Hashtbl.create 8 in
   let in_flight : (string, (string * int) Queue.t) Hashtbl.t = Hashtbl.create 8 in
   let left : (string, int * string) Hashtbl.t = Hashtbl.create 8 in
-  let names = List.map fst h.agents in
+  let names = Hashtbl.create 16 in
+  List.iter (fun (a, _) -> Hashtbl.replace names a ()) h.agents;
   let queue r = match Hashtbl.find_opt in_flight r with
     | Some q -> q
     | None -> let q = Queue.create () in Hashtbl.replace in_flight r q; q in
@@ -137,9 +138,9 @@ let check (h : Trace.header) lines =
            (match body with
             | Trace.Send { receivers; _ } ->
               let at = Option.value (Hashtbl.find_opt step_line l.agent) ~default:0 in
-              List.iter (fun r -> if List.mem r names then Queue.push (l.agent, at) (queue r)) receivers
+              List.iter (fun r -> if Hashtbl.mem names r then Queue.push (l.agent, at) (queue r)) receivers
             | _ -> ())
-         | Trace.Deliver { message = { from; _ }; _ } when List.mem from names ->
+         | Trace.Deliver { message = { from; _ }; _ } when Hashtbl.mem names from ->
            (match Queue.take_opt (queue l.agent) with
             | Some (sender, at) when sender = from && Hashtbl.find_opt step_line sender = Some at ->
               if not (Hashtbl.mem left sender) then Hashtbl.replace left sender (n, l.agent)

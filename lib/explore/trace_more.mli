@@ -12,6 +12,10 @@
       1,000 deep, and every literal of one percept type has the same number
       of slots.
 
+    - a step's messages leave when it ends (R5e, R6 revised): once a
+      message a step sent is delivered, a body line of that step is an
+      error at it.
+
     Only the trace is known here, not the program: a percept type's number of
     slots is the one its first literal has. *)
 
