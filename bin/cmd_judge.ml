@@ -17,9 +17,10 @@ let judge files agent_specs agent_files trace fuel max_memory bound _seed _max_s
     Interp.Runtime.tune_gc ();
     let options = { Judge.fuel; max_memory; bound } in
     match Judge.judge env ~agents:specs ~options trace with
-    | Judge.Accepted { lines; complete; cut; level } ->
-      Printf.printf "%s: the program explains every line (%d lines, %s level%s%s)\n" trace lines
+    | Judge.Accepted { lines; complete; cut; level; containers } ->
+      Printf.printf "%s: the program explains every line (%d lines, %s level%s%s%s)\n" trace lines
         (Judge.string_of_level level)
+        (if containers > 1 then Printf.sprintf "; %d containers: each keeps its own order of sends (D47)" containers else "")
         (if complete then "" else "; the run did not end: not every agent was destroyed")
         (if cut then "; its last line was cut and is not read" else "");
       0

@@ -19,7 +19,7 @@ let session ~path t =
   text ~path t (String.concat "" (List.map (fun l -> l ^ "\n") (Session.trace t)))
 
 let to_json = function
-  | Judge.Accepted { lines; complete; cut; level } ->
+  | Judge.Accepted { lines; complete; cut; level; containers = _ } ->
     `Assoc [ "accepted", `Bool true; "lines", `Int lines; "complete", `Bool complete;
              "cut", `Bool cut; "level", `String (Judge.string_of_level level) ]
   | Judge.Rejected { line; message } ->

@@ -57,9 +57,18 @@ let check (h : Trace.header) lines =
                  delivered = Hashtbl.create 16; consumed = Hashtbl.create 16; msg_seq = 0;
                  undeliverable = Queue.create (); failures = Queue.create (); window = false })) h.agents in
     let to_create = ref h.agents in
-    (* receiver -> the messages sent to it by agents, not yet delivered, in send order (R5e) *)
+    (* (receiver, container of the senders) -> the messages sent to it by
+       agents, not yet delivered, in send order (R5e; sends from different
+       containers are not ordered, D47) *)
     let pending = Hashtbl.create 8 in
-    List.iter (fun (n, _) -> Hashtbl.replace pending n (Queue.create ())) h.agents;
+    let is_agent = Hashtbl.create 8 in
+    List.iter (fun (n, _) -> Hashtbl.replace is_agent n ()) h.agents;
+    let container n = Option.value (List.assoc_opt n h.containers) ~default:Trace.main_container in
+    let pending_to r ~sender =
+      let k = (r, container sender) in
+      match Hashtbl.find_opt pending k with
+      | Some q -> q
+      | None -> let q = Queue.create () in Hashtbl.replace pending k q; q in
     let printed = h.variant = "printed" and native = h.variant = "native" in
     let known_behaviour b =
       if not (List.exists (fun (i : Trace.behaviour_info) -> i.name = b) h.behaviours) then
@@ -179,14 +188,15 @@ let check (h : Trace.header) lines =
           end
           else if m.from <> "host" then begin
             if not (List.mem_assoc m.from agents) then fail "a message from %s, which is neither an agent of the header, nor host, nor ams" m.from;
-            let q = Hashtbl.find pending a.name in
+            let q = pending_to a.name ~sender:m.from in
             match Queue.peek_opt q with
             | None ->
               fail "a message to %s delivered from %s, but no message sent to %s waits for delivery (R5e)" a.name m.from a.name
             | Some (from, perf, content) ->
               if from <> m.from || perf <> m.performative || content <> m.content then
-                fail "this delivery to %s is %s %s from %s, but the next message sent to %s is %s %s from %s (R5e: in the order sent)"
-                  a.name m.performative m.content m.from a.name perf content from;
+                fail "this delivery to %s is %s %s from %s, but the next message sent to %s is %s %s from %s (R5e: in the order sent%s)"
+                  a.name m.performative m.content m.from a.name perf content from
+                  (if h.containers = [] then "" else Printf.sprintf " from container %s, D47" (container m.from));
               ignore (Queue.pop q)
           end
         | Trace.Undeliverable { receiver; performative; content } ->
@@ -266,10 +276,9 @@ let check (h : Trace.header) lines =
           | Trace.Send { performative; content; receivers } when action <> "destroy" ->
             (* delivered after the step (R5e); what on destroy sends never is (D26) *)
             List.iter (fun r ->
-                match Hashtbl.find_opt pending r with
-                | Some q -> Queue.push (a.name, performative, content) q
-                | None when List.mem r platform_agents -> ()
-                | None -> Queue.push (r, performative, content) a.undeliverable) receivers
+                if Hashtbl.mem is_agent r then Queue.push (a.name, performative, content) (pending_to r ~sender:a.name)
+                else if not (List.mem r platform_agents) then Queue.push (r, performative, content) a.undeliverable)
+              receivers
           | Trace.Send _ | Trace.Log _ | Trace.Invoke _ | Trace.Deactivate _ | Trace.Error _ -> ())
       lines;
     line_no := (match List.rev lines with (n, _) :: _ -> n | [] -> 1);
@@ -278,7 +287,7 @@ let check (h : Trace.header) lines =
      | [] -> ());
     (* A complete trace (every agent destroyed, D14) has delivered every message (D26). *)
     if List.for_all (fun (_, a) -> a.destroyed > 0) agents then begin
-      Hashtbl.iter (fun r q -> match Queue.peek_opt q with
+      Hashtbl.iter (fun (r, _) q -> match Queue.peek_opt q with
           | Some (from, perf, content) ->
             fail "the run ended, but the message %s %s from %s to %s was never delivered (R5e)" perf content from r
           | None -> ()) pending;

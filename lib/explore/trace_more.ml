@@ -100,9 +100,14 @@ let check (h : Trace.header) lines =
   let left : (string, int * string) Hashtbl.t = Hashtbl.create 8 in
   let names = Hashtbl.create 16 in
   List.iter (fun (a, _) -> Hashtbl.replace names a ()) h.agents;
-  let queue r = match Hashtbl.find_opt in_flight r with
+  (* per receiver and container of the senders: sends from different
+     containers are not ordered (D47) *)
+  let container n = Option.value (List.assoc_opt n h.containers) ~default:Trace.main_container in
+  let queue r ~sender =
+    let k = r ^ "\000" ^ container sender in
+    match Hashtbl.find_opt in_flight k with
     | Some q -> q
-    | None -> let q = Queue.create () in Hashtbl.replace in_flight r q; q in
+    | None -> let q = Queue.create () in Hashtbl.replace in_flight k q; q in
   let body_line n agent what =
     match Hashtbl.find_opt left agent with
     | Some (at, receiver) ->
@@ -138,10 +143,10 @@ let check (h : Trace.header) lines =
            (match body with
             | Trace.Send { receivers; _ } ->
               let at = Option.value (Hashtbl.find_opt step_line l.agent) ~default:0 in
-              List.iter (fun r -> if Hashtbl.mem names r then Queue.push (l.agent, at) (queue r)) receivers
+              List.iter (fun r -> if Hashtbl.mem names r then Queue.push (l.agent, at) (queue r ~sender:l.agent)) receivers
             | _ -> ())
          | Trace.Deliver { message = { from; _ }; _ } when Hashtbl.mem names from ->
-           (match Queue.take_opt (queue l.agent) with
+           (match Queue.take_opt (queue l.agent ~sender:from) with
             | Some (sender, at) when sender = from && Hashtbl.find_opt step_line sender = Some at ->
               if not (Hashtbl.mem left sender) then Hashtbl.replace left sender (n, l.agent)
             | _ -> ())

@@ -90,7 +90,7 @@ let header t env (p : Mc.params) ~seed agents =
     variant = Mc.string_of_variant p.variant;
     tie_policy = (match p.tie with Mc.Stable -> "stable" | Mc.Unstable -> "unstable");
     budget = p.budget; o2a_capacity = p.o2a_capacity; seed;
-    level = (if t.observable then "observable" else "full"); agents; behaviours; percepts }
+    level = (if t.observable then "observable" else "full"); agents; containers = []; behaviours; percepts }
 
 let message (m : Eval.message) =
   { Trace.performative = m.perf; content = V.to_literal m.content; from = m.sender }

@@ -46,7 +46,7 @@ type options = {
 let default_options = { fuel = 100_000; max_memory = None; bound = 64 }
 
 type verdict =
-  | Accepted of { lines : int; complete : bool; cut : bool; level : level }
+  | Accepted of { lines : int; complete : bool; cut : bool; level : level; containers : int }
   | Rejected of { line : int; message : string }
 
 exception Reject of int * string
@@ -88,9 +88,12 @@ type st = {
   bound : int;
   agents : agent array;
   by_name : (string, agent) Hashtbl.t;   (* the agents by name (a run may have thousands) *)
-  inflight : (string, (string * E.message) Queue.t) Hashtbl.t;
-      (* per receiver, the messages agents sent to it and not yet
-         delivered, in the order of the sends (R5e) *)
+  inflight : (string * string, (string * E.message) Queue.t) Hashtbl.t;
+      (* per receiver and container of the senders, the messages agents
+         sent to it and not yet delivered, in the order of the sends (R5e;
+         sends from different containers are not ordered, D47) *)
+  containers : (string, string) Hashtbl.t;
+      (* the agents the header puts outside the main container (D47) *)
   answers : (string, (string * E.message) Queue.t) Hashtbl.t;
       (* per receiver, the platform's answers to it not yet delivered (its
          agents answer when they get to it: in their order, not in the
@@ -110,7 +113,10 @@ let queue_in tbl r = match Hashtbl.find_opt tbl r with
   | Some q -> q
   | None -> let q = Queue.create () in Hashtbl.replace tbl r q; q
 
-let queue st r = queue_in st.inflight r
+(* The container of an agent (D47): the header's, else the main one. *)
+let container st name = Option.value (Hashtbl.find_opt st.containers name) ~default:Trace.main_container
+
+let queue st r ~sender = queue_in st.inflight (r, container st sender)
 let answers st r = queue_in st.answers r
 
 (* ------------------------------------------------- what a rule writes *)
@@ -305,7 +311,7 @@ let expand st ag n (cands : cand list) =
    theirs, never answered (R5e, D44). *)
 let post st ag (msgs : E.message list) receivers =
   List.iter2 (fun r (m : E.message) ->
-      if find_agent st r <> None then Queue.push (ag.name, m) (queue st r)
+      if find_agent st r <> None then Queue.push (ag.name, m) (queue st r ~sender:ag.name)
       else if List.mem r platform_agents then ()
       else ag.undeliverable <- ag.undeliverable @ [ (r, m) ]) receivers msgs
 
@@ -498,12 +504,16 @@ let deliver st n ag (m : Trace.message) seq in_step =
         ignore (Queue.pop (answers st ag.name)); msg
       | _ ->
         reject n "agent %s: the platform owes it no %s %s from %s (R5e)" ag.name m.performative m.content m.from
-    else match Queue.peek_opt (queue st ag.name) with
+    else let q = queue st ag.name ~sender:m.from in
+      match Queue.peek_opt q with
       | Some (sender, msg) when sender = m.from && msg.perf = m.performative && V.to_literal msg.content = m.content ->
-        ignore (Queue.pop (queue st ag.name)); msg
+        ignore (Queue.pop q); msg
       | Some (sender, msg) ->
-        reject n "agent %s: the next message to reach it is %s %s from %s (R5e: in the order of the sends), not %s %s from %s"
-          ag.name msg.perf (V.to_literal msg.content) sender m.performative m.content m.from
+        reject n "agent %s: the next message to reach it is %s %s from %s (R5e: in the order of the sends%s), not %s %s from %s"
+          ag.name msg.perf (V.to_literal msg.content) sender
+          (if Hashtbl.length st.containers = 0 then ""
+           else Printf.sprintf " made in container %s, D47" (container st m.from))
+          m.performative m.content m.from
       | None ->
         let held = match find_agent st m.from with
           | Some s -> List.exists (fun ((msgs : E.message list), rs) ->
@@ -650,7 +660,7 @@ let judge env ~agents ?(options = default_options) path =
     st := Some { env; params = params_of h;
                  config = { E.default_config with fuel = options.fuel; max_memory = options.max_memory };
                  level; bound = options.bound; agents = all; by_name;
-                 inflight = Hashtbl.create 8; answers = Hashtbl.create 8; from_destroy = []; ncreated = 0; lines = 1 };
+                 inflight = Hashtbl.create 8; containers = Hashtbl.of_seq (List.to_seq h.containers); answers = Hashtbl.create 8; from_destroy = []; ncreated = 0; lines = 1 };
     () in
   let on_line n l = match !st with Some s -> line s n l | None -> () in
   match Trace.stream path ~header ~line:on_line with
@@ -671,14 +681,17 @@ let judge env ~agents ?(options = default_options) path =
               | [] -> ())) s.agents;
          (* every message sent, but those of on destroy, was delivered;
             every failure of ams too (D26, D43) *)
-         let left what tbl exempt =
-           Hashtbl.iter (fun r q -> Queue.iter (fun (sender, (m : E.message)) ->
+         let left what tbl receiver exempt =
+           Hashtbl.iter (fun key q -> let r = receiver key in Queue.iter (fun (sender, (m : E.message)) ->
                if not (exempt m) then
                  raise (Reject (s.lines + 1, Printf.sprintf "the run ended, but %s %s %s from %s to %s was never delivered (D26)"
                                   what m.perf (V.to_literal m.content) sender r))) q) tbl in
-         left "the message" s.inflight (fun m -> List.memq m s.from_destroy);
-         left "the platform's answer" s.answers (fun _ -> false)
+         left "the message" s.inflight fst (fun m -> List.memq m s.from_destroy);
+         left "the platform's answer" s.answers Fun.id (fun _ -> false)
        end
      with
-     | () -> Accepted { lines = s.lines; complete; cut; level = s.level }
+     | () ->
+       let named = List.sort_uniq compare (Hashtbl.fold (fun _ c acc -> c :: acc) s.containers []) in
+       let containers = List.length (List.filter (( <> ) Trace.main_container) named) + 1 in
+       Accepted { lines = s.lines; complete; cut; level = s.level; containers }
      | exception Reject (n, m) -> Rejected { line = n; message = m })

@@ -47,13 +47,16 @@ val default_options : options
     default). *)
 
 type verdict =
-  | Accepted of { lines : int; complete : bool; cut : bool; level : level }
+  | Accepted of { lines : int; complete : bool; cut : bool; level : level; containers : int }
       (** the program explains every line: [lines] the lines read (the
           header counts as line 1); [complete] when every agent was
           destroyed (the run ended: every message was then delivered or
           reported undeliverable, and every line a rule owed is written,
           D26); [cut] when the last line, with no newline, was not JSON and
-          was left out (a run killed while writing it) *)
+          was left out (a run killed while writing it); [containers] how
+          many containers the header names (1 without [containers]): with
+          more than one, messages to a receiver keep the order of the sends
+          made in one container only (D47) *)
   | Rejected of { line : int; message : string }
       (** the first line (of the file, the header is 1) the program does
           not explain, and why: what the program does there instead. A

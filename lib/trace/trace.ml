@@ -78,12 +78,14 @@ type behaviour_info = { name : string; kind : string; has_action : bool;
 type header = {
   variant : string; tie_policy : string; budget : int; o2a_capacity : int option;
   seed : int option; level : string; agents : (string * string) list;
+  containers : (string * string) list;
   behaviours : behaviour_info list; percepts : (string * int) list;
 }
 
 (* ------------------------------------------------------------ encoding *)
 
 let version = 2
+let main_container = "main"
 let levels = [ "full"; "observable" ]
 
 let str s = `String s
@@ -143,17 +145,19 @@ let line_to_json l =
           @ fields l.event)
 
 let header_to_json h =
-  `Assoc [
+  `Assoc ([
     "trace", str "jadescript-ref"; "version", int version;
     "variant", str h.variant; "tie_policy", str h.tie_policy; "budget", int h.budget;
     "o2a_capacity", opt_int h.o2a_capacity; "seed", opt_int h.seed; "level", str h.level;
-    "agents", `List (List.map (fun (n, ty) -> `Assoc [ "name", str n; "type", str ty ]) h.agents);
+    "agents", `List (List.map (fun (n, ty) -> `Assoc [ "name", str n; "type", str ty ]) h.agents) ]
+  @ (if h.containers = [] then [] else [ "containers", `Assoc (List.map (fun (n, c) -> (n, str c)) h.containers) ])
+  @ [
     "program", `Assoc [
       "behaviours", `List (List.map (fun b ->
           `Assoc [ "name", str b.name; "kind", str b.kind; "action", `Bool b.has_action;
                    "percept_handlers", int b.percept_handlers;
                    "message_handlers", int b.message_handlers ]) h.behaviours);
-      "percepts", `Assoc (List.map (fun (n, k) -> (n, int k)) h.percepts) ] ]
+      "percepts", `Assoc (List.map (fun (n, k) -> (n, int k)) h.percepts) ] ])
 
 let is_header = function
   | `Assoc f -> List.mem_assoc "trace" f
@@ -366,7 +370,7 @@ let header_of_json j =
          | None -> bad "the header has no field \"version\" (this reader knows versions 1 and %d)" version in
        exact_fields " in the header" fs
          ([ "trace"; "version"; "variant"; "tie_policy"; "budget"; "o2a_capacity"; "seed" ]
-          @ (if v = 1 then [] else [ "level" ]) @ [ "agents"; "program" ]);
+          @ (if v = 1 then [] else [ "level"; "containers" ]) @ [ "agents"; "program" ]);
        let level = if v = 1 then "full" else one_of "level" fs levels in
        let program = get_obj "program" fs in
        exact_fields " in \"program\"" program [ "behaviours"; "percepts" ];
@@ -380,7 +384,7 @@ let header_of_json j =
          | None -> bad "no field \"seed\"" in
        let percepts = get_obj "percepts" program in
        exact_fields " in \"percepts\"" percepts (List.map fst percepts);
-       Ok { variant = one_of "variant" fs variants; tie_policy = one_of "tie_policy" fs tie_policies;
+       let h = { variant = one_of "variant" fs variants; tie_policy = one_of "tie_policy" fs tie_policies;
             budget = get_pos "budget" fs; o2a_capacity; seed; level;
             agents = (match field "agents" fs with
                 | `List l -> List.map (function
@@ -389,6 +393,14 @@ let header_of_json j =
                       (get_str "name" a, get_str "type" a)
                     | v -> bad "an agent is an object, not %s" (describe v)) l
                 | v -> bad "field \"agents\" is %s, not a list" (describe v));
+            containers = (match List.assoc_opt "containers" fs with
+                | None -> []
+                | Some (`Assoc cs) ->
+                  exact_fields " in \"containers\"" cs (List.map fst cs);
+                  List.map (fun (n, c) -> match c with
+                      | `String c when c <> "" -> (n, c)
+                      | v -> bad "the container of %s is %s, not a non-empty text" n (describe v)) cs
+                | Some v -> bad "field \"containers\" is %s, not an object" (describe v));
             behaviours = (match field "behaviours" program with
                 | `List l -> List.map (function
                     | `Assoc b ->
@@ -403,7 +415,10 @@ let header_of_json j =
             percepts = List.map (fun (n, v) ->
                 let k = int_value ("priority of " ^ n) v in
                 if k < 0 then bad "the default priority of %s is negative (%d)" n k;
-                (n, k)) percepts }
+                (n, k)) percepts } in
+       List.iter (fun (n, _) -> if not (List.mem_assoc n h.agents) then
+                     bad "field \"containers\" names %s, which is not an agent of the header" n) h.containers;
+       Ok h
      with Bad m -> Error m)
   | _ -> Error "not a jadescript-ref trace (no header line)"
 

@@ -100,9 +100,18 @@ type header = {
           steps have none (docs/trace-format.md, "Observable traces");
           a version 1 header has no level: ["full"] *)
   agents : (string * string) list;          (** name, type *)
+  containers : (string * string) list;
+      (** the agents that run outside the main container, with their
+          container's name ([containers] in JSON, written only when not
+          empty): messages sent from different containers to one receiver
+          are not ordered by R5e (D47); version 2 only *)
   behaviours : behaviour_info list;
   percepts : (string * int) list;           (** percept type, default priority *)
 }
+
+val main_container : string
+(** ["main"]: the container of an agent the header's [containers] does not
+    name (D47). *)
 
 (** {1 JSON} *)
 

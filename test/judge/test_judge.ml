@@ -102,7 +102,7 @@ let expected_accepted () =
   Alcotest.(check bool) "there are vectors" true (List.length vs >= 80);
   List.iter (fun x ->
       match judge x x.expected with
-      | Judge.Accepted { lines; complete = _; cut; level } ->
+      | Judge.Accepted { lines; complete = _; cut; level; containers = _ } ->
         Alcotest.(check int) (x.v.name ^ ": every line read") (List.length x.expected) lines;
         Alcotest.(check bool) (x.v.name ^ ": not cut") false cut;
         Alcotest.(check string) (x.v.name ^ ": level") "full" (Judge.string_of_level level)
@@ -372,6 +372,86 @@ let error_wording () =
       | r -> Alcotest.failf "%s: the error moved one column: %s (want line %d)" x.v.name (show r) (!i + 2))
     with_error
 
+(* ----------------------------------------------------- two containers *)
+
+(* D47: a free run of JADE with Bob in a peripheral container (kept from
+   scripts/jade-generated --split, lib/gen's case 24 of seed 1): g, Bob and
+   provider each send inform r1 to provider in on create, in that order;
+   provider receives g's, its own, then Bob's, which crossed JVMs. Without
+   the header's containers R5e orders all three sends and the trace is
+   rejected at provider's own delivery; with them, sends from different
+   containers are not ordered, and it is accepted; and two deliveries of
+   one container swapped are still rejected. *)
+let two_containers () =
+  let dir = Filename.concat root "test/judge/cases/split-order" in
+  let lines = lines_of (Filename.concat dir "trace.jsonl") in
+  let header = List.hd lines and events = List.tl lines in
+  let with_containers cs = match Yojson.Safe.from_string header with
+    | `Assoc f ->
+      let rec add = function
+        | ("agents", a) :: rest -> ("agents", a) :: ("containers", cs) :: rest
+        | x :: rest -> x :: add rest
+        | [] -> [] in
+      Yojson.Safe.to_string (`Assoc (add f))
+    | _ -> Alcotest.fail "the header is not an object" in
+  let judge_lines lines =
+    with_lines lines (fun f ->
+        let cmd = Printf.sprintf "cd %s && %s judge program.jade --agent g:Ag:@robome --agent Bob:Ag:@robome \
+                                  --agent provider:Ag:@robome --variant reference --fuel 50 --max-steps 500 \
+                                  --o2a-capacity 2 --events events.jsonl %s"
+            (Filename.quote dir) (Filename.quote exe) (Filename.quote f) in
+        let (status, out, err) = run_command cmd in
+        (status, (if status = 0 then out else err), f)) in
+  let rejected_at want (status, err, f) what =
+    let prefix = Printf.sprintf "%s:%d:1: error: " f want in
+    if status <> 1 || not (String.length err >= String.length prefix && String.sub err 0 (String.length prefix) = prefix) then
+      Alcotest.failf "%s: want a rejection at line %d, got status %d: %s" what want status err in
+  let delivery k l = match Yojson.Safe.from_string l with
+    | `Assoc f -> List.assoc_opt "event" f = Some (`String "deliver") && List.assoc_opt "agent" f = Some (`String "provider")
+                  && List.assoc_opt "seq" f = Some (`Int k)
+    | _ -> false in
+  (* as JADE wrote it, before headers named containers: one container *)
+  let one = judge_lines lines in
+  rejected_at 15 one "one container";
+  let (_, err, _) = one in
+  let contains s sub =
+    let n = String.length sub in
+    let rec at i = i + n <= String.length s && (String.sub s i n = sub || at (i + 1)) in at 0 in
+  Alcotest.(check bool) "the rejection cites R5e" true (contains err "R5e");
+  (* Bob in the peripheral container *)
+  let split = with_containers (`Assoc [ "Bob", `String "peripheral" ]) in
+  (match judge_lines (split :: events) with
+   | (0, out, _) -> Alcotest.(check bool) "the verdict names the containers" true (contains out "2 containers")
+   | (s, err, _) -> Alcotest.failf "two containers: want accepted, got status %d: %s" s err);
+  (* g's and provider's deliveries (one container) swapped, seq kept *)
+  let from who l = match Yojson.Safe.from_string l with
+    | `Assoc f -> Yojson.Safe.to_string (`Assoc (List.map (fun (k, v) -> if k = "from" then (k, `String who) else (k, v)) f))
+    | _ -> l in
+  let swapped = List.map (fun l ->
+      if delivery 1 l then from "provider" l else if delivery 2 l then from "g" l else l) events in
+  Alcotest.(check bool) "the plant changed the trace" true (swapped <> events);
+  rejected_at 14 (judge_lines (split :: swapped)) "one container's deliveries swapped";
+  (* validate's checks between agents (no TLC) hold the same order *)
+  let facts lines = with_lines lines (fun f ->
+      match Explore.Validate.check f with
+      | Error e -> Error e
+      | Ok () -> match Trace.read_located f with
+        | Error e -> Error e
+        | Ok (h, ls) -> Explore.Trace_more.check h ls) in
+  (match facts lines with
+   | Error (15, _) -> ()
+   | Error (n, m) -> Alcotest.failf "validate, one container: rejected at line %d, not 15: %s" n m
+   | Ok () -> Alcotest.fail "validate, one container: accepted");
+  (match facts (split :: events) with
+   | Ok () -> ()
+   | Error (n, m) -> Alcotest.failf "validate, two containers: rejected at line %d: %s" n m);
+  (match facts (split :: swapped) with
+   | Error (14, _) -> ()
+   | Error (n, m) -> Alcotest.failf "validate, swapped: rejected at line %d, not 14: %s" n m
+   | Ok () -> Alcotest.fail "validate, swapped: accepted");
+  (* a header that puts an agent it does not have in a container *)
+  rejected_at 1 (judge_lines (with_containers (`Assoc [ "Alice", `String "peripheral" ]) :: events)) "an unknown agent"
+
 let () =
   Alcotest.run "judge" [
     "full", [
@@ -391,5 +471,8 @@ let () =
     ];
     "errors", [
       Alcotest.test_case "D46 an error's wording is not judged, its place is" `Quick error_wording;
+    ];
+    "containers", [
+      Alcotest.test_case "D47 sends from two containers are not ordered, one container's are" `Quick two_containers;
     ];
   ]

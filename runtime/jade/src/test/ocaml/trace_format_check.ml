@@ -100,7 +100,7 @@ let samples =
 
 let header_sample = {
   Trace.variant = "reference"; tie_policy = "stable"; budget = 1; o2a_capacity = None; seed = None;
-  level = "full"; agents = [ ("a", "A") ];
+  level = "full"; agents = [ ("a", "A") ]; containers = [ ("a", "c1") ];
   behaviours = [ { Trace.name = "W"; kind = "cyclic"; has_action = true; percept_handlers = 1; message_handlers = 1 } ];
   percepts = [ ("p", 2) ] }
 

@@ -162,18 +162,20 @@ public final class Main {
       throw new Stop("error: option --level: invalid value '" + level + "', expected one of 'full' or 'observable'");
     Trace trace = new Trace(traceOut);
     trace.observable(level.equals(TraceFormat.Value.OBSERVABLE));
-    trace.header(variant.traceName(), budget, capacity, seed, agentTypes, program.behaviours(), program.percepts());
+    // Two containers (docs/jade.md): --split puts every second agent, in
+    // creation order, in a peripheral container of its own JVM;
+    // --peripheral NAME puts that one there. The header says so (D47).
+    if (split) for (int i = 1; i < specs.size(); i += 2) peripheral.add(specs.get(i).name());
+    for (String n : peripheral)
+      if (!names.contains(n)) throw new Stop("--peripheral " + n + ": error: there is no agent " + n);
+    Map<String, String> containers = new java.util.LinkedHashMap<>();
+    for (Spec s : specs) if (peripheral.contains(s.name())) containers.put(s.name(), TraceFormat.Value.PERIPHERAL);
+    trace.header(variant.traceName(), budget, capacity, seed, agentTypes, containers, program.behaviours(), program.percepts());
     RunConfig cfg = new RunConfig(program, variant, budget, capacity, fuel, trace, !free, out, System.err);
     cfg.runAgents(names);
 
     if (free) { cfg.holdCreateMessages(); cfg.limitFreeSteps(maxSteps); }
     ContainerController cc = boot();
-    // Two containers (docs/jade.md): --split puts every second agent, in
-    // creation order, in a peripheral container of its own JVM;
-    // --peripheral NAME puts that one there.
-    if (split) for (int i = 1; i < specs.size(); i += 2) peripheral.add(specs.get(i).name());
-    for (String n : peripheral)
-      if (!names.contains(n)) throw new Stop("--peripheral " + n + ": error: there is no agent " + n);
     Link link = peripheral.isEmpty() ? null
         : startPeripheral(programClass, programPath, variant, budget, capacity, fuel, trace, names, free, maxSteps);
     List<HostedAgent> agents = new ArrayList<>();

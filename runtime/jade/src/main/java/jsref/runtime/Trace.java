@@ -88,10 +88,14 @@ public final class Trace {
       @param variant the loop's name @param budget the budget
       @param o2aCapacity the capacity, or null for unbounded @param seed the seed, or null
       @param agents the agents' names and types, in creation order
+      @param containers the agents outside the main container, with their
+      container's name (written only when not empty: D47, R5e's order of
+      the sends holds per container)
       @param behaviours every behaviour type @param percepts every percept type
       with its default priority */
   public synchronized void header(String variant, int budget, Integer o2aCapacity, Integer seed,
-                                  Map<String, String> agents, List<BehaviourInfo> behaviours,
+                                  Map<String, String> agents, Map<String, String> containers,
+                                  List<BehaviourInfo> behaviours,
                                   Map<String, Integer> percepts) {
     List<Object> as = new ArrayList<>();
     for (Map.Entry<String, String> a : agents.entrySet())
@@ -102,10 +106,15 @@ public final class Trace {
           .put(Header.PERCEPT_HANDLERS, b.perceptHandlers()).put(Header.MESSAGE_HANDLERS, b.messageHandlers()));
     Json.Obj ps = new Json.Obj();
     for (Map.Entry<String, Integer> e : percepts.entrySet()) ps.put(e.getKey(), e.getValue());
-    line(new Json.Obj().put(Header.TRACE, Value.FORMAT).put(Header.VERSION, Value.VERSION)
+    Json.Obj h = new Json.Obj().put(Header.TRACE, Value.FORMAT).put(Header.VERSION, Value.VERSION)
         .put(Header.VARIANT, variant).put(Header.TIE_POLICY, Value.STABLE).put(Header.BUDGET, budget)
-        .put(Header.O2A_CAPACITY, o2aCapacity).put(Header.SEED, seed).put(Header.LEVEL, observable ? Value.OBSERVABLE : Value.FULL).put(Header.AGENTS, as)
-        .put(Header.PROGRAM, new Json.Obj().put(Field.BEHAVIOURS, bs).put(Header.PERCEPTS, ps)).toString());
+        .put(Header.O2A_CAPACITY, o2aCapacity).put(Header.SEED, seed).put(Header.LEVEL, observable ? Value.OBSERVABLE : Value.FULL).put(Header.AGENTS, as);
+    if (!containers.isEmpty()) {
+      Json.Obj cs = new Json.Obj();
+      for (Map.Entry<String, String> c : containers.entrySet()) cs.put(c.getKey(), c.getValue());
+      h.put(Header.CONTAINERS, cs);
+    }
+    line(h.put(Header.PROGRAM, new Json.Obj().put(Field.BEHAVIOURS, bs).put(Header.PERCEPTS, ps)).toString());
   }
 
   // ------------------------------------------------------------ steps of the loop

@@ -118,6 +118,9 @@ public final class TraceFormat {
     /** Version 2: {@code full} (every rule has its line) or {@code observable}. */
     public static final String LEVEL = "level";
     public static final String AGENTS = "agents";
+    /** The agents outside the main container, each with its container's
+        name; written only when there are some (D47). */
+    public static final String CONTAINERS = "containers";
     public static final String PROGRAM = "program";
     public static final String PERCEPTS = "percepts";
     public static final String NAME = "name";
@@ -133,6 +136,8 @@ public final class TraceFormat {
     private Value() {}
     /** The header's {@code trace}. */
     public static final String FORMAT = "jadescript-ref";
+    /** The container of the peripheral JVM's agents (D47). */
+    public static final String PERIPHERAL = "peripheral";
     /** The header's {@code version}: the version this runtime writes. */
     public static final int VERSION = 2;
     /** The header's {@code level}: every rule has its line. */

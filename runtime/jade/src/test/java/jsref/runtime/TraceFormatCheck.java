@@ -191,7 +191,7 @@ public final class TraceFormatCheck {
     Map<String, Integer> percepts = new LinkedHashMap<>();
     percepts.put("falling", 10);
     percepts.put("position", 2);
-    t.header("reference", 3, 4, 7, agents,
+    t.header("reference", 3, 4, 7, agents, Map.of("b", TraceFormat.Value.PERIPHERAL),
         List.of(new BehaviourInfo("W", "cyclic", true, 2, 1), new BehaviourInfo("H", "oneshot", false, 0, 0)),
         percepts);
     PerceptEntry e = new PerceptEntry("p(\"\\\"\")", 2, 1);
