@@ -57,18 +57,11 @@ let check (h : Trace.header) lines =
                  delivered = Hashtbl.create 16; consumed = Hashtbl.create 16; msg_seq = 0;
                  undeliverable = Queue.create (); failures = Queue.create (); window = false })) h.agents in
     let to_create = ref h.agents in
-    (* (receiver, container of the senders) -> the messages sent to it by
-       agents, not yet delivered, in send order (R5e; sends from different
-       containers are not ordered, D47) *)
-    let pending = Hashtbl.create 8 in
+    (* the messages sent by agents, not yet delivered, in the order they
+       must arrive (R5e, D47): performative and content *)
+    let pending = In_flight.create h in
     let is_agent = Hashtbl.create 8 in
     List.iter (fun (n, _) -> Hashtbl.replace is_agent n ()) h.agents;
-    let container n = Option.value (List.assoc_opt n h.containers) ~default:Trace.main_container in
-    let pending_to r ~sender =
-      let k = (r, container sender) in
-      match Hashtbl.find_opt pending k with
-      | Some q -> q
-      | None -> let q = Queue.create () in Hashtbl.replace pending k q; q in
     let printed = h.variant = "printed" and native = h.variant = "native" in
     let known_behaviour b =
       if not (List.exists (fun (i : Trace.behaviour_info) -> i.name = b) h.behaviours) then
@@ -188,16 +181,16 @@ let check (h : Trace.header) lines =
           end
           else if m.from <> "host" then begin
             if not (List.mem_assoc m.from agents) then fail "a message from %s, which is neither an agent of the header, nor host, nor ams" m.from;
-            let q = pending_to a.name ~sender:m.from in
-            match Queue.peek_opt q with
+            match In_flight.next pending ~receiver:a.name ~sender:m.from with
             | None ->
               fail "a message to %s delivered from %s, but no message sent to %s waits for delivery (R5e)" a.name m.from a.name
-            | Some (from, perf, content) ->
+            | Some (from, (perf, content)) ->
               if from <> m.from || perf <> m.performative || content <> m.content then
                 fail "this delivery to %s is %s %s from %s, but the next message sent to %s is %s %s from %s (R5e: in the order sent%s)"
                   a.name m.performative m.content m.from a.name perf content from
-                  (if h.containers = [] then "" else Printf.sprintf " from container %s, D47" (container m.from));
-              ignore (Queue.pop q)
+                  (if In_flight.containers pending = 1 then ""
+                   else Printf.sprintf " from container %s, D47" (In_flight.container pending m.from));
+              In_flight.drop pending ~receiver:a.name ~sender:m.from
           end
         | Trace.Undeliverable { receiver; performative; content } ->
           if List.mem_assoc receiver agents then
@@ -276,7 +269,7 @@ let check (h : Trace.header) lines =
           | Trace.Send { performative; content; receivers } when action <> "destroy" ->
             (* delivered after the step (R5e); what on destroy sends never is (D26) *)
             List.iter (fun r ->
-                if Hashtbl.mem is_agent r then Queue.push (a.name, performative, content) (pending_to r ~sender:a.name)
+                if Hashtbl.mem is_agent r then In_flight.push pending ~receiver:r ~sender:a.name (performative, content)
                 else if not (List.mem r platform_agents) then Queue.push (r, performative, content) a.undeliverable)
               receivers
           | Trace.Send _ | Trace.Log _ | Trace.Invoke _ | Trace.Deactivate _ | Trace.Error _ -> ())
@@ -287,10 +280,8 @@ let check (h : Trace.header) lines =
      | [] -> ());
     (* A complete trace (every agent destroyed, D14) has delivered every message (D26). *)
     if List.for_all (fun (_, a) -> a.destroyed > 0) agents then begin
-      Hashtbl.iter (fun (r, _) q -> match Queue.peek_opt q with
-          | Some (from, perf, content) ->
-            fail "the run ended, but the message %s %s from %s to %s was never delivered (R5e)" perf content from r
-          | None -> ()) pending;
+      In_flight.iter pending (fun ~receiver ~sender (perf, content) ->
+          fail "the run ended, but the message %s %s from %s to %s was never delivered (R5e)" perf content sender receiver);
       List.iter (fun (_, a) -> match Queue.peek_opt a.undeliverable with
           | Some (r, perf, content) ->
             fail "the run ended, but the message %s %s from %s to %s, which does not exist, was never reported undeliverable"

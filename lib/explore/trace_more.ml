@@ -90,24 +90,18 @@ let check (h : Trace.header) lines =
      allowed) and the effects its body events showed, with the step's line *)
   let open_steps : (string, int * Trace.effect list list * Trace.effect list) Hashtbl.t = Hashtbl.create 8 in
   (* R5e, R6: a step's messages leave when the step ends. Per agent, the
-     line of its running step (its last line that is not a body line); per
-     receiver, the messages sent to it and not yet delivered, oldest first,
+     line of its running step (its last line that is not a body line); the
+     messages sent and not yet delivered, in the order they must arrive
+     (In_flight: per receiver, R5e, and container of the senders, D47),
      each with the sender and the line of the step that sent it; per agent,
      the line at which a message of its running step was delivered, after
      which that step can write nothing more. *)
   let step_line : (string, int) Hashtbl.t = Hashtbl.create 8 in
-  let in_flight : (string, (string * int) Queue.t) Hashtbl.t = Hashtbl.create 8 in
+  let in_flight : int In_flight.t = In_flight.create h in
   let left : (string, int * string) Hashtbl.t = Hashtbl.create 8 in
   let names = Hashtbl.create 16 in
   List.iter (fun (a, _) -> Hashtbl.replace names a ()) h.agents;
-  (* per receiver and container of the senders: sends from different
-     containers are not ordered (D47) *)
-  let container n = Option.value (List.assoc_opt n h.containers) ~default:Trace.main_container in
-  let queue r ~sender =
-    let k = r ^ "\000" ^ container sender in
-    match Hashtbl.find_opt in_flight k with
-    | Some q -> q
-    | None -> let q = Queue.create () in Hashtbl.replace in_flight k q; q in
+
   let body_line n agent what =
     match Hashtbl.find_opt left agent with
     | Some (at, receiver) ->
@@ -143,10 +137,12 @@ let check (h : Trace.header) lines =
            (match body with
             | Trace.Send { receivers; _ } ->
               let at = Option.value (Hashtbl.find_opt step_line l.agent) ~default:0 in
-              List.iter (fun r -> if Hashtbl.mem names r then Queue.push (l.agent, at) (queue r ~sender:l.agent)) receivers
+              List.iter (fun r -> if Hashtbl.mem names r then In_flight.push in_flight ~receiver:r ~sender:l.agent at) receivers
             | _ -> ())
          | Trace.Deliver { message = { from; _ }; _ } when Hashtbl.mem names from ->
-           (match Queue.take_opt (queue l.agent ~sender:from) with
+           let next = In_flight.next in_flight ~receiver:l.agent ~sender:from in
+           In_flight.drop in_flight ~receiver:l.agent ~sender:from;
+           (match next with
             | Some (sender, at) when sender = from && Hashtbl.find_opt step_line sender = Some at ->
               if not (Hashtbl.mem left sender) then Hashtbl.replace left sender (n, l.agent)
             | _ -> ())

@@ -88,12 +88,9 @@ type st = {
   bound : int;
   agents : agent array;
   by_name : (string, agent) Hashtbl.t;   (* the agents by name (a run may have thousands) *)
-  inflight : (string * string, (string * E.message) Queue.t) Hashtbl.t;
-      (* per receiver and container of the senders, the messages agents
-         sent to it and not yet delivered, in the order of the sends (R5e;
-         sends from different containers are not ordered, D47) *)
-  containers : (string, string) Hashtbl.t;
-      (* the agents the header puts outside the main container (D47) *)
+  inflight : E.message In_flight.t;
+      (* the messages agents sent and not yet delivered, in the order
+         they must arrive (R5e, D47) *)
   answers : (string, (string * E.message) Queue.t) Hashtbl.t;
       (* per receiver, the platform's answers to it not yet delivered (its
          agents answer when they get to it: in their order, not in the
@@ -109,15 +106,9 @@ let reject n fmt = Printf.ksprintf (fun m -> raise (Reject (n, m))) fmt
 
 let find_agent st name = Hashtbl.find_opt st.by_name name
 
-let queue_in tbl r = match Hashtbl.find_opt tbl r with
+let answers st r = match Hashtbl.find_opt st.answers r with
   | Some q -> q
-  | None -> let q = Queue.create () in Hashtbl.replace tbl r q; q
-
-(* The container of an agent (D47): the header's, else the main one. *)
-let container st name = Option.value (Hashtbl.find_opt st.containers name) ~default:Trace.main_container
-
-let queue st r ~sender = queue_in st.inflight (r, container st sender)
-let answers st r = queue_in st.answers r
+  | None -> let q = Queue.create () in Hashtbl.replace st.answers r q; q
 
 (* ------------------------------------------------- what a rule writes *)
 
@@ -311,7 +302,7 @@ let expand st ag n (cands : cand list) =
    theirs, never answered (R5e, D44). *)
 let post st ag (msgs : E.message list) receivers =
   List.iter2 (fun r (m : E.message) ->
-      if find_agent st r <> None then Queue.push (ag.name, m) (queue st r ~sender:ag.name)
+      if find_agent st r <> None then In_flight.push st.inflight ~receiver:r ~sender:ag.name m
       else if List.mem r platform_agents then ()
       else ag.undeliverable <- ag.undeliverable @ [ (r, m) ]) receivers msgs
 
@@ -504,15 +495,14 @@ let deliver st n ag (m : Trace.message) seq in_step =
         ignore (Queue.pop (answers st ag.name)); msg
       | _ ->
         reject n "agent %s: the platform owes it no %s %s from %s (R5e)" ag.name m.performative m.content m.from
-    else let q = queue st ag.name ~sender:m.from in
-      match Queue.peek_opt q with
+    else match In_flight.next st.inflight ~receiver:ag.name ~sender:m.from with
       | Some (sender, msg) when sender = m.from && msg.perf = m.performative && V.to_literal msg.content = m.content ->
-        ignore (Queue.pop q); msg
+        In_flight.drop st.inflight ~receiver:ag.name ~sender:m.from; msg
       | Some (sender, msg) ->
         reject n "agent %s: the next message to reach it is %s %s from %s (R5e: in the order of the sends%s), not %s %s from %s"
           ag.name msg.perf (V.to_literal msg.content) sender
-          (if Hashtbl.length st.containers = 0 then ""
-           else Printf.sprintf " made in container %s, D47" (container st m.from))
+          (if In_flight.containers st.inflight = 1 then ""
+           else Printf.sprintf " made in container %s, D47" (In_flight.container st.inflight m.from))
           m.performative m.content m.from
       | None ->
         let held = match find_agent st m.from with
@@ -660,7 +650,7 @@ let judge env ~agents ?(options = default_options) path =
     st := Some { env; params = params_of h;
                  config = { E.default_config with fuel = options.fuel; max_memory = options.max_memory };
                  level; bound = options.bound; agents = all; by_name;
-                 inflight = Hashtbl.create 8; containers = Hashtbl.of_seq (List.to_seq h.containers); answers = Hashtbl.create 8; from_destroy = []; ncreated = 0; lines = 1 };
+                 inflight = In_flight.create h; answers = Hashtbl.create 8; from_destroy = []; ncreated = 0; lines = 1 };
     () in
   let on_line n l = match !st with Some s -> line s n l | None -> () in
   match Trace.stream path ~header ~line:on_line with
@@ -681,17 +671,15 @@ let judge env ~agents ?(options = default_options) path =
               | [] -> ())) s.agents;
          (* every message sent, but those of on destroy, was delivered;
             every failure of ams too (D26, D43) *)
-         let left what tbl receiver exempt =
-           Hashtbl.iter (fun key q -> let r = receiver key in Queue.iter (fun (sender, (m : E.message)) ->
-               if not (exempt m) then
-                 raise (Reject (s.lines + 1, Printf.sprintf "the run ended, but %s %s %s from %s to %s was never delivered (D26)"
-                                  what m.perf (V.to_literal m.content) sender r))) q) tbl in
-         left "the message" s.inflight fst (fun m -> List.memq m s.from_destroy);
-         left "the platform's answer" s.answers Fun.id (fun _ -> false)
+         let left what ~receiver ~sender (m : E.message) =
+           raise (Reject (s.lines + 1, Printf.sprintf "the run ended, but %s %s %s from %s to %s was never delivered (D26)"
+                            what m.perf (V.to_literal m.content) sender receiver)) in
+         In_flight.iter s.inflight (fun ~receiver ~sender m ->
+             if not (List.memq m s.from_destroy) then left "the message" ~receiver ~sender m);
+         Hashtbl.iter (fun receiver q -> Queue.iter (fun (sender, m) -> left "the platform's answer" ~receiver ~sender m) q)
+           s.answers
        end
      with
      | () ->
-       let named = List.sort_uniq compare (Hashtbl.fold (fun _ c acc -> c :: acc) s.containers []) in
-       let containers = List.length (List.filter (( <> ) Trace.main_container) named) + 1 in
-       Accepted { lines = s.lines; complete; cut; level = s.level; containers }
+       Accepted { lines = s.lines; complete; cut; level = s.level; containers = In_flight.containers s.inflight }
      | exception Reject (n, m) -> Rejected { line = n; message = m })
