@@ -101,7 +101,7 @@ let scenario env ~agent_type rs =
       else
         (* now and then during the agent's next behaviour step (D42, R5d) *)
         Ev.Message_text { agent = agent (); perf; content = constructor rs env (pick rs fits);
-                          during_step = chance rs 0.35 }
+                          during_step = chance rs 0.5 }
     | k when k < 19 -> Ev.Run_rounds (pick rs [ 0; 1; 1; 2; 3; 10 ])
     | 19 -> Ev.Run_single_rules (pick rs [ 0; 1; 2; 3; 7 ])   (* D23: the host acts between rules *)
     | _ -> Ev.Run_until_idle in

@@ -529,37 +529,12 @@ let program_rs rs =
   (* The agent's on create. *)
   let create_params = [("iface0", GAny)] @ (if chance rs 0.5 then [("start", GInt)] else []) in
   let cenv = List.fold_left (fun e (x, t) -> add_local e x t) agent_env create_params in
-  (* Half the time a cyclic behaviour W with a do block, activated before
-     B and sometimes after it too: it stays ready for a few laps, then
-     deactivates itself, so that B is not alone in the ready list and where
-     a behaviour that blocked comes back (a message during its step keeps
-     its place, R5d revised, D42) shows in the order of the laps. *)
-  let walker =
-    if not (chance rs 0.5) then None
-    else
-      let laps = 1 + int rs 6 in
-      Some (ph (DBehaviour {
-          bkind = Cyclic; bname = ph "W"; bextends = None; for_agent = Some (ph "Ag");
-          bontologies = [];
-          bfeatures = [
-            ph (Property { name = ph "laps"; ty = None; init = Some (ilit 0) });
-            ph (Property { name = ph "who"; ty = None; init = Some (lit (Text "")) });
-            ph (OnCreate { params = [param ("name", GText)];
-                           body = [ph (Assign (ph (LName "who"), name "name"))] });
-            ph (ActionSection [
-                ph (Assign (ph (LName "laps"), bin Add (name "laps") (ilit 1)));
-                ph (Log (bin Add (bin Add (name "who") (lit (Text " lap "))) (name "laps")));
-                ph (If ([(bin Ge (name "laps") (ilit laps), [ph Deactivate])], None))]) ] })) in
-  let activate_w who = match walker with
-    | Some _ -> [ph (Activate (ph "W", [(ph "name", lit (Text who))]))]
-    | None -> [] in
   let create_body =
     [ph (Assign (ph (LName "iface"), name "iface0"));
      ph (Assign (ph (LIndex (name "seen", lit (Text "start"))), ilit 0))]
     @ block rs cenv ~loop:false 2 (1 + int rs 3)
-    @ activate_w "w1"
     @ [ph (Activate (ph "B", List.map (fun (x, t) -> (ph x, arg rs cenv t 1)) b_params))]
-    @ (if chance rs 0.6 then activate_w "w2" else [])
+
     (* sometimes an error after the activation: the agent keeps B (R7) *)
     @ (if chance rs 0.2 then [ph (Log (ph (Index (name "seen", lit (Text "absent")))))] else []) in
   (* on destroy (D14): the agent's count as the run left it *)
@@ -571,8 +546,7 @@ let program_rs rs =
                   @ [ph (OnCreate { params = List.map param create_params; body = create_body })]
                   @ destroy
                   @ List.rev !routines }) in
-  { module_name = []; decls = [onto; agent] @ Option.to_list parent @ [b_decl; c_decl]
-                           @ Option.to_list walker }
+  { module_name = []; decls = [onto; agent] @ Option.to_list parent @ [b_decl; c_decl] }
 
 let program : program QCheck.Gen.t = program_rs
 let arb_program = QCheck.make ~print:(fun p -> Print.program p) program

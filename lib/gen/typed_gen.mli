@@ -9,9 +9,8 @@
     behaviour [B for agent Ag] (percept handlers whose [when] is a [matches],
     message handlers, agent properties read directly and as [x of agent]),
     half the time extending a cyclic behaviour [BP] with percept handlers of
-    its own (inherited handlers run first, R4a), half the time beside a
-    cyclic behaviour [W] with a [do] block that deactivates itself after a
-    few laps, and a one-shot behaviour [C] without [for agent]. Bodies
+    its own (inherited handlers run first, R4a), and a one-shot behaviour
+    [C] without [for agent]. Bodies
     declare locals by first assignment, loop over lists and maps, branch on
     [matches], call procedures and functions (only earlier ones: no
     recursion), send messages. Integers are given to [double] and [float]
