@@ -534,7 +534,6 @@ let program_rs rs =
      ph (Assign (ph (LIndex (name "seen", lit (Text "start"))), ilit 0))]
     @ block rs cenv ~loop:false 2 (1 + int rs 3)
     @ [ph (Activate (ph "B", List.map (fun (x, t) -> (ph x, arg rs cenv t 1)) b_params))]
-
     (* sometimes an error after the activation: the agent keeps B (R7) *)
     @ (if chance rs 0.2 then [ph (Log (ph (Index (name "seen", lit (Text "absent")))))] else []) in
   (* on destroy (D14): the agent's count as the run left it *)
