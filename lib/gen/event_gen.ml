@@ -98,7 +98,10 @@ let scenario env ~agent_type rs =
       let fits = List.filter (carries (Option.value perf ~default:"inform")) contents in
       let (perf, fits) = if fits = [] then (None, List.filter (carries "inform") contents) else (perf, fits) in
       if fits = [] then Ev.Run_rounds 1
-      else Ev.Message_text { agent = agent (); perf; content = constructor rs env (pick rs fits) }
+      else
+        (* now and then during the agent's next behaviour step (D42, R5d) *)
+        Ev.Message_text { agent = agent (); perf; content = constructor rs env (pick rs fits);
+                          during_step = chance rs 0.5 }
     | k when k < 19 -> Ev.Run_rounds (pick rs [ 0; 1; 1; 2; 3; 10 ])
     | 19 -> Ev.Run_single_rules (pick rs [ 0; 1; 2; 3; 7 ])   (* D23: the host acts between rules *)
     | _ -> Ev.Run_until_idle in

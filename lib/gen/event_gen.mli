@@ -10,7 +10,9 @@
     literal of any kind (R2c); a message from the host has one of the 22
     performatives of Jadescript (or none: [inform]), its content a schema
     value of a kind that performative carries (an action for [request],
-    [cfp], ...; a predicate or proposition for [inform], [agree], ...). Runs are rounds ([{"run": K}]), single rules
+    [cfp], ...; a predicate or proposition for [inform], [agree], ...), half of
+    them arriving during the agent's next behaviour step
+    (["during": "step"], D42, R5d revised). Runs are rounds ([{"run": K}]), single rules
     ([{"run": {"rules": K}}], D23) or until idle.
     Agents are one to three of ["g"], ["Bob"], ["provider"] (the names the
     programs of {!Typed_gen} send messages to), of the program's agent type;

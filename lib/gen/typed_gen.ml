@@ -41,6 +41,7 @@ type env = {
   in_behaviour : string option;
   can_activate_c : (string * gty) list option;  (* C's on create parameters *)
   message : bool;
+  real_props : (string * gty) list; (* double and float properties: an integer widens (R1c) *)
 }
 
 let counter = ref 0
@@ -76,7 +77,7 @@ let rec expr rs env t d : expr =
   if slot_reads <> [] && not leafy then add 2 (fun () -> pick rs slot_reads);
   if calls <> [] && not leafy then
     add 1 (fun () -> let (f, ps, _) = pick rs calls in
-            ph (Call (ph f, List.map (fun p -> expr rs env p (d / 2)) ps)));
+            ph (Call (ph f, List.map (fun p -> arg rs env p (d / 2)) ps)));
   (match t with
    | GInt ->
      (* now and then an integer near the 32-bit bound, so that + - * wrap (D8) *)
@@ -111,6 +112,12 @@ let rec expr rs env t d : expr =
        add 2 (fun () -> bin (pick rs [Lt; Gt; Le; Ge; Eq; Neq])
                  (expr rs env GInt (d - 1)) (expr rs env GInt (d - 1)));
        add 1 (fun () -> bin (pick rs [Eq; Neq]) (expr rs env GText (d - 1)) (expr rs env GText (d - 1)));
+       (* an integer compared with a real (R1c: 1 = 1.0 holds) *)
+       add 1 (fun () ->
+           let i = expr rs env GInt (d - 1) and r = expr rs env GDouble (d - 1) in
+           let op = pick rs [Lt; Gt; Le; Ge; Eq; Neq] in
+           if chance rs 0.5 then bin op i r else bin op r i);
+       add 1 (fun () -> int_real_equal rs env);
        add 1 (fun () -> bin (pick rs [And; Or]) (expr rs env GBool (d - 1)) (expr rs env GBool (d - 1)));
        add 1 (fun () -> ph (Unop (Not, expr rs env GBool (d - 1))));
        let schema_srcs = List.filter (fun (_, t) -> match t with GSchema _ -> true | _ -> false)
@@ -120,7 +127,8 @@ let rec expr rs env t d : expr =
              let (e, st) = pick rs schema_srcs in
              let s = match st with GSchema s -> s | _ -> assert false in
              let sc = schema env s in
-             ph (Matches (e, ph (PCons (ph s, List.map (fun _ -> ph PWild) sc.slots)))))
+             ph (Matches (e, ph (PCons (ph s, List.map (fun _ -> ph PWild) sc.slots)))));
+       if schema_srcs <> [] then add 1 (fun () -> schema_equal rs env (d - 1))
      end
    | GAid -> add 2 (fun () -> ph (Call (ph "aid", [lit (Text (pick rs ["Bob"; "provider"]))])))
    | GAny -> ()
@@ -132,12 +140,43 @@ let rec expr rs env t d : expr =
    | GSchema s ->
      let sc = schema env s in
      add 3 (fun () -> if sc.slots = [] && chance rs 0.5 then name s
-             else ph (Call (ph s, List.map (fun (_, t) -> expr rs env t (d - 1)) sc.slots))));
+             else ph (Call (ph s, List.map (fun (_, t) -> arg rs env t (d - 1)) sc.slots))));
   let total = List.fold_left (fun a (w, _) -> a + w) 0 !options in
   let rec choose n = function
     | (w, f) :: rest -> if n < w then f () else choose (n - w) rest
     | [] -> assert false in
   choose (int rs total) !options
+
+(* An argument for a slot, parameter or property of type [t]: for a double
+   or a float, now and then an integer, which widens (R1c). *)
+and arg rs env t d =
+  match t with
+  | (GDouble | GFloat) when chance rs 0.3 -> expr rs env GInt d
+  | _ -> expr rs env t d
+
+(* [e = e * 1.0] (or [<>]), [e] an integer: true by R1c (an integer equals
+   the real of the same value). *)
+and int_real_equal rs env =
+  let e = expr rs env GInt 0 in
+  let r = bin Mul e (lit (Real "1.0")) in
+  let op = pick rs [Eq; Eq; Neq] in
+  if chance rs 0.5 then bin op e r else bin op r e
+
+(* A schema value compared with a copy of it made by its constructor from
+   its own slots (R1c: equal by structure, not identity), or with another
+   value of its type; [d]: the depth of that other value. *)
+and schema_equal rs env d =
+  let schema_srcs = List.filter (fun (_, t) -> match t with GSchema _ -> true | _ -> false)
+      env.sources in
+  let (e, st) = pick rs schema_srcs in
+  let s = match st with GSchema s -> s | _ -> assert false in
+  let sc = schema env s in
+  let other =
+    if chance rs 0.3 then expr rs env st d
+    else if sc.slots = [] then name s
+    else ph (Call (ph s, List.map (fun (sl, _) -> ph (Of (ph sl, e))) sc.slots)) in
+  let op = pick rs [Eq; Eq; Neq] in
+  if chance rs 0.5 then bin op e other else bin op other e
 
 let data_types env =
   let base = [GInt; GDouble; GText; GBool; GAid; GList GInt; GList GText; GMap (GText, GInt)] in
@@ -164,7 +203,7 @@ and stmt rs env ~loop d : stmt * env =
   add 3 (fun () -> let x = fresh "v" in
           (ph (Assign (ph (LName x), expr rs env t 2)), add_local env x t));
   add 1 (fun () -> let x = fresh "v" in
-          (ph (Local (ph x, ty_of t, expr rs env t 2)), add_local env x t));
+          (ph (Local (ph x, ty_of t, arg rs env t 2)), add_local env x t));
   let assignable = List.filter (fun (_, t) -> t <> GAny) env.vars in
   if assignable <> [] then
     add 2 (fun () -> let (x, t) = pick rs assignable in
@@ -173,7 +212,7 @@ and stmt rs env ~loop d : stmt * env =
   if env.procs <> [] then
     add 2 (fun () ->
         let (p, ps) = pick rs env.procs in
-        let args = List.map (fun t -> expr rs env t 1) ps in
+        let args = List.map (fun t -> arg rs env t 1) ps in
         let a = if ps <> [] && chance rs 0.3 then
             Named (List.mapi (fun i e -> (ph (Printf.sprintf "a%d" (i + 1)), e)) args)
           else Positional args in
@@ -195,8 +234,31 @@ and stmt rs env ~loop d : stmt * env =
         (ph (InvokeS { meth = ph "ping"; target; args = [expr rs env GInt 0] }), env));
   (match env.can_activate_c with
    | Some ps -> add 1 (fun () ->
-       (ph (Activate (ph "C", List.map (fun (x, t) -> (ph x, expr rs env t 1)) ps)), env))
+       (ph (Activate (ph "C", List.map (fun (x, t) -> (ph x, arg rs env t 1)) ps)), env))
    | None -> ());
+  (* R1c, shown in the trace: an integer widened into a double or float
+     property, then the property logged; a schema value constructed with an
+     integer for a double slot, logged; an integer compared with a real, and
+     a schema value with a copy of it, the outcome logged *)
+  if env.real_props <> [] then
+    add 1 (fun () ->
+        let (x, _) = pick rs env.real_props in
+        (ph (If ([(lit (Bool true),
+                   [ph (Assign (ph (LName x), expr rs env GInt 1));
+                    ph (Log (bin Add (lit (Text (x ^ " "))) (name x)))])], None)), env));
+  let with_real_slot = List.filter (fun sc -> List.exists (fun (_, t) -> t = GDouble) sc.slots)
+      env.schemas in
+  if with_real_slot <> [] then
+    add 1 (fun () ->
+        let sc = pick rs with_real_slot in
+        let widened = ref false in
+        let args = List.map (fun (_, t) ->
+            if t = GDouble && not !widened then (widened := true; expr rs env GInt 1)
+            else arg rs env t 1) sc.slots in
+        (ph (Log (ph (Call (ph sc.sname, args)))), env));
+  add 1 (fun () -> (ph (Log (bin Add (lit (Text "equal ")) (int_real_equal rs env))), env));
+  if List.exists (fun (_, t) -> match t with GSchema _ -> true | _ -> false) env.sources then
+    add 1 (fun () -> (ph (Log (bin Add (lit (Text "same ")) (schema_equal rs env 1))), env));
   if loop then add 1 (fun () ->
       (ph (If ([(expr rs env GBool 1, [ph (pick rs [Break; Continue])])], None)), env));
   if d > 0 then begin
@@ -293,7 +355,8 @@ let program_rs rs =
   counter := 0;
   let (infos, onto) = ontology rs in
   let base = { schemas = infos; sources = []; vars = []; funcs = []; procs = [];
-               float_ok = false; in_behaviour = None; can_activate_c = None; message = false } in
+               float_ok = false; in_behaviour = None; can_activate_c = None; message = false;
+               real_props = [] } in
   (* Agent properties. *)
   let fixed = [("count", GInt, Some (ilit (int rs 10)), true);
                ("ratio", GFloat, Some (lit (Real "1.5")), true);
@@ -303,12 +366,17 @@ let program_rs rs =
                ("seen", GMap (GText, GInt), Some (ph (Map [])), false);
                ("iface", GAny, None, true)] in
   let extra = List.init (int rs 3) (fun _ ->
-      let t = prim rs in (fresh "pr", t, Some (expr rs base t 1), chance rs 0.5)) in
+      let t = prim rs and typed = chance rs 0.5 in
+      (* a typed property's initialiser may widen (R1c); an untyped one's
+         type is its initialiser's *)
+      (fresh "pr", t, Some ((if typed then arg else expr) rs base t 1), typed)) in
   let props = fixed @ extra in
   let prop_features = List.map (fun (x, t, init, typed) ->
       ph (Property { name = ph x; ty = (if typed then Some (ty_of t) else None); init })) props in
   let agent_env = List.fold_left (fun env (x, t, _, _) -> add_local env x t) base props in
-  let agent_env = { agent_env with float_ok = true } in
+  let agent_env = { agent_env with float_ok = true;
+                                   real_props = List.filter_map (fun (x, t, _, typed) ->
+                                       if typed && (t = GDouble || t = GFloat) then Some (x, t) else None) props } in
   (* Functions and procedures: each may call only the earlier ones. *)
   let env = ref agent_env and routines = ref [] in
   for _ = 1 to 1 + int rs 2 do
@@ -420,8 +488,37 @@ let program_rs rs =
   let handlers = [on_q q1; on_q (List.find (fun s -> s.sname = "q2") infos); on_r1; on_inform;
                   on_request] @ (if chance rs 0.5 then [on_any] else []) in
   let b_create_env = List.fold_left (fun e (x, t) -> add_local e x t) b_env b_params in
+  (* Half the time B extends a cyclic behaviour BP for agent Ag, whose
+     percept handlers (for q1, r1, or any percept) B inherits: for a percept
+     that both take, the inherited handlers run before B's own (R4a). *)
+  let parent =
+    if not (chance rs 0.5) then None
+    else
+      let p_env = { agent_env with in_behaviour = Some "BP" } in
+      let tag = lit (Text "inherited ") in
+      let on_q1 () =
+        let binds = pat_binds q1 in
+        let env = List.fold_left (fun e (x, t) -> add_local e x t) p_env (some binds) in
+        let env = { env with sources = (ph Content, GSchema "q1") :: env.sources } in
+        ph (OnPercept { guard = Some (ph (Matches (ph Content, pat q1 binds)));
+                        body = ph (Log (bin Add tag (ph (Of (ph "x", ph Content)))))
+                               :: block rs env ~loop:false 1 (int rs 2) }) in
+      let on_r1 () =
+        ph (OnPercept { guard = Some (ph (Matches (ph Content, ph (PName "r1"))));
+                        body = ph (Log (bin Add tag (lit (Text "r1"))))
+                               :: block rs p_env ~loop:false 1 (int rs 2) }) in
+      let on_any () =
+        ph (OnPercept { guard = None;
+                        body = [ph (Log (bin Add tag (ph (Of (ph "priority", ph Content)))))] }) in
+      let handlers = List.filter_map (fun (p, h) -> if chance rs p then Some (h ()) else None)
+          [(0.7, on_q1); (0.4, on_r1); (0.3, on_any)] in
+      let handlers = if handlers = [] then [on_q1 ()] else handlers in
+      Some (ph (DBehaviour {
+          bkind = Cyclic; bname = ph "BP"; bextends = None; for_agent = Some (ph "Ag");
+          bontologies = []; bfeatures = handlers })) in
   let b_decl = ph (DBehaviour {
-      bkind = Cyclic; bname = ph "B"; bextends = None; for_agent = Some (ph "Ag");
+      bkind = Cyclic; bname = ph "B"; bextends = Option.map (fun _ -> ph "BP") parent;
+      for_agent = Some (ph "Ag");
       bontologies = [];
       bfeatures =
         ph (Property { name = ph "hits"; ty = Some (ty_of GInt); init = Some (ilit 0) })
@@ -436,7 +533,7 @@ let program_rs rs =
     [ph (Assign (ph (LName "iface"), name "iface0"));
      ph (Assign (ph (LIndex (name "seen", lit (Text "start"))), ilit 0))]
     @ block rs cenv ~loop:false 2 (1 + int rs 3)
-    @ [ph (Activate (ph "B", List.map (fun (x, t) -> (ph x, expr rs cenv t 1)) b_params))]
+    @ [ph (Activate (ph "B", List.map (fun (x, t) -> (ph x, arg rs cenv t 1)) b_params))]
     (* sometimes an error after the activation: the agent keeps B (R7) *)
     @ (if chance rs 0.2 then [ph (Log (ph (Index (name "seen", lit (Text "absent")))))] else []) in
   (* on destroy (D14): the agent's count as the run left it *)
@@ -448,7 +545,7 @@ let program_rs rs =
                   @ [ph (OnCreate { params = List.map param create_params; body = create_body })]
                   @ destroy
                   @ List.rev !routines }) in
-  { module_name = []; decls = [onto; agent; b_decl; c_decl] }
+  { module_name = []; decls = [onto; agent] @ Option.to_list parent @ [b_decl; c_decl] }
 
 let program : program QCheck.Gen.t = program_rs
 let arb_program = QCheck.make ~print:(fun p -> Print.program p) program

@@ -7,10 +7,16 @@
     an empty map whose type a later use decides, functions that return on every
     path, procedures, an [on create] that activates a behaviour), a cyclic
     behaviour [B for agent Ag] (percept handlers whose [when] is a [matches],
-    message handlers, agent properties read directly and as [x of agent]), and a
-    one-shot behaviour [C] without [for agent]. Bodies declare locals by first
-    assignment, loop over lists and maps, branch on [matches], call procedures
-    and functions (only earlier ones: no recursion), send messages.
+    message handlers, agent properties read directly and as [x of agent]),
+    half the time extending a cyclic behaviour [BP] with percept handlers of
+    its own (inherited handlers run first, R4a), and a one-shot behaviour
+    [C] without [for agent]. Bodies
+    declare locals by first assignment, loop over lists and maps, branch on
+    [matches], call procedures and functions (only earlier ones: no
+    recursion), send messages. Integers are given to [double] and [float]
+    slots, parameters, typed locals and properties (they widen, R1c) and
+    logged after; integers are compared with reals and schema values with
+    copies made by their constructors (R1c), the outcomes logged.
 
     The programs are meant to run too (the interpreter reuses this generator):
     every loop terminates, nothing divides by anything but a non-zero literal,

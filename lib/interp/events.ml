@@ -649,7 +649,7 @@ let rec iter f apply =
 type source =
   | Notify_text of { agent : string; percept : string; priority : int option }
   | Put_text of { agent : string; obj : string }
-  | Message_text of { agent : string; perf : string option; content : string }
+  | Message_text of { agent : string; perf : string option; content : string; during_step : bool }
   | Run_rounds of int
   | Run_until_idle
   | Run_single_rules of int
@@ -659,9 +659,10 @@ let source_to_line = function
     Yojson.Safe.to_string (`Assoc ([("agent", `String agent); ("notify", `String percept)]
                                    @ (match priority with Some k -> [("priority", `Int k)] | None -> [])))
   | Put_text { agent; obj } -> Yojson.Safe.to_string (`Assoc [("agent", `String agent); ("put", `String obj)])
-  | Message_text { agent; perf; content } ->
+  | Message_text { agent; perf; content; during_step } ->
     Yojson.Safe.to_string (`Assoc ([("agent", `String agent); ("message", `String content)]
-                                   @ (match perf with Some p -> [("performative", `String p)] | None -> [])))
+                                   @ (match perf with Some p -> [("performative", `String p)] | None -> [])
+                                   @ (if during_step then [("during", `String "step")] else [])))
   | Run_rounds k -> Yojson.Safe.to_string (`Assoc [("run", `Int k)])
   | Run_until_idle -> Yojson.Safe.to_string (`Assoc [("run", `String "idle")])
   | Run_single_rules k -> Yojson.Safe.to_string (`Assoc [("run", `Assoc [("rules", `Int k)])])

@@ -103,8 +103,9 @@ type source =
   | Notify_text of { agent : string; percept : string; priority : int option }
       (** [{"agent": A, "notify": P}], with ["priority"] when overridden (R2a) *)
   | Put_text of { agent : string; obj : string }              (** [{"agent": A, "put": O}] *)
-  | Message_text of { agent : string; perf : string option; content : string }
-      (** [{"agent": A, "message": C, "performative": F}]; [None]: [inform] *)
+  | Message_text of { agent : string; perf : string option; content : string; during_step : bool }
+      (** [{"agent": A, "message": C, "performative": F}]; [None]: [inform];
+          [during_step]: with ["during": "step"] (D42, R5d) *)
   | Run_rounds of int                                          (** [{"run": K}] *)
   | Run_until_idle                                             (** [{"run": "idle"}] *)
   | Run_single_rules of int                                    (** [{"run": {"rules": K}}] (D23) *)

@@ -243,14 +243,17 @@ let rule t i =
     let (c, evs) = take_events c in
     set_config t i c;
     Tracer.step t.tr ~agent:ag.name ~before:ag.config ~after:c l evs;
-    deliver_outbox t i;
-    t.steps <- t.steps + 1;
-    (* D42: the host's messages held for this behaviour step arrive during it *)
+    (* D42: the host's messages held for this behaviour step arrive during
+       it: right after the step's lines, before what the step sent leaves
+       (a failure of ams, or a message to the agent itself, would close the
+       step's window) *)
     (match l, Hashtbl.find_opt t.during ag.name with
      | Mc.Behaviour_step _, Some q ->
        Queue.iter (fun m -> arrive ~in_step:true t ~sender:"host" ~receiver:ag.name m) q;
        Queue.clear q
      | _ -> ());
+    deliver_outbox t i;
+    t.steps <- t.steps + 1;
     Some l
 
 (* The most rules the derived rule Dispatch can take from [c]: Dequeue, a

@@ -101,8 +101,8 @@ val put : t -> agent:string -> Value.t -> (unit, string) result
 val message : ?during_step:bool -> t -> agent:string -> perf:string -> Value.t -> (unit, string) result
 (** A message from the host (sender ["host"]); [during_step] (D42): held
     until the agent's next behaviour step, and delivered during it
-    (SendInStep, R5d); if the agent takes none before its rounds end, it
-    arrives then. *)
+    (SendInStep, R5d), before the messages that step sent are delivered;
+    if the agent takes none before its rounds end, it arrives then. *)
 
 val run_rounds : t -> int -> unit
 (** [n] rounds: in each, every agent that is not idle runs one loop iteration

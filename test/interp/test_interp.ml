@@ -473,7 +473,10 @@ let conform_judged () =
   ignore (conform (Printf.sprintf "--generated 1 --seed 4 --keep %s" (Filename.quote keep)));
   let fixed = Filename.concat (Filename.concat keep "generated-4-1") "trace.jsonl" in
   Alcotest.(check bool) "--keep keeps the case and its trace" true (Sys.file_exists fixed);
-  let replay = fake "replay" (Printf.sprintf "cp %s \"$out\"" (Filename.quote fixed)) in
+  (* the kept run's exit status replayed too: 1 when its trace records a
+     run-time error (D15) *)
+  let replay = fake "replay" (Printf.sprintf "cp %s \"$out\"\nif grep -q '\"event\":\"error\"' \"$out\"; then exit 1; fi"
+                                (Filename.quote fixed)) in
   let (status, out) = conform ("--generated 12 --seed 4 --impl " ^ replay) in
   Alcotest.(check int) ("one fixed trace for every generated program fails:\n" ^ out) 1 status;
   Alcotest.(check bool) ("... except the program it was written for:\n" ^ out) true (says out "generated-4-1                                pass");

@@ -781,6 +781,154 @@ let every_mutation () =
         ignore (mutated (p, m))) Typed_gen.mutation_names
   done
 
+(* The constructs the generator makes so that five defects of the bug
+   catalogue can show (conformance/README.md), counted over 200 programs
+   and their hosts: a behaviour that extends another, with percept handlers
+   in both (R4a); an integer literal or integer arithmetic given to a double
+   or float slot, parameter, local or property (R1c: it widens); such an
+   integer compared with a real (R1c); a schema value compared with one made
+   by its constructor (R1c: structural equality); a host message with
+   "during": "step" (D42). Found in the tree by the test's own reading of
+   it: an expression counts as an integer or a real only when its literals
+   say so. *)
+let rec surely_int (e : Ast.expr) = match e.it with
+  | Ast.Lit (Ast.Int _) -> true
+  | Ast.Unop (Ast.Neg, a) -> surely_int a
+  | Ast.Binop ((Ast.Add | Ast.Sub | Ast.Mul | Ast.Div | Ast.Mod), a, b) -> surely_int a && surely_int b
+  | Ast.Of ({ it = "length" | "size"; _ }, _) -> true
+  | _ -> false
+
+let rec surely_real (e : Ast.expr) = match e.it with
+  | Ast.Lit (Ast.Real _) -> true
+  | Ast.Binop ((Ast.Add | Ast.Sub | Ast.Mul), a, b) ->
+    (surely_real a && (surely_real b || surely_int b)) || (surely_int a && surely_real b)
+  | _ -> false
+
+let constructs (p : Ast.program) =
+  let real (t : Ast.ty) = match t.it with Ast.TName ("double" | "float") -> true | _ -> false in
+  (* the names whose arguments, by position, are real: schemas, functions,
+     procedures, behaviours' on create; the real properties *)
+  let real_args = Hashtbl.create 16 and real_props = Hashtbl.create 16 and percept_handlers = Hashtbl.create 4 in
+  let feature_sigs owner (f : Ast.feature) = match f.it with
+    | Ast.Function { name; params; _ } | Ast.Procedure { name; params; _ } ->
+      Hashtbl.replace real_args name.it (List.map (fun (q : Ast.param) -> (q.pname.it, real q.pty)) params)
+    | Ast.OnCreate { params; _ } ->
+      Hashtbl.replace real_args owner (List.map (fun (q : Ast.param) -> (q.pname.it, real q.pty)) params)
+    | Ast.Property { name; ty = Some t; _ } when real t -> Hashtbl.replace real_props name.it ()
+    | Ast.OnPercept _ -> Hashtbl.replace percept_handlers owner ()
+    | _ -> () in
+  List.iter (fun (d : Ast.decl) -> match d.it with
+      | Ast.DOntology o -> List.iter (fun (s : Ast.schema) ->
+          Hashtbl.replace real_args s.it.sname.it
+            (List.map (fun (sl : Ast.slot) -> (sl.slot_name.it, real sl.slot_ty)) s.it.slots)) o.schemas
+      | Ast.DAgent a -> List.iter (feature_sigs a.aname.it) a.afeatures
+      | Ast.DBehaviour b -> List.iter (feature_sigs b.bname.it) b.bfeatures) p.decls;
+  (* slots of a schema that extends another come after the parent's: the
+     generator's own q2 and q3 repeat q1's x, a double, first *)
+  let schema_names = Hashtbl.create 8 in
+  List.iter (fun (d : Ast.decl) -> match d.it with
+      | Ast.DOntology o -> List.iter (fun (s : Ast.schema) -> Hashtbl.replace schema_names s.it.sname.it ()) o.schemas
+      | _ -> ()) p.decls;
+  let widened = ref false and int_real = ref false and schema_eq = ref false in
+  let widen_into flags args =
+    (* positional: flags and args in order *)
+    let rec go fl ar = match fl, ar with
+      | (_, true) :: fl, a :: ar -> if surely_int a then widened := true; go fl ar
+      | _ :: fl, _ :: ar -> go fl ar
+      | _ -> () in
+    go flags args in
+  let rec expr (e : Ast.expr) =
+    (match e.it with
+     | Ast.Call (f, args) ->
+       (match Hashtbl.find_opt real_args f.it with Some fl -> widen_into fl args | None -> ())
+     | Ast.Binop ((Ast.Eq | Ast.Neq | Ast.Lt | Ast.Gt | Ast.Le | Ast.Ge) as op, a, b) ->
+       if (surely_int a && surely_real b) || (surely_real a && surely_int b) then int_real := true;
+       let schema_value (x : Ast.expr) = match x.it with
+         | Ast.Call (s, _) -> Hashtbl.mem schema_names s.it
+         | Ast.Name s -> Hashtbl.mem schema_names s
+         | _ -> false in
+       if (op = Ast.Eq || op = Ast.Neq) && (schema_value a || schema_value b) then schema_eq := true
+     | _ -> ());
+    match e.it with
+    | Ast.Lit _ | Ast.Name _ | Ast.This | Ast.Agent | Ast.Content | Ast.Message -> ()
+    | Ast.List l -> List.iter expr l
+    | Ast.Map l -> List.iter (fun (k, v) -> expr k; expr v) l
+    | Ast.Call (_, l) -> List.iter expr l
+    | Ast.Index (a, b) | Ast.Binop (_, a, b) -> expr a; expr b
+    | Ast.Of (_, a) | Ast.Matches (a, _) | Ast.Unop (_, a) -> expr a
+    | Ast.Invoke i -> expr i.target; List.iter expr i.args in
+  let rec stmt (s : Ast.stmt) = match s.it with
+    | Ast.Assign (lv, e) ->
+      (match lv.it with
+       | Ast.LName x when Hashtbl.mem real_props x && surely_int e -> widened := true
+       | Ast.LName _ -> ()
+       | Ast.LOf (_, a) -> expr a
+       | Ast.LIndex (a, b) -> expr a; expr b);
+      expr e
+    | Ast.Local (_, t, e) -> if real t && surely_int e then widened := true; expr e
+    | Ast.Do (pr, args) ->
+      (match args, Hashtbl.find_opt real_args pr.it with
+       | Ast.Positional l, Some fl -> widen_into fl l
+       | Ast.Named l, Some fl ->
+         List.iter (fun ((x : Ast.name), a) -> if List.assoc_opt x.it fl = Some true && surely_int a then widened := true) l
+       | _ -> ());
+      (match args with Ast.Positional l -> List.iter expr l | Ast.Named l -> List.iter (fun (_, a) -> expr a) l)
+    | Ast.Activate (b, l) ->
+      (match Hashtbl.find_opt real_args b.it with
+       | Some fl -> List.iter (fun ((x : Ast.name), a) -> if List.assoc_opt x.it fl = Some true && surely_int a then widened := true) l
+       | None -> ());
+      List.iter (fun (_, a) -> expr a) l
+    | Ast.InvokeS i -> expr i.target; List.iter expr i.args
+    | Ast.Send (_, c, r) -> expr c; List.iter expr r
+    | Ast.Log e | Ast.Return (Some e) -> expr e
+    | Ast.If (bs, els) -> List.iter (fun (c, b) -> expr c; List.iter stmt b) bs; Option.iter (List.iter stmt) els
+    | Ast.While (c, b) | Ast.For (_, c, b) -> expr c; List.iter stmt b
+    | Ast.Nothing | Ast.Deactivate | Ast.Return None | Ast.Break | Ast.Continue -> () in
+  let feature (f : Ast.feature) = match f.it with
+    | Ast.Property { ty; init = Some e; _ } ->
+      (match ty with Some t when real t && surely_int e -> widened := true | _ -> ());
+      expr e
+    | Ast.Property { init = None; _ } -> ()
+    | Ast.Function { body; _ } | Ast.Procedure { body; _ } | Ast.OnCreate { body; _ } | Ast.OnDestroy body
+    | Ast.ActionSection body -> List.iter stmt body
+    | Ast.OnPercept { guard; body } | Ast.OnMessage { guard; body; _ } -> Option.iter expr guard; List.iter stmt body in
+  List.iter (fun (d : Ast.decl) -> match d.it with
+      | Ast.DOntology _ -> ()
+      | Ast.DAgent a -> List.iter feature a.afeatures
+      | Ast.DBehaviour b -> List.iter feature b.bfeatures) p.decls;
+  let extends = List.exists (fun (d : Ast.decl) -> match d.it with
+      | Ast.DBehaviour { bname; bextends = Some parent; _ } ->
+        Hashtbl.mem percept_handlers bname.it && Hashtbl.mem percept_handlers parent.it
+      | _ -> false) p.decls in
+  [ ("a behaviour extending one, percept handlers in both (R4a)", extends);
+    ("an integer widened into a real slot, parameter, local or property (R1c)", !widened);
+    ("an integer compared with a real (R1c)", !int_real);
+    ("a schema value compared with = or <> (R1c)", !schema_eq) ]
+
+let generated_constructs () =
+  let n = 200 in
+  let counts = Hashtbl.create 8 in
+  let bump k = Hashtbl.replace counts k (1 + Option.value (Hashtbl.find_opt counts k) ~default:0) in
+  for k = 1 to n do
+    let rs = Random.State.make [| 7; k |] in
+    let p = Typed_gen.program rs in
+    List.iter (fun (c, present) -> if present then bump c else Hashtbl.replace counts c
+                   (Option.value (Hashtbl.find_opt counts c) ~default:0)) (constructs p);
+    let env, _ = Typing.check [ Parse.string ~file:"gen.jade" (Print.program p) ] in
+    let sc = Event_gen.scenario env ~agent_type:"Ag" rs in
+    let during = List.exists (function
+        | Interp.Events.Message_text { during_step; _ } -> during_step | _ -> false) sc.events in
+    let c = "a host message during a step (D42)" in
+    if during then bump c else Hashtbl.replace counts c (Option.value (Hashtbl.find_opt counts c) ~default:0)
+  done;
+  (* each in at least one program in ten: the defects run (conform
+     --generated, 1,000 programs) then meets each many times *)
+  Hashtbl.iter (fun c m -> Printf.printf "%s: %d of %d programs\n" c m n) counts;
+  Hashtbl.iter (fun c m ->
+      if m < n / 10 then Alcotest.failf "%s: in %d of %d generated programs, expected at least %d" c m n (n / 10))
+    counts;
+  Alcotest.(check int) "five constructs counted" 5 (Hashtbl.length counts)
+
 let robust =
   (* random (mostly ill-typed) trees: the checker never raises, never crashes *)
   Support.qcheck ~count:300 "random trees: no exception, no crash" Ast_gen.arb_program (fun p ->
@@ -829,5 +977,6 @@ let () =
         Support.qcheck ~count:200 "print, parse back, check" Typed_gen.arb_program generated_round_trip;
         Support.qcheck ~count:300 "one mutation: rejected with its message" Typed_gen.arb_mutated mutated;
         Alcotest.test_case "every mutation of the catalogue" `Quick every_mutation;
+        Alcotest.test_case "the constructs five defects need (R1c, R4a, D42)" `Quick generated_constructs;
         robust ]);
   ]
