@@ -40,8 +40,10 @@ bench: build
 # interleaving (scripts/judge-seeds: every vector and 50 generated programs
 # per seed), 1,000 generated programs (seeds 1 and 2, 500 each) run freely
 # on JADE and judged (and the first 150 of seed 1 in two containers;
-# docs/jade.md, "Generated programs, running freely"), then every suite
-# with 10x the property-test counts.
+# docs/jade.md, "Generated programs, running freely"), the same 1,000 run
+# in lock step on JADE and judged (and the first 300 of seed 1 in two
+# containers; docs/jade.md, "Generated programs, in lock step"), then every
+# suite with 10x the property-test counts.
 conformance: build
 	@dune exec --no-print-directory -- jadescript-ref explore --all --full --mutants --simulate 200 --validate 200
 	@dune exec --no-print-directory -- jadescript-ref defects --first
@@ -53,6 +55,9 @@ conformance: build
 	@bash scripts/jade-generated --seed 1 500 | tail -n 25
 	@bash scripts/jade-generated --seed 2 500 | tail -n 25
 	@bash scripts/jade-generated --split --seed 1 150 | tail -n 25
+	@bash scripts/jade-generated --locked --seed 1 500 | tail -n 25
+	@bash scripts/jade-generated --locked --seed 2 500 | tail -n 25
+	@bash scripts/jade-generated --split --locked --seed 1 300 | tail -n 25
 	@JSREF_LONG=1 bash scripts/test
 
 # The fuzz campaign (fuzz/README.md): 1,000,000 generated inputs over
