@@ -1,7 +1,8 @@
 # jadescript-ref. The two commands a new user needs:
 #   make demo    the main job: the paper's RoboMe agent, type-checked and run on the
 #                simulated robot in the paper's corridor (scripts/demo)
-#   make test    every test suite; last line "N passed, M failed"
+#   make test    every test suite, in parallel lanes (one a core, at most 4;
+#                JSREF_TEST_JOBS=1: one after another); last line "N passed, M failed"
 # Both run scripts/setup first, which installs what is missing (idempotent).
 
 .PHONY: all setup build demo test bench spec spec-full conformance clean playground fuzz proofs
