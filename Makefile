@@ -40,10 +40,11 @@ bench: build
 # --interleave, the judge's false rejections over 20 seeds of the finer
 # interleaving (scripts/judge-seeds: every vector and 50 generated programs
 # per seed), 1,000 generated programs (seeds 1 and 2, 500 each) run freely
-# on JADE and judged (and the first 150 of seed 1 in two containers;
-# docs/jade.md, "Generated programs, running freely"), the same 1,000 run
-# in lock step on JADE and judged (and the first 300 of seed 1 in two
-# containers; docs/jade.md, "Generated programs, in lock step"), then every
+# on JADE and judged, and 1,000 more in two containers (seeds 1 and 2;
+# docs/jade.md, "Generated programs, running freely"), the same run in lock
+# step on JADE and judged (1,000 in one container; in two, the first 600 of
+# seed 1 and 400 of seed 2; docs/jade.md, "Generated programs, in lock
+# step"), then every
 # suite with 10x the property-test counts.
 conformance: build
 	@dune exec --no-print-directory -- jadescript-ref explore --all --full --mutants --simulate 200 --validate 200
@@ -55,10 +56,12 @@ conformance: build
 	@bash scripts/judge-seeds 20 50 | tail -n 1
 	@bash scripts/jade-generated --seed 1 500 | tail -n 25
 	@bash scripts/jade-generated --seed 2 500 | tail -n 25
-	@bash scripts/jade-generated --split --seed 1 150 | tail -n 25
+	@bash scripts/jade-generated --split --seed 1 500 | tail -n 25
+	@bash scripts/jade-generated --split --seed 2 500 | tail -n 25
 	@bash scripts/jade-generated --locked --seed 1 500 | tail -n 25
 	@bash scripts/jade-generated --locked --seed 2 500 | tail -n 25
-	@bash scripts/jade-generated --split --locked --seed 1 300 | tail -n 25
+	@bash scripts/jade-generated --split --locked --seed 1 600 | tail -n 25
+	@bash scripts/jade-generated --split --locked --seed 2 400 | tail -n 25
 	@JSREF_LONG=1 bash scripts/test
 
 # The fuzz campaign (fuzz/README.md): 1,000,000 generated inputs over
