@@ -110,7 +110,12 @@ let header_problem ~expected (line : string) =
   | Ok (`Assoc _ as got) ->
     (match Trace.header_version got with
      | Some (`Int v) when v = Trace.version ->
-       if Yojson.Safe.equal (sorted_fields expected) (sorted_fields got) then None
+       (* where the implementation ran its agents (D47) is its own: a
+          vector fixes the program and the run, not the containers *)
+       let deployed = match got with
+         | `Assoc f -> `Assoc (List.remove_assoc "containers" f)
+         | j -> j in
+       if Yojson.Safe.equal (sorted_fields expected) (sorted_fields deployed) then None
        else Some (Printf.sprintf "its header differs: expected %s, got %s" (show expected) (show got))
      | Some v ->
        Some (Printf.sprintf "its header has version %s; this oracle reads version %d" (show v) Trace.version)

@@ -53,11 +53,12 @@ final class AgentLoop {
     if (stepInProgress) {
       stepInProgress = false;
       if (cfg.lockStep) {
-        // as the reference: the step's sends delivered, each awaited (R5e,
-        // D44), then the events lines' messages held for this step (D42),
-        // then the window of R5d revised closes
-        agent.messaging.deliverSent();
+        // as the reference: the events lines' messages held for this step
+        // arrive during it (D42, SendInStep), then the step's sends leave as
+        // it ends, each awaited (R5e, D44), then the window of R5d revised
+        // closes
         agent.messaging.postHeld(true);
+        agent.messaging.deliverSent();
         synchronized (hooks.queue) { agent.inStep.close(); }
       }
     }
