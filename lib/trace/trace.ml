@@ -86,6 +86,10 @@ type header = {
 
 let version = 2
 let main_container = "main"
+
+let without_containers = function
+  | `Assoc f -> `Assoc (List.remove_assoc "containers" f)
+  | j -> j
 let levels = [ "full"; "observable" ]
 
 let str s = `String s

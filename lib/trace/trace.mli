@@ -109,6 +109,10 @@ type header = {
   percepts : (string * int) list;           (** percept type, default priority *)
 }
 
+val without_containers : Yojson.Safe.t -> Yojson.Safe.t
+(** A header's JSON without its [containers] field: where an implementation
+    ran its agents, which a vector does not fix (D47). *)
+
 val main_container : string
 (** ["main"]: the container of an agent the header's [containers] does not
     name (D47). *)
