@@ -181,7 +181,7 @@ let check (h : Trace.header) lines =
           end
           else if m.from <> "host" then begin
             if not (List.mem_assoc m.from agents) then fail "a message from %s, which is neither an agent of the header, nor host, nor ams" m.from;
-            match In_flight.next pending ~receiver:a.name ~sender:m.from with
+            match In_flight.take pending ~receiver:a.name ~sender:m.from with
             | None ->
               fail "a message to %s delivered from %s, but no message sent to %s waits for delivery (R5e)" a.name m.from a.name
             | Some (from, (perf, content)) ->
@@ -189,8 +189,7 @@ let check (h : Trace.header) lines =
                 fail "this delivery to %s is %s %s from %s, but the next message sent to %s is %s %s from %s (R5e: in the order sent%s)"
                   a.name m.performative m.content m.from a.name perf content from
                   (if In_flight.containers pending = 1 then ""
-                   else Printf.sprintf " from container %s, D47" (In_flight.container pending m.from));
-              In_flight.drop pending ~receiver:a.name ~sender:m.from
+                   else Printf.sprintf " from container %s, D47" (In_flight.container pending m.from))
           end
         | Trace.Undeliverable { receiver; performative; content } ->
           if List.mem_assoc receiver agents then

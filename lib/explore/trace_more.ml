@@ -140,9 +140,7 @@ let check (h : Trace.header) lines =
               List.iter (fun r -> if Hashtbl.mem names r then In_flight.push in_flight ~receiver:r ~sender:l.agent at) receivers
             | _ -> ())
          | Trace.Deliver { message = { from; _ }; _ } when Hashtbl.mem names from ->
-           let next = In_flight.next in_flight ~receiver:l.agent ~sender:from in
-           In_flight.drop in_flight ~receiver:l.agent ~sender:from;
-           (match next with
+           (match In_flight.take in_flight ~receiver:l.agent ~sender:from with
             | Some (sender, at) when sender = from && Hashtbl.find_opt step_line sender = Some at ->
               if not (Hashtbl.mem left sender) then Hashtbl.replace left sender (n, l.agent)
             | _ -> ())

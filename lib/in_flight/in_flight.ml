@@ -3,19 +3,21 @@
 
 type 'a t = {
   containers : (string, string) Hashtbl.t;   (* agent -> its container, when not the main one *)
+  count : int;                               (* how many containers, the main one included *)
   queues : (string * string, (string * 'a) Queue.t) Hashtbl.t;   (* (receiver, container) -> (sender, payload) *)
 }
 
 let create (h : Trace.header) =
-  { containers = Hashtbl.of_seq (List.to_seq h.containers); queues = Hashtbl.create 8 }
+  let named = List.sort_uniq compare
+      (List.filter (fun c -> c <> Trace.main_container) (List.map snd h.containers)) in
+  { containers = Hashtbl.of_seq (List.to_seq h.containers);
+    count = 1 + List.length named;
+    queues = Hashtbl.create 8 }
 
 let container t agent =
   Option.value (Hashtbl.find_opt t.containers agent) ~default:Trace.main_container
 
-let containers t =
-  let named = Hashtbl.fold (fun _ c acc -> if c = Trace.main_container || List.mem c acc then acc else c :: acc)
-      t.containers [] in
-  1 + List.length named
+let containers t = t.count
 
 let queue t ~receiver ~sender =
   let k = (receiver, container t sender) in
@@ -25,9 +27,7 @@ let queue t ~receiver ~sender =
 
 let push t ~receiver ~sender x = Queue.push (sender, x) (queue t ~receiver ~sender)
 
-let next t ~receiver ~sender = Queue.peek_opt (queue t ~receiver ~sender)
-
-let drop t ~receiver ~sender = ignore (Queue.take_opt (queue t ~receiver ~sender))
+let take t ~receiver ~sender = Queue.take_opt (queue t ~receiver ~sender)
 
 let iter t f =
   Hashtbl.iter (fun (receiver, _) q -> Queue.iter (fun (sender, x) -> f ~receiver ~sender x) q) t.queues

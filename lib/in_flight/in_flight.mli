@@ -33,14 +33,12 @@ val push : 'a t -> receiver:string -> sender:string -> 'a -> unit
 (** A message of [sender] to [receiver], after every message sent before
     it. *)
 
-val next : 'a t -> receiver:string -> sender:string -> (string * 'a) option
-(** The message a delivery to [receiver] from [sender] must be: the oldest
-    message to [receiver] sent from [sender]'s container, with its own
-    sender (which may be another agent of that container: then the delivery
-    is out of order). [None] when that container owes [receiver] nothing. *)
-
-val drop : 'a t -> receiver:string -> sender:string -> unit
-(** Removes {!next}'s message (nothing when there is none). *)
+val take : 'a t -> receiver:string -> sender:string -> (string * 'a) option
+(** Takes out the message a delivery to [receiver] from [sender] must be:
+    the oldest message to [receiver] sent from [sender]'s container, with
+    its own sender (which may be another agent of that container: then the
+    delivery is out of order, and the reader rejects the trace). [None]
+    when that container owes [receiver] nothing. *)
 
 val iter : 'a t -> (receiver:string -> sender:string -> 'a -> unit) -> unit
 (** Every message still in flight, each receiver's and container's in the

@@ -495,9 +495,8 @@ let deliver st n ag (m : Trace.message) seq in_step =
         ignore (Queue.pop (answers st ag.name)); msg
       | _ ->
         reject n "agent %s: the platform owes it no %s %s from %s (R5e)" ag.name m.performative m.content m.from
-    else match In_flight.next st.inflight ~receiver:ag.name ~sender:m.from with
-      | Some (sender, msg) when sender = m.from && msg.perf = m.performative && V.to_literal msg.content = m.content ->
-        In_flight.drop st.inflight ~receiver:ag.name ~sender:m.from; msg
+    else match In_flight.take st.inflight ~receiver:ag.name ~sender:m.from with
+      | Some (sender, msg) when sender = m.from && msg.perf = m.performative && V.to_literal msg.content = m.content -> msg
       | Some (sender, msg) ->
         reject n "agent %s: the next message to reach it is %s %s from %s (R5e: in the order of the sends%s), not %s %s from %s"
           ag.name msg.perf (V.to_literal msg.content) sender
