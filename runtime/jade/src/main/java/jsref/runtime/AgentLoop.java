@@ -95,11 +95,11 @@ final class AgentLoop {
           synchronized (hooks.o2a) {   // and no notify half done (its line and its put)
             if (cfg.variant != Variant.PRINTED && idleCondition(s)) {
               hooks.idle = true;
-              cfg.trace.idle(agent.getLocalName());
+              cfg.trace.idle(agent.name());
               ruleWritten(Action.IDLE);
               continue;
             }
-            cfg.trace.nextIteration(agent.getLocalName());
+            cfg.trace.nextIteration(agent.name());
             ruleWritten(Action.NEXT_ITERATION);
           }
         }
@@ -218,7 +218,7 @@ final class AgentLoop {
       List<PerceptEntry> moved = takePercepts();
       for (PerceptEntry e : moved) pq.insert(e);
       dispatched = 0;
-      agent.cfg.trace.transfer(agent.getLocalName(), moved.size());
+      agent.cfg.trace.transfer(agent.name(), moved.size());
       ruleWritten(Action.TRANSFER);
     }
   }
@@ -233,17 +233,17 @@ final class AgentLoop {
         Object head = o2a.isEmpty() ? null : o2a.get(0);
         if (head == null) {
           dispatched = 0;
-          trace.transferEnd(agent.getLocalName());
+          trace.transferEnd(agent.name());
           ruleWritten(Action.TRANSFER_END);
           return;
         }
         if (head instanceof PerceptEntry e) {
           o2a.remove(0);
           pq.insert(e);
-          trace.transferOne(agent.getLocalName(), e);
+          trace.transferOne(agent.name(), e);
           ruleWritten(Action.TRANSFER_ONE);
         } else {
-          trace.transferSpin(agent.getLocalName(), head instanceof PutObject po ? po.value() : head);
+          trace.transferSpin(agent.name(), head instanceof PutObject po ? po.value() : head);
           ruleWritten(Action.TRANSFER_SPIN);
         }
       }
@@ -260,7 +260,7 @@ final class AgentLoop {
         moved = takePercepts();
         agent.host.nativePercepts.addAndGet(moved.size());   // still the O2A's room (D6)
         dispatched = 0;
-        agent.cfg.trace.transfer(agent.getLocalName(), moved.size());
+        agent.cfg.trace.transfer(agent.name(), moved.size());
         ruleWritten(Action.TRANSFER);
       }
       for (PerceptEntry e : moved) agent.messaging.postPercept(e);
@@ -274,7 +274,7 @@ final class AgentLoop {
     RunConfig cfg = agent.cfg;
     Trace trace = cfg.trace;
     Body body = agent.body;
-    String name = agent.getLocalName();
+    String name = agent.name();
     while (!pq.isEmpty() && !(cfg.variant == Variant.BUDGETED && dispatched >= cfg.budget)) {
       agent.lockStep.rule();
       PerceptEntry e = pq.pop();
@@ -334,7 +334,7 @@ final class AgentLoop {
   private void skip(JadescriptBehaviour b, int h) {
     Trace trace = agent.cfg.trace;
     written(Action.SKIP, !trace.writes() ? null
-        : () -> trace.skip(agent.getLocalName(), b.id(), known.getOrDefault(b.id(), "?"), h));
+        : () -> trace.skip(agent.name(), b.id(), known.getOrDefault(b.id(), "?"), h));
   }
 
   /** The ids of a dispatch snapshot's instances from position {@code from}
@@ -426,7 +426,7 @@ final class AgentLoop {
     final List<String> ae = actionEffects;
     final Integer hd = handler;
     final List<String> he = handlerEffects;
-    Runnable line = () -> cfg.trace.behaviourStep(agent.getLocalName(), id, shown,
+    Runnable line = () -> cfg.trace.behaviourStep(agent.name(), id, shown,
         t == null ? null : t.msg(), t == null ? 0 : t.seq(), t == null ? null : t.percept(), ae, hd, he);
     boolean sends = !cfg.lockStep && agent.messaging.hasSent();
     finish(Action.BEHAVIOUR_STEP, line, sends, () -> {

@@ -234,7 +234,7 @@ final class Body {
       error stream (R7, D15). @param action the rule's action */
   void flush(String action) {
     if (events.isEmpty()) return;
-    String name = agent.getLocalName();
+    String name = agent.name();
     Trace t = agent.cfg.trace;
     for (Event e : events) {
       if (e instanceof Log l) agent.cfg.log(name, l.text());

@@ -46,12 +46,12 @@ final class HostRules {
       synchronized (hooks.sched) {
         synchronized (hooks.o2a) {
           if (!o2aHasRoom()) {
-            trace.refused(agent.getLocalName(), p);
+            trace.refused(agent.name(), p);
             return false;
           }
           int seq = ++nextSeq;
           PerceptEntry e = new PerceptEntry(p, prio, seq);
-          trace.notify(agent.getLocalName(), e, with);
+          trace.notify(agent.name(), e, with);
           try {
             agent.putO2AObject(e, false);
           } catch (InterruptedException x) {
@@ -73,11 +73,11 @@ final class HostRules {
       synchronized (o2a) {
         if (!o2aHasRoom()) {
           // R2d, D24: a refused put is in the trace, with its object
-          trace.refusedPut(agent.getLocalName(), o);
+          trace.refusedPut(agent.name(), o);
           return false;
         }
         int k = ++puts;
-        trace.put(agent.getLocalName(), o, k);
+        trace.put(agent.name(), o, k);
         try {
           agent.putO2AObject(new PutObject(o, k), false);
         } catch (InterruptedException x) {

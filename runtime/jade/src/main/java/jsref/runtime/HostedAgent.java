@@ -5,8 +5,8 @@ package jsref.runtime;
     JVM (docs/jade.md, "Two containers"). The methods are the host's API of
     the paper (notifyEvent) and the lock-step controls of the harness. */
 public interface HostedAgent {
-  /** @return the agent's local name */
-  String getLocalName();
+  /** @return the agent's name as written (D48) */
+  String name();
 
   /** @return is the agent idle (R3e)? */
   boolean isIdle();

@@ -117,7 +117,7 @@ final class InStep {
     stepping = null;
     if (blocks && !arrived) block(s, b);
     for (Messaging.Arrived a : lines)
-      if (a.msg() != null) agent.cfg.trace.deliver(agent.getLocalName(), a.msg(), a.seq(), true);
+      if (a.msg() != null) agent.cfg.trace.deliver(agent.name(), a.msg(), a.seq(), true);
     lines.clear();
     if (wake) s.wakeBlocked();
     wake = false;

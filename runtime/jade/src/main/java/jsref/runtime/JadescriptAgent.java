@@ -153,8 +153,9 @@ public abstract class JadescriptAgent extends jade.core.Agent implements HostedA
   /** A stack overflow in a body: the error "recursion too deep". */
   public final void recordTooDeep() { body.recordTooDeep(); }
 
-  /** The agent's local name. @return the name */
-  public final String name() { return getLocalName(); }
+  /** The agent's name as written (D48; JADE holds it as {@link Names#jade}).
+      @return the name */
+  public final String name() { return Names.jadescript(getLocalName()); }
 
   /** The run's configuration. @return it */
   public final RunConfig config() { return cfg; }
@@ -163,7 +164,7 @@ public abstract class JadescriptAgent extends jade.core.Agent implements HostedA
       reported on the error stream as one line, counted as a run-time error;
       the agent carries on. @param e what was thrown */
   final void internalError(Throwable e) {
-    cfg.error(null, "internal error in agent " + getLocalName() + ": " + e);
+    cfg.error(null, "internal error in agent " + name() + ": " + e);
   }
 
   // ======================================================== JADE life cycle
@@ -216,7 +217,7 @@ public abstract class JadescriptAgent extends jade.core.Agent implements HostedA
     body.initPhase = false;
     List<String> behs = body.activatedTypes();
     body.clearEffects();
-    cfg.trace.create(getLocalName(), typeName(), given, behs);
+    cfg.trace.create(name(), typeName(), given, behs);
     body.flush(Action.INIT);
     body.applyJade();   // the behaviours it activated join JADE's ready list
     setUp = true;
@@ -245,7 +246,7 @@ public abstract class JadescriptAgent extends jade.core.Agent implements HostedA
       recordTooDeep();
     }
     body.clearEffects();
-    cfg.trace.destroy(getLocalName());
+    cfg.trace.destroy(name());
     body.flush(Action.DESTROY);
     body.applyJade();
     messaging.dropSent();

@@ -193,13 +193,13 @@ public final class Main {
       args[0] = cfg;
       for (int i = 0; i < s.args().size(); i++) args[i + 1] = s.args().get(i);
       try {
-        if (loader == null) cc.createNewAgent(s.name(), program.agentClass(s.type()).getName(), args).start();
+        if (loader == null) cc.createNewAgent(Names.jade(s.name()), program.agentClass(s.type()).getName(), args).start();
         else {
           // JADE loads an agent class by name with its own loader, which
           // does not see a program of the batch server: the instance instead
           jade.core.Agent a = (jade.core.Agent) program.agentClass(s.type()).getDeclaredConstructor().newInstance();
           a.setArguments(args);
-          cc.acceptNewAgent(s.name(), a).start();
+          cc.acceptNewAgent(Names.jade(s.name()), a).start();
         }
       } catch (jade.wrapper.StaleProxyException e) {
         // JADE's own agents (ams, df) hold their names in every platform
@@ -333,7 +333,7 @@ public final class Main {
     }
 
     HostedAgent agent(String name) {
-      for (HostedAgent a : agents) if (a.getLocalName().equals(name)) return a;
+      for (HostedAgent a : agents) if (a.name().equals(name)) return a;
       throw new IllegalStateException(name);
     }
 
@@ -391,7 +391,7 @@ public final class Main {
         if (!lockStep) awaitIdle(); else runRounds(Long.MAX_VALUE);
         if (lockStep && steps >= maxSteps) return;
         List<HostedAgent> byName = new ArrayList<>(agents);
-        byName.sort(java.util.Comparator.comparing(HostedAgent::getLocalName));
+        byName.sort(java.util.Comparator.comparing(HostedAgent::name));
         boolean any = false;
         for (HostedAgent a : byName) any |= a.releaseHeld();
         if (!any) return;
@@ -475,11 +475,11 @@ public final class Main {
     String args = j < 0 ? "" : rest.substring(j + 1);
     if (name.isEmpty() || ty.isEmpty()) throw new Stop("--agent " + spec + ": error: expected NAME:TYPE[:ARG,...]");
     // the sender of the host's messages, and the platform's own agents (R5e),
-    // in the reference's words; JADE's names ignore case (AID.equals), so
-    // AMS and Df are JADE's agents too
+    // in the reference's words; names are compared as written (D48: AMS is
+    // not ams, and JADE holds it under another name, Names.jade)
     if (name.equals(Messaging.HOST))
       throw new Stop("--agent " + spec + ": error: the name host is reserved: it is the sender of the host's messages (R5e)");
-    if (name.equalsIgnoreCase(Messaging.AMS) || name.equalsIgnoreCase(Messaging.DF))
+    if (name.equals(Messaging.AMS) || name.equals(Messaging.DF))
       throw new Stop("--agent " + spec + ": error: the name " + name
           + " is the platform's own agent's (R5e): no agent of the program takes it");
     if (program.agentClass(ty) == null) throw new Stop("--agent " + spec + ": error: there is no agent type " + ty);

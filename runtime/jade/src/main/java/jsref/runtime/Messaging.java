@@ -124,7 +124,7 @@ final class Messaging {
       @param performative as written @param content the content
       @param receivers the receivers' names @param fromCreate sent by {@code on create} */
   void post(String performative, Object content, List<String> receivers, boolean fromCreate) {
-    String me = agent.getLocalName();
+    String me = agent.name();
     for (String r : receivers)
       (fromCreate ? createOutbox : outbox).add(
           new Outgoing(MESSAGE_IDS.incrementAndGet(), me, r, new Message(performative, content, me)));
@@ -182,7 +182,7 @@ final class Messaging {
   void hostMessage(String performative, Object content) { hostMessage(performative, content, false); }
 
   private void hostMessage(String performative, Object content, boolean duringStep) {
-    Outgoing o = new Outgoing(MESSAGE_IDS.incrementAndGet(), HOST, agent.getLocalName(),
+    Outgoing o = new Outgoing(MESSAGE_IDS.incrementAndGet(), HOST, agent.name(),
         new Message(performative, content, HOST));
     ACLMessage acl = encode(o, new AID(HOST, AID.ISLOCALNAME));
     if (duringStep) acl.addUserDefinedParameter(P_DURING, "1");
@@ -214,7 +214,9 @@ final class Messaging {
     int perf = ACLMessage.getInteger(m.performative().toUpperCase(java.util.Locale.ROOT));
     ACLMessage acl = new ACLMessage(perf < 0 ? ACLMessage.UNKNOWN : perf);
     acl.setSender(sender);
-    acl.addReceiver(new AID(o.receiver, AID.ISLOCALNAME));
+    // the platform's own agents by their JADE names, any other by Names.jade
+    // (D48: a name that differs from an agent's only in case is not that agent)
+    acl.addReceiver(new AID(o.to == To.PLATFORM ? o.receiver : Names.jade(o.receiver), AID.ISLOCALNAME));
     acl.addUserDefinedParameter(P_ID, Long.toString(o.id));
     acl.addUserDefinedParameter(P_PERF, m.performative());
     acl.addUserDefinedParameter(P_FROM, m.sender());
@@ -228,7 +230,7 @@ final class Messaging {
   /** Where a message to this receiver goes (R5e). @param receiver a name @return where */
   private To to(String receiver) {
     if (agent.cfg.isRunAgent(receiver)) return To.RUN;
-    if (AMS.equalsIgnoreCase(receiver) || DF.equalsIgnoreCase(receiver)) return To.PLATFORM;
+    if (AMS.equals(receiver) || DF.equals(receiver)) return To.PLATFORM;   // as written (D48)
     return To.ABSENT;
   }
 
@@ -326,12 +328,12 @@ final class Messaging {
       if (re == null) re = idOf(m.getConversationId());
       if (from == null || re == null) return true;
       Outgoing o;
-      if (AMS.equalsIgnoreCase(from) && m.getPerformative() == ACLMessage.FAILURE
+      if (AMS.equals(from) && m.getPerformative() == ACLMessage.FAILURE
           && (o = PENDING.get(re)) != null && o.to == To.ABSENT) {
         // JADE's MessagingService: the receiver is not on the platform (R5e, D43)
         msg = new Message(FAILURE, new Aid(o.receiver), AMS);
         arriving = o;
-      } else if ((o = TO_PLATFORM.get(re)) != null && from.equalsIgnoreCase(o.receiver)) {
+      } else if ((o = TO_PLATFORM.get(re)) != null && from.equals(o.receiver)) {
         // an answer of the platform's own agent to a message of this agent
         msg = new Message(ACLMessage.getPerformative(m.getPerformative()).toLowerCase(java.util.Locale.ROOT).replace('-', '_'),
             o.message.content(), o.receiver);
@@ -343,8 +345,8 @@ final class Messaging {
     Arrived a = new Arrived(msg, seq, null, ++arrivalCount);
     arrivals.put(m, a);
     switch (agent.inStep.arriving(a, duringStep)) {
-      case SEND -> cfg.trace.deliver(agent.getLocalName(), msg, seq, false);
-      case SEND_IN_STEP -> cfg.trace.deliver(agent.getLocalName(), msg, seq, true);
+      case SEND -> cfg.trace.deliver(agent.name(), msg, seq, false);
+      case SEND_IN_STEP -> cfg.trace.deliver(agent.name(), msg, seq, true);
       case LATER -> { }
     }
     return true;

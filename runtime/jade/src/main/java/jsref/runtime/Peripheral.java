@@ -112,7 +112,7 @@ public final class Peripheral {
             catch (LiteralError e) { error = e.message(); }
           }
           if (error == null) {
-            cc.createNewAgent(name, program.agentClass((String) r.get(Link.Key.TYPE)).getName(), args.toArray()).start();
+            cc.createNewAgent(Names.jade(name), program.agentClass((String) r.get(Link.Key.TYPE)).getName(), args.toArray()).start();
             JadescriptAgent ag = cfg.awaitAgent(name, 60_000);
             if (ag == null) error = "JADE did not start agent " + name;
             else if (ag.setupError() != null) error = ag.setupError();

@@ -23,7 +23,7 @@ final class RemoteAgent implements HostedAgent {
     }
   }
 
-  @Override public String getLocalName() { return name; }
+  @Override public String name() { return name; }
 
   @Override public boolean isIdle() { return Boolean.TRUE.equals(call(new Json.Obj().put(Link.Key.OP, Link.Op.IDLE)).get(Link.Key.IDLE)); }
 

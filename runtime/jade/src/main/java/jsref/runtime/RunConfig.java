@@ -65,7 +65,7 @@ public final class RunConfig {
   /** An agent of the run registers itself when JADE has set it up.
       @param a the agent */
   synchronized void register(JadescriptAgent a) {
-    agents.put(a.getLocalName(), a);
+    agents.put(a.name(), a);
     notifyAll();
   }
 

@@ -7,8 +7,8 @@ import java.util.List;
 import java.util.Random;
 
 /** The runtime's unit checks, without a test framework: the stable priority
-    queue (R3b), the port of OCaml 4.13's {@code Random.State} (R6, D17) and
-    the JSON writer and reader. Prints {@code N passed, M failed}; exit status
+    queue (R3b), the port of OCaml 4.13's {@code Random.State} (R6, D17),
+    the JSON writer and reader, and the JADE names of agents (D48). Prints {@code N passed, M failed}; exit status
     1 on a failure.
     <pre>java -cp target/classes:target/test-classes:target/lib/jade-4.3.jar jsref.runtime.RuntimeChecks</pre> */
 public final class RuntimeChecks {
@@ -33,6 +33,7 @@ public final class RuntimeChecks {
     queue();
     random();
     json();
+    names();
     System.out.println(passed + " passed, " + failed + " failed");
     System.exit(failed == 0 ? 0 : 1);
   }
@@ -144,6 +145,24 @@ public final class RuntimeChecks {
   }
 
   // ------------------------------------------------------------ json
+
+  /** D48: {@link Names#jade} is one to one, and no two of its names are
+      equal ignoring case (JADE's {@code AID.equals}), nor {@code ams} or
+      {@code df}; {@link Names#jadescript} undoes it. */
+  private static void names() {
+    List<String> all = List.of("bob", "Bob", "BOB", "b0b-1", "ams", "AMS", "Ams", "df", "DF", "host", "HOST",
+        "_426f62", "_", "a_b", "Ä", "ä", "ß", "SS", "ss", "\u212a", "k", "K", "x y", "r\"1", "é", "e\u0301", "🤖");
+    java.util.Set<String> seen = new java.util.HashSet<>();
+    for (String n : all) {
+      String j = Names.jade(n);
+      equal("D48 the name " + n + " comes back", n, Names.jadescript(j));
+      check("D48 the JADE name of " + n + " is not the platform's", !j.equalsIgnoreCase("ams") && !j.equalsIgnoreCase("df"));
+      check("D48 the JADE name of " + n + " is no other's, ignoring case", seen.add(j.toLowerCase(java.util.Locale.ROOT)));
+      check("D48 the JADE name of " + n + " is its own lower case", j.equals(j.toLowerCase(java.util.Locale.ROOT)));
+    }
+    equal("D48 a plain name is kept", "r1-x", Names.jade("r1-x"));
+    equal("D48 another is hex-encoded", "_426f62", Names.jade("Bob"));
+  }
 
   private static void json() {
     Json.Obj o = new Json.Obj().put("step", 1).put("agent", "r").put("text", "a\"b\\c\nd\te\u0001\u007f/é")
