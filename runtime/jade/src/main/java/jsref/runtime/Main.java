@@ -202,7 +202,8 @@ public final class Main {
           cc.acceptNewAgent(Names.jade(s.name()), a).start();
         }
       } catch (jade.wrapper.StaleProxyException e) {
-        // JADE's own agents (ams, df) hold their names in every platform
+        // JADE refused the name (Names.jade gives every agent a name of its
+        // own, never ams or df, D48: not expected)
         trace.flush();
         throw new Stop("--agent " + s.name() + ":" + s.type() + ": error: JADE cannot create agent "
             + s.name() + " (" + e.getMessage() + ")");
