@@ -14,10 +14,11 @@
    CONSTANT lines, its SPECIFICATION and only that invariant or property,
    runs TLC on it with a fresh -metadir, classifies the outcome from TLC's
    exit code (0 holds, 12 invariant, 13 lasso, 11 deadlock), and compares.
-   The invariants a model expects to hold (INVARIANT lines of its cfg) are
-   checked together, in one TLC run (one exploration checks them all); if
-   that run finds a violation, each is checked again alone, so that every
-   row says what its property alone gives.
+   The invariants and temporal properties a model expects to hold (its
+   cfg's INVARIANT and PROPERTY lines) are checked together, in one TLC run
+   (one exploration checks them all, and when their conjunction holds each
+   does); if that run finds a violation, each is checked again alone, so
+   that every row says what its property alone gives.
    The pseudo-property DeadlockFree checks nothing but deadlock: it is the
    only run made without -deadlock (every other run passes -deadlock, since
    most models terminate once the host stops).
@@ -304,10 +305,13 @@ let () =
   let job m props o =
     { model = m; props; expected = o; tmp = fresh_dir ();
       observed = Error "not run"; states = "?"; seconds = 0.0 } in
-  (* the invariants expected to hold, together; every other expectation alone *)
+  (* the invariants and temporal properties expected to hold, together (one
+     exploration checks them all: if their conjunction holds, each does);
+     every other expectation alone *)
   let together m =
     List.filter_map (fun (p, o) ->
-        if o = Holds && p <> "DeadlockFree" && List.mem p m.invariants then Some p else None) m.expects in
+        if o = Holds && p <> "DeadlockFree" && (List.mem p m.invariants || List.mem p m.properties)
+        then Some p else None) m.expects in
   let batches = Hashtbl.create 16 in
   let js =
     List.concat_map
@@ -319,16 +323,22 @@ let () =
         batch @ List.filter_map (fun (p, o) -> if List.mem p t then None else Some (job m [ p ] o)) m.expects)
       chosen
   in
+  (* the runs with the most temporal properties first: liveness is what
+     costs (a batch of MCInStep's five is the longest run), and starting the
+     long runs first keeps one from being left alone at the end *)
+  let temporal (j : job) =
+    List.length (List.filter (fun p -> List.mem p j.model.properties || j.expected = Violated "lasso") j.props) in
+  let js = List.stable_sort (fun a b -> compare (temporal b) (temporal a)) js in
   let checks = List.fold_left (fun n m -> n + List.length m.expects) 0 chosen in
   Printf.eprintf "run_models: %d checks in %d models, %d TLC runs\n%!" checks (List.length chosen) (List.length js);
   let t0 = Unix.gettimeofday () in
   run_all js;
-  (* a batch that did not hold: each of its invariants again, alone *)
+  (* a batch that did not hold: each of its properties again, alone *)
   let again =
     Hashtbl.fold (fun _ (b : job) acc ->
         if b.observed = Holds then acc else List.map (fun p -> job b.model [ p ] Holds) b.props @ acc) batches [] in
   if again <> [] then begin
-    Printf.eprintf "run_models: %d invariants checked again, alone\n%!" (List.length again);
+    Printf.eprintf "run_models: %d properties checked again, alone\n%!" (List.length again);
     run_all again
   end;
   let total = Unix.gettimeofday () -. t0 in
