@@ -25,6 +25,10 @@ final class AgentLoop {
   private final PerceptQueue pq = new PerceptQueue();
   /** Percepts dequeued since the last Transfer (the budget of {@code budgeted}). */
   private int dispatched;
+  /** {@code native}: the behaviour step in progress took a percept from
+      the message queue, whose room in the O2A queue (D6) it gives back with
+      its line (the agent's own thread only). */
+  private boolean nativeTaken;
   /** Percepts dequeued by this agent so far (the bench's windows). */
   final AtomicLong dequeued = new AtomicLong();
   /** The behaviour step JADE is about to run, or ran: in lock step its
@@ -172,7 +176,18 @@ final class AgentLoop {
   private void atOnce(String action, Runnable line, List<Messaging.Prepared> out, Runnable then) {
     synchronized (agent.hooks.queue) {
       synchronized (agent.hooks.sched) {
-        written(action, line);
+        if (nativeTaken) {
+          // D6: the percept a native step took leaves the O2A queue's room
+          // with the step's line, at once with respect to the host's check
+          // and line (HostRules, under the O2A's lock): a put or notify is
+          // wholly before the step, and finds the percept still counted, or
+          // wholly after it
+          nativeTaken = false;
+          synchronized (agent.hooks.o2a) {
+            written(action, line);
+            agent.host.nativePercepts.decrementAndGet();
+          }
+        } else written(action, line);
         if (out != null) out.addAll(agent.messaging.prepareSent());
         agent.body.applyJade();
         if (then != null) then.run();
@@ -390,7 +405,7 @@ final class AgentLoop {
             body.clearEffects();
             Messaging.Arrived a = agent.messaging.take(b, h, true);   // its handler has run
             if (a != null) {
-              agent.host.nativePercepts.decrementAndGet();
+              nativeTaken = true;   // its room is given back with the step's line (atOnce)
               taken = a;
               lastBehaviour = b.typeName();
               handler = h;
