@@ -153,9 +153,17 @@ public abstract class JadescriptAgent extends jade.core.Agent implements HostedA
   /** A stack overflow in a body: the error "recursion too deep". */
   public final void recordTooDeep() { body.recordTooDeep(); }
 
-  /** The agent's name as written (D48; JADE holds it as {@link Names#jade}).
+  /** The agent's name as written, decoded once from JADE's (D48; JADE
+      holds it as {@link Names#jade}); every trace line asks for it. Set by
+      whichever thread asks first: the same string whichever it is.
       @return the name */
-  public final String name() { return Names.jadescript(getLocalName()); }
+  public final String name() {
+    String n = name;
+    if (n == null) name = n = Names.jadescript(getLocalName());
+    return n;
+  }
+
+  private volatile String name;
 
   /** The run's configuration. @return it */
   public final RunConfig config() { return cfg; }
